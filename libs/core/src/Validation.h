@@ -1,0 +1,33 @@
+#pragma once
+// Private helpers for the parameter structs' validate(): each failure names the key as it
+// appears in the configuration files, and the offending value.
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace lidarseg::detail {
+
+[[noreturn]] inline void failKey(const std::string& key, const std::string& requirement,
+                                 double value) {
+  std::ostringstream os;
+  os << key << " must be " << requirement << " (got " << value << ")";
+  throw std::invalid_argument(os.str());
+}
+
+inline void requirePositive(const std::string& key, double value) {
+  if (!(std::isfinite(value) && value > 0.0)) failKey(key, "finite and > 0", value);
+}
+
+inline void requireNonNegative(const std::string& key, double value) {
+  if (!(std::isfinite(value) && value >= 0.0)) failKey(key, "finite and >= 0", value);
+}
+
+inline void requireInRange(const std::string& key, double value, double lo, double hi) {
+  if (!(std::isfinite(value) && value >= lo && value <= hi)) {
+    failKey(key, "in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", value);
+  }
+}
+
+}  // namespace lidarseg::detail

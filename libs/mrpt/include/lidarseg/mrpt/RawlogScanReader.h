@@ -1,0 +1,72 @@
+#pragma once
+/// @file RawlogScanReader.h
+/// Streams the 2D laser scans of an MRPT .rawlog file.
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
+namespace mrpt::io {
+class CFileGZInputStream;
+}
+
+namespace lidarseg::mrpt_adapter {
+
+/// One laser scan of a rawlog, with its place in the file.
+struct RawlogScan {
+  /// 0-based index of the top-level rawlog entry (sensory frame, action collection or
+  /// observation) that held the scan.
+  std::size_t entry_index = 0;
+  /// 0-based index of this scan among the scans returned so far.
+  std::size_t scan_index = 0;
+  mrpt::obs::CObservation2DRangeScan::Ptr observation;
+};
+
+/// Reads the `CObservation2DRangeScan`s of an MRPT rawlog one at a time, in both rawlog
+/// layouts (sensory frames with actions, and observations only; gzip-compressed or not),
+/// without loading the whole file.
+///
+/// When the log holds several lasers, only those with the requested sensor label are
+/// returned; with no label requested, the label of the first scan is used.
+class RawlogScanReader {
+ public:
+  /// Opens the file.
+  /// @throws std::runtime_error naming the file when it cannot be opened.
+  explicit RawlogScanReader(const std::string& path, std::string sensor_label = {});
+  ~RawlogScanReader();
+  RawlogScanReader(const RawlogScanReader&) = delete;
+  RawlogScanReader& operator=(const RawlogScanReader&) = delete;
+
+  /// The next scan, or std::nullopt at the end of the file.
+  /// @throws std::runtime_error naming the file and entry index when the file is truncated
+  /// or holds data that is not a valid MRPT object.
+  std::optional<RawlogScan> next();
+
+  const std::string& path() const { return path_; }
+  /// The label scans are filtered by (empty until the first scan when none was given).
+  const std::string& sensorLabel() const { return label_; }
+  /// Laser labels seen so far, including skipped ones.
+  const std::vector<std::string>& labelsSeen() const { return labels_seen_; }
+  /// Number of top-level rawlog entries read so far.
+  std::size_t entriesRead() const { return entries_read_; }
+
+ private:
+  class CountingStream;
+  bool accept(const mrpt::obs::CObservation2DRangeScan::Ptr& scan);
+
+  std::string path_;
+  std::string label_;
+  std::unique_ptr<mrpt::io::CFileGZInputStream> file_;
+  std::unique_ptr<CountingStream> counter_;
+  bool at_end_ = false;
+  std::vector<mrpt::obs::CObservation2DRangeScan::Ptr> pending_;  // from one sensory frame
+  std::vector<std::string> labels_seen_;
+  std::size_t entries_read_ = 0;
+  std::size_t scans_returned_ = 0;
+};
+
+}  // namespace lidarseg::mrpt_adapter

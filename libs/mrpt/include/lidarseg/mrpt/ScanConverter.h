@@ -1,0 +1,42 @@
+#pragma once
+/// @file ScanConverter.h
+/// MRPT laser observations to core scans.
+
+#include <cstddef>
+#include <map>
+#include <memory>
+#include <tuple>
+
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
+#include "lidarseg/core/BeamLayout.h"
+#include "lidarseg/core/Scan.h"
+
+namespace lidarseg::mrpt_adapter {
+
+/// Converts `mrpt::obs::CObservation2DRangeScan` to lidarseg::Scan, in the sensor frame.
+///
+/// Beam i's angle follows MRPT's convention (`getScanAngle()`): evenly spaced over the
+/// aperture, centred on the sensor's x axis, counter-clockwise when `rightToLeft`.
+/// Validity comes from the observation's per-beam flags and its `maxRange`.
+/// Beam layouts are cached per (beams, aperture, direction), so a sensor's cosines and
+/// sines are computed once for the whole log.
+class ScanConverter {
+ public:
+  /// Ranges at or below this are treated as invalid (m).
+  explicit ScanConverter(double min_range_m = 0.0) : min_range_m_(min_range_m) {}
+
+  /// @throws std::invalid_argument if the observation has fewer than 2 beams or a
+  /// non-finite aperture.
+  Scan convert(const mrpt::obs::CObservation2DRangeScan& obs);
+
+  /// The layout for a sensor with this geometry (cached).
+  std::shared_ptr<const BeamLayout> layoutFor(std::size_t num_beams, double aperture_rad,
+                                              bool right_to_left);
+
+ private:
+  double min_range_m_;
+  std::map<std::tuple<std::size_t, double, bool>, std::shared_ptr<const BeamLayout>> layouts_;
+};
+
+}  // namespace lidarseg::mrpt_adapter

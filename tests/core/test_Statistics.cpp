@@ -1,0 +1,32 @@
+#include <gtest/gtest.h>
+
+#include "lidarseg/core/Statistics.h"
+
+namespace lidarseg {
+namespace {
+
+TEST(Statistics, SummaryOfKnownSample) {
+  const Summary s = summarize({5, 1, 4, 2, 3});
+  EXPECT_EQ(s.count, 5u);
+  EXPECT_DOUBLE_EQ(s.mean, 3.0);
+  EXPECT_DOUBLE_EQ(s.median, 3.0);
+  EXPECT_DOUBLE_EQ(s.min, 1.0);
+  EXPECT_DOUBLE_EQ(s.max, 5.0);
+  EXPECT_NEAR(s.stddev, 1.5811388300841898, 1e-12);  // sqrt(10 / 4)
+  EXPECT_NEAR(s.p99, 4.96, 1e-12);                     // 4 + 0.96 * (5 - 4)
+}
+
+TEST(Statistics, EvenCountMedianInterpolates) {
+  EXPECT_DOUBLE_EQ(summarize({1, 2, 3, 10}).median, 2.5);
+}
+
+TEST(Statistics, EmptyAndSingleton) {
+  EXPECT_EQ(summarize({}).count, 0u);
+  const Summary one = summarize({7});
+  EXPECT_DOUBLE_EQ(one.median, 7.0);
+  EXPECT_DOUBLE_EQ(one.p99, 7.0);
+  EXPECT_DOUBLE_EQ(one.stddev, 0.0);
+}
+
+}  // namespace
+}  // namespace lidarseg

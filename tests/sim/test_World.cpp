@@ -1,0 +1,68 @@
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "SyntheticScenes.h"
+#include "lidarseg/sim/ScanSimulator.h"
+
+namespace lidarseg::sim {
+namespace {
+using lidarseg::testing::kPi;
+
+TEST(World, RayCastingGivesExactRanges) {
+  World w;
+  w.addWall({2, -1}, {2, 1});
+  EXPECT_DOUBLE_EQ(w.castRay({0, 0}, {1, 0}), 2.0);
+  const Eigen::Vector2d d(std::cos(0.3), std::sin(0.3));
+  EXPECT_NEAR(w.castRay({0, 0}, d), 2.0 / std::cos(0.3), 1e-12);
+  EXPECT_TRUE(std::isinf(w.castRay({0, 0}, {-1, 0})));       // behind
+  EXPECT_TRUE(std::isinf(w.castRay({0, 0}, {0.5, 0.866})));  // misses the end
+}
+
+TEST(World, NearestWallWins) {
+  World w = lidarseg::testing::rectangleRoom(4, 2);
+  w.addWall({3, -5}, {3, 5});
+  EXPECT_DOUBLE_EQ(w.castRay({1, 1}, {1, 0}), 2.0);
+  EXPECT_DOUBLE_EQ(w.castRay({1, 1}, {0, 1}), 1.0);
+}
+
+TEST(ScanSimulator, NoiselessScanMatchesGeometryAndNoReturnIsMaxRange) {
+  World w;
+  w.addWall({-10, 2}, {10, 2});
+  SensorModel m = SensorModel::lms100();
+  m.range_sigma_m = 0.0;
+  ScanSimulator sim(m, 1);
+  const Scan s = sim.scan(w, {0, 0, kPi / 2});
+  ASSERT_EQ(s.size(), 541u);
+  EXPECT_NEAR(s.ranges_m[270], 2.0, 1e-12);  // straight ahead
+  EXPECT_NEAR(s.ranges_m[270 + 60], 2.0 / std::cos(30 * kPi / 180), 1e-12);
+  EXPECT_EQ(s.ranges_m[0], m.max_range_m);  // looking backwards: no wall
+  EXPECT_FALSE(s.beamValid(0));
+}
+
+TEST(ScanSimulator, SameSeedSameScanAndNoiseHasTheRequestedSigma) {
+  World w;
+  w.addWall({-50, 3}, {50, 3});
+  SensorModel m = SensorModel::lms100();
+  const Scan a = ScanSimulator(m, 9).scan(w, {0, 0, kPi / 2});
+  const Scan b = ScanSimulator(m, 9).scan(w, {0, 0, kPi / 2});
+  EXPECT_EQ(a.ranges_m, b.ranges_m);
+  double sum = 0, sq = 0;
+  int n = 0;
+  for (int rep = 0; rep < 20; ++rep) {
+    ScanSimulator sim(m, 100 + rep);
+    const Scan s = sim.scan(w, {0, 0, kPi / 2});
+    for (std::size_t i = 200; i <= 340; ++i) {
+      const double err = s.ranges_m[i] - 3.0 / std::cos(s.layout->angle(i));
+      sum += err;
+      sq += err * err;
+      ++n;
+    }
+  }
+  const double mean = sum / n, sigma = std::sqrt(sq / n - mean * mean);
+  EXPECT_NEAR(mean, 0.0, 4 * 0.012 / std::sqrt(n));
+  EXPECT_NEAR(sigma, 0.012, 0.012 * 0.05);
+}
+
+}  // namespace
+}  // namespace lidarseg::sim
