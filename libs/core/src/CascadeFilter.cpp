@@ -45,28 +45,51 @@ CascadeFilter::CascadeFilter(const CascadeParams& params, const SensorNoise& noi
   noise_.validate();
 }
 
+namespace {
+
+// The fusion tests of FusionParams with their constants computed once per pass.
+struct FusionGate {
+  FusionGate(const FusionParams& p, const SensorNoise& noise)
+      : max_gap_sq(p.max_gap_m * p.max_gap_m),
+        sin_max_angle(std::sin(p.max_angle_rad)),
+        max_line_distance(p.max_line_distance_m),
+        max_rise(p.noise_gate_sigmas * noise.range_sigma_m * p.noise_gate_sigmas *
+                 noise.range_sigma_m),
+        noise_gate(p.noise_gate_sigmas > 0.0) {}
+
+  bool operator()(const Segment& a, const Segment& b) const {
+    // Close (D): the end of a and the start of b.
+    if ((b.start - a.end).squaredNorm() > max_gap_sq) return false;
+    // Parallel: |sin| of the angle between the normals is the same modulo pi (normals may
+    // point either way) and needs no trigonometry; max_angle_rad <= pi/2 keeps it monotonic.
+    const double sin_angle = std::abs(a.normal.x() * b.normal.y() - a.normal.y() * b.normal.x());
+    // Aligned (d): the shorter segment's endpoints against the longer, better-known line.
+    const Segment& longer = a.length_m >= b.length_m ? a : b;
+    const Segment& shorter = a.length_m >= b.length_m ? b : a;
+    if (sin_angle <= sin_max_angle &&
+        std::abs(longer.signedDistance(shorter.start)) <= max_line_distance &&
+        std::abs(longer.signedDistance(shorter.end)) <= max_line_distance) {
+      return true;
+    }
+    // Noise gate: does one line explain both within the noise?
+    if (!noise_gate) return false;
+    LineMoments both = a.moments;
+    both += b.moments;
+    return residualSumOfSquares(both) - a.residual_ss_m2 - b.residual_ss_m2 <= max_rise;
+  }
+
+  double max_gap_sq;
+  double sin_max_angle;
+  double max_line_distance;
+  double max_rise;
+  bool noise_gate;
+};
+
+}  // namespace
+
 bool CascadeFilter::canFuse(const Segment& a, const Segment& b, const FusionParams& p,
                             const SensorNoise& noise) {
-  // Close (D): the end of a and the start of b.
-  if ((b.start - a.end).squaredNorm() > p.max_gap_m * p.max_gap_m) return false;
-  // Parallel: line directions compared modulo pi (normals may point either way).
-  const double angle = std::abs(std::remainder(a.theta_rad - b.theta_rad, kPi));
-  // Aligned (d): the shorter segment's endpoints against the longer, better-known line.
-  const Segment& longer = a.length_m >= b.length_m ? a : b;
-  const Segment& shorter = a.length_m >= b.length_m ? b : a;
-  if (angle <= p.max_angle_rad &&
-      std::abs(longer.signedDistance(shorter.start)) <= p.max_line_distance_m &&
-      std::abs(longer.signedDistance(shorter.end)) <= p.max_line_distance_m) {
-    return true;
-  }
-  // Noise gate: does one line explain both within the noise?
-  if (p.noise_gate_sigmas <= 0.0) return false;
-  LineMoments both = a.moments;
-  both += b.moments;
-  const double rise = residualSumOfSquares(both) - residualSumOfSquares(a.moments) -
-                      residualSumOfSquares(b.moments);
-  const double limit = p.noise_gate_sigmas * noise.range_sigma_m;
-  return rise <= limit * limit;
+  return FusionGate(p, noise)(a, b);
 }
 
 void CascadeFilter::fuse(const SegmentLevel& in, SegmentLevel& out, const FusionParams& params,
@@ -75,11 +98,12 @@ void CascadeFilter::fuse(const SegmentLevel& in, SegmentLevel& out, const Fusion
   out.parts.assign(in.parts.begin(), in.parts.end());
   if (in.segments.empty()) return;
 
+  const FusionGate canFuseWith(params, noise_);
   // Fusing consecutive segments keeps each segment's parts contiguous in `parts`.
   Segment current = in.segments.front();
   for (std::size_t j = 1; j < in.segments.size(); ++j) {
     const Segment& next = in.segments[j];
-    if (canFuse(current, next, params, noise_)) {
+    if (canFuseWith(current, next)) {
       absorb(current, next, noise_);
     } else {
       out.segments.push_back(current);
@@ -91,7 +115,7 @@ void CascadeFilter::fuse(const SegmentLevel& in, SegmentLevel& out, const Fusion
   // A full-turn scan: a wall crossing the wrap-around is split between the last and the
   // first segments.
   if (!wraps_around || out.segments.size() < 2) return;
-  if (!canFuse(out.segments.back(), out.segments.front(), params, noise_)) return;
+  if (!canFuseWith(out.segments.back(), out.segments.front())) return;
   const Segment head = out.segments.front();
   const std::uint32_t shift = head.parts_end - head.parts_begin;  // head.parts_begin == 0
   // Move the head's parts to the end so that the merged segment's parts stay contiguous.

@@ -26,7 +26,8 @@ double residualSumOfSquares(const LineMoments& m) {
   const double mxx = m.sum_xx - m.sum_x * cx;
   const double mxy = m.sum_xy - m.sum_x * cy;
   const double myy = m.sum_yy - m.sum_y * cy;
-  return std::max(0.0, 0.5 * (mxx + myy) - std::hypot(0.5 * (mxx - myy), mxy));
+  const double half_diff = 0.5 * (mxx - myy);
+  return std::max(0.0, 0.5 * (mxx + myy) - std::sqrt(half_diff * half_diff + mxy * mxy));
 }
 
 void fitSegment(Segment& s, const SensorNoise& noise) {
@@ -45,7 +46,9 @@ void fitSegment(Segment& s, const SensorNoise& noise) {
 
   // Total least squares: the line runs along the scatter's major axis, at angle alpha with
   // (cos 2alpha, sin 2alpha) = (mxx - myy, 2 mxy) / h. Half-angle formulas avoid cos/sin.
-  const double h = std::hypot(mxx - myy, 2.0 * mxy);
+  // Plain sqrt rather than std::hypot: the moments are far from overflow, and this runs
+  // for every segment of every scan.
+  const double h = std::sqrt((mxx - myy) * (mxx - myy) + 4.0 * mxy * mxy);
   const double cos2 = h > 0.0 ? (mxx - myy) / h : 1.0;
   const double cos_a = std::sqrt(std::max(0.0, 0.5 * (1.0 + cos2)));
   const double sin_a = std::copysign(std::sqrt(std::max(0.0, 0.5 * (1.0 - cos2))), mxy);
@@ -67,6 +70,7 @@ void fitSegment(Segment& s, const SensorNoise& noise) {
   s.theta_rad = theta;
   s.normal = {nx, ny};
   s.centroid = {cx, cy};
+  s.residual_ss_m2 = residual;
   s.rms_residual_m = std::sqrt(residual / n_pts);
   const Eigen::Vector2d& n = s.normal;
   s.start = s.first_point - (n.dot(s.first_point) - rho) * n;

@@ -42,6 +42,27 @@ void accumulateMoments(const Eigen::Vector2d* points, const double* ranges,
   layout.sumOuterProducts(first, end - 1, m.sum_wxx, m.sum_wxy, m.sum_wyy);
 }
 
+// Points of all beams in the sensor frame, NaN for invalid beams; returns the number of
+// valid beams. Branch-free per beam so that the compiler can vectorise it.
+std::size_t toPoints(const Scan& scan, const BeamLayout& layout, const std::uint8_t* flags,
+                     Eigen::Vector2d* points) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  const double lo = std::max(scan.min_range_m, 0.0);
+  const double hi = scan.max_range_m;
+  const double* ranges = scan.ranges_m.data();
+  std::size_t valid = 0;
+  const std::size_t n = scan.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = ranges[i];
+    // NaN fails both comparisons.
+    const bool ok = (r > lo) & (r < hi) & (flags == nullptr || flags[i] != 0);
+    valid += ok;
+    points[i] = ok ? Eigen::Vector2d(r * layout.cosine(i), r * layout.sine(i))
+                   : Eigen::Vector2d(kNaN, kNaN);
+  }
+  return valid;
+}
+
 }  // namespace
 
 void WallDanielssonParams::validate() const {
@@ -65,19 +86,11 @@ void WallDanielssonSegmenter::segment(const Scan& scan, Segmentation& out) const
   const BeamLayout& layout = *scan.layout;
   out.wraps_around = layout.wrapsAround();
 
-  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   out.points.resize(n);
-  std::size_t num_valid = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (scan.beamValid(i)) {
-      const double r = scan.ranges_m[i];
-      out.points[i] = {r * layout.cosine(i), r * layout.sine(i)};
-      ++num_valid;
-    } else {
-      out.points[i] = {kNaN, kNaN};
-    }
-  }
-  out.num_valid_beams = num_valid;
+  out.num_valid_beams = n == 0 ? 0
+                               : (scan.valid.empty()
+                                      ? toPoints(scan, layout, nullptr, out.points.data())
+                                      : toPoints(scan, layout, scan.valid.data(), out.points.data()));
 
   SegmentLevel& level0 = out.levels[0];
   // |area| / chord > T  <=>  (2 area)^2 > 4 T^2 chord^2: no square root per point.
@@ -115,11 +128,11 @@ void WallDanielssonSegmenter::segment(const Scan& scan, Segmentation& out) const
     }
     // No back-stepping (paper II.A): the point that broke the test starts the next segment.
     if (k - first >= params_.min_points) {
-      Segment seg;
+      const auto index = static_cast<std::uint32_t>(level0.segments.size());
+      Segment& seg = level0.segments.emplace_back();
       seg.first_beam = static_cast<std::uint32_t>(first);
       seg.last_beam = static_cast<std::uint32_t>(k - 1);
       seg.num_points = static_cast<std::uint32_t>(k - first);
-      const auto index = static_cast<std::uint32_t>(level0.segments.size());
       seg.parts_begin = index;
       seg.parts_end = index + 1;
       seg.first_point = p0;
@@ -127,7 +140,6 @@ void WallDanielssonSegmenter::segment(const Scan& scan, Segmentation& out) const
       accumulateMoments(points, ranges, layout, first, k, seg.moments);
       fitSegment(seg, noise_);
       level0.parts.push_back(index);
-      level0.segments.push_back(seg);
     }
     i = k;
   }

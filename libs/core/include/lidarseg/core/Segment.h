@@ -102,6 +102,8 @@ struct Segment {
   double length_m = 0.0;
   /// Root mean square of the points' orthogonal distances to the line (m).
   double rms_residual_m = 0.0;
+  /// Sum of the squared orthogonal distances (m^2): residualSumOfSquares(moments).
+  double residual_ss_m2 = 0.0;
   /// Covariance of (rho, theta) propagated from the sensor noise: units m^2, m*rad, rad^2.
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
   /// The points' moments, from which the fit above was computed.

@@ -15,7 +15,7 @@ struct WallDanielssonParams {
   /// The method's single threshold: the largest allowed ratio of the area between the
   /// polyline of the points and their chord, to the chord's length (m). Roughly, a point
   /// deviating by more than twice this from the chord ends the segment.
-  double threshold_m = 0.015;
+  double threshold_m = 0.018;
   /// A range discontinuity between consecutive beams larger than
   /// max(max_range_jump_m, max_range_jump_ratio * the smaller range) breaks a segment (m).
   double max_range_jump_m = 0.3;
