@@ -156,7 +156,9 @@ void SegmentStatsApp::print(const SegmentStatsReport& r, std::ostream& os) {
   const auto flags = os.flags();
   os << std::fixed;
   os << "lidarseg-segment: " << r.input << "\n";
-  os << "  scans: " << r.scans << " (sensor '" << r.sensor_label << "', " << r.beams_per_scan
+  os << "  scans: " << r.scans << " (sensor "
+     << (r.sensor_label.empty() ? std::string("without a label") : "'" + r.sensor_label + "'")
+     << ", " << r.beams_per_scan
      << " beams over " << std::setprecision(1) << r.field_of_view_deg << " deg, max range "
      << r.max_range_m << " m; " << std::setprecision(0) << r.valid_beams_per_scan.mean
      << " valid beams per scan on average)\n";
