@@ -5,6 +5,68 @@
 
 namespace lidarseg::sim {
 
+const char* toString(DoorKind kind) {
+  switch (kind) {
+    case DoorKind::kOpen:
+      return "open";
+    case DoorKind::kClosed:
+      return "closed";
+    case DoorKind::kAjar:
+      return "ajar";
+  }
+  return "unknown";
+}
+
+void World::addDoor(const Door& door) {
+  constexpr double kOnLine = 1e-3;  // m: a wall this close to the door's line holds it
+  const Eigen::Vector2d a = door.jamb_a, b = door.jamb_b;
+  const double width = (b - a).norm();
+  const Eigen::Vector2d d = (b - a) / width;
+  const Eigen::Vector2d left(-d.y(), d.x());
+
+  // Cut the opening out of the walls on the door's line.
+  std::vector<Wall> kept;
+  kept.reserve(walls_.size() + 2);
+  for (const Wall& w : walls_) {
+    const bool on_line = std::abs(left.dot(w.a - a)) < kOnLine && std::abs(left.dot(w.b - a)) < kOnLine;
+    if (!on_line) {
+      kept.push_back(w);
+      continue;
+    }
+    // Parameters of the wall's ends along the door's direction; the door spans [0, width].
+    double ta = d.dot(w.a - a), tb = d.dot(w.b - a);
+    const Eigen::Vector2d pa = w.a, pb = w.b;
+    const bool flipped = ta > tb;
+    const Eigen::Vector2d lo = flipped ? pb : pa, hi = flipped ? pa : pb;
+    if (flipped) std::swap(ta, tb);
+    if (tb <= 0.0 || ta >= width) {
+      kept.push_back(w);
+      continue;
+    }
+    if (ta < 0.0) kept.push_back({lo, a});
+    if (tb > width) kept.push_back({b, hi});
+  }
+  walls_ = std::move(kept);
+
+  switch (door.kind) {
+    case DoorKind::kOpen:
+      break;
+    case DoorKind::kClosed: {
+      const Eigen::Vector2d back = door.recess_m * left;
+      addPolyline({a, a + back, b + back, b});
+      break;
+    }
+    case DoorKind::kAjar: {
+      const double c = std::cos(door.leaf_angle_rad), s = std::sin(door.leaf_angle_rad);
+      // The leaf turns about jamb_a towards the "behind" side.
+      const Eigen::Vector2d leaf = width * (c * d + s * left);
+      addWall(a, a + leaf);
+      break;
+    }
+  }
+  doors_.push_back(door);
+}
+
 void World::addPolygon(const std::vector<Eigen::Vector2d>& corners) {
   if (corners.size() < 2) return;
   addPolyline(corners);

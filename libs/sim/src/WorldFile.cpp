@@ -1,0 +1,149 @@
+#include "lidarseg/sim/WorldFile.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+namespace lidarseg::sim {
+
+namespace {
+
+constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+// Shorter than this is "zero length" (m).
+constexpr double kMinLength = 1e-6;
+
+class LineParser {
+ public:
+  LineParser(const std::string& source, int line, std::vector<std::string> tokens)
+      : source_(source), line_(line), tokens_(std::move(tokens)) {}
+
+  [[noreturn]] void fail(const std::string& message) const {
+    throw std::runtime_error(source_ + ":" + std::to_string(line_) + ": " + message);
+  }
+
+  // The numbers after the first `skip` tokens; exactly `count`, or between `count` and
+  // `max_count` when max_count > count.
+  std::vector<double> numbers(std::size_t skip, std::size_t count, std::size_t max_count) const {
+    const std::size_t given = tokens_.size() - skip;
+    const std::string what = tokens_[0] + (skip > 1 ? " " + tokens_[1] : std::string());
+    if (given < count || given > std::max(count, max_count)) {
+      fail("'" + what + "' expects " + std::to_string(count) +
+           (max_count > count ? " to " + std::to_string(max_count) : std::string()) +
+           " numbers, got " + std::to_string(given));
+    }
+    std::vector<double> v;
+    for (std::size_t i = skip; i < tokens_.size(); ++i) {
+      const std::string& t = tokens_[i];
+      errno = 0;
+      char* end = nullptr;
+      const double x = std::strtod(t.c_str(), &end);
+      if (end != t.c_str() + t.size() || errno == ERANGE || !std::isfinite(x)) {
+        fail("'" + t + "' is not a number");
+      }
+      v.push_back(x);
+    }
+    return v;
+  }
+
+  const std::vector<std::string>& tokens() const { return tokens_; }
+
+ private:
+  const std::string& source_;
+  int line_;
+  std::vector<std::string> tokens_;
+};
+
+Eigen::Vector2d point(const std::vector<double>& v, std::size_t i) { return {v[i], v[i + 1]}; }
+
+}  // namespace
+
+World parseWorld(std::istream& in, const std::string& source) {
+  World world;
+  std::vector<Door> doors;
+  std::string text;
+  for (int number = 1; std::getline(in, text); ++number) {
+    const auto hash = text.find('#');
+    if (hash != std::string::npos) text.erase(hash);
+    std::istringstream words(text);
+    std::vector<std::string> tokens;
+    for (std::string w; words >> w;) tokens.push_back(w);
+    if (tokens.empty()) continue;
+    const LineParser p(source, number, tokens);
+    const std::string& key = tokens[0];
+
+    if (key == "wall") {
+      const auto v = p.numbers(1, 4, 4);
+      if ((point(v, 2) - point(v, 0)).norm() < kMinLength) p.fail("wall of zero length");
+      world.addWall(point(v, 0), point(v, 2));
+    } else if (key == "polyline") {
+      if (tokens.size() < 5 || (tokens.size() - 1) % 2 != 0) {
+        p.fail("'polyline' expects an even number (>= 4) of numbers, got " +
+               std::to_string(tokens.size() - 1));
+      }
+      const auto v = p.numbers(1, tokens.size() - 1, tokens.size() - 1);
+      std::vector<Eigen::Vector2d> corners;
+      for (std::size_t i = 0; i < v.size(); i += 2) {
+        if (!corners.empty() && (point(v, i) - corners.back()).norm() < kMinLength) {
+          p.fail("polyline has a side of zero length at point " + std::to_string(i / 2 + 1));
+        }
+        corners.push_back(point(v, i));
+      }
+      world.addPolyline(corners);
+    } else if (key == "door") {
+      if (tokens.size() < 2) p.fail("'door' needs a kind: open, closed or ajar");
+      Door door;
+      const std::string& kind = tokens[1];
+      std::vector<double> v;
+      if (kind == "open") {
+        door.kind = DoorKind::kOpen;
+        v = p.numbers(2, 4, 4);
+      } else if (kind == "closed") {
+        door.kind = DoorKind::kClosed;
+        v = p.numbers(2, 5, 5);
+        if (!(v[4] > 0.0 && v[4] <= 1.0)) p.fail("closed door recess must be in (0, 1] m");
+        door.recess_m = v[4];
+      } else if (kind == "ajar") {
+        door.kind = DoorKind::kAjar;
+        v = p.numbers(2, 5, 5);
+        if (!(v[4] > 0.0 && v[4] <= 180.0)) p.fail("ajar door angle must be in (0, 180] deg");
+        door.leaf_angle_rad = v[4] * kDegToRad;
+      } else {
+        p.fail("unknown door kind '" + kind + "' (open, closed or ajar)");
+      }
+      door.jamb_a = point(v, 0);
+      door.jamb_b = point(v, 2);
+      if (door.width() < kMinLength) p.fail("door of zero width");
+      doors.push_back(door);
+    } else if (key == "pillar") {
+      const auto v = p.numbers(1, 3, 3);
+      if (!(v[2] > 0.0)) p.fail("pillar size must be > 0");
+      const double h = 0.5 * v[2];
+      world.addPolygon({{v[0] - h, v[1] - h}, {v[0] + h, v[1] - h}, {v[0] + h, v[1] + h},
+                        {v[0] - h, v[1] + h}});
+    } else if (key == "box") {
+      const auto v = p.numbers(1, 4, 5);
+      if (!(v[2] > 0.0 && v[3] > 0.0)) p.fail("box width and depth must be > 0");
+      const double yaw = v.size() > 4 ? v[4] * kDegToRad : 0.0;
+      const Eigen::Vector2d c(v[0], v[1]);
+      const Eigen::Vector2d u(std::cos(yaw), std::sin(yaw)), w(-u.y(), u.x());
+      const Eigen::Vector2d hu = 0.5 * v[2] * u, hw = 0.5 * v[3] * w;
+      world.addPolygon({c - hu - hw, c + hu - hw, c + hu + hw, c - hu + hw});
+    } else {
+      p.fail("unknown keyword '" + key + "' (wall, polyline, door, pillar, box)");
+    }
+  }
+  for (const Door& d : doors) world.addDoor(d);
+  return world;
+}
+
+World loadWorldFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot open world file '" + path + "'");
+  return parseWorld(in, path);
+}
+
+}  // namespace lidarseg::sim

@@ -1,0 +1,103 @@
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "lidarseg/sim/WorldFile.h"
+
+namespace lidarseg::sim {
+namespace {
+
+World parse(const std::string& text) {
+  std::istringstream in(text);
+  return parseWorld(in, "test.world");
+}
+
+std::string errorOf(const std::string& text) {
+  try {
+    parse(text);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "no exception";
+}
+
+TEST(WorldFile, ParsesEveryItem) {
+  const World w = parse(
+      "# a room\n"
+      "wall 0 0 10 0   # floor line\n"
+      "polyline 10 0 10 5 0 5\n"
+      "pillar 5 2.5 0.4\n"
+      "box 2 2 1 0.5 90\n");
+  EXPECT_EQ(w.walls().size(), 1u + 2u + 4u + 4u);
+  // The rotated box is 0.5 wide along x and 1 deep along y.
+  EXPECT_NEAR(w.castRay({2, 0.5}, {0, 1}), 1.0, 1e-9);
+  EXPECT_NEAR(w.castRay({0.5, 2}, {1, 0}), 1.25, 1e-9);
+  // The pillar from the left.
+  EXPECT_NEAR(w.castRay({3, 2.5}, {1, 0}), 1.8, 1e-9);
+}
+
+TEST(WorldFile, DoorsCutTheirWallAndAddTheirGeometry) {
+  // Wall y = 0 from x = 0 to 10, declared after the doors (doors apply at the end).
+  const World w = parse(
+      "door open 1 0 2 0\n"
+      "door closed 4 0 5 0 0.1\n"
+      "door ajar 7 0 8 0 90\n"
+      "wall 0 0 10 0\n");
+  ASSERT_EQ(w.doors().size(), 3u);
+  EXPECT_EQ(w.doors()[1].kind, DoorKind::kClosed);
+  EXPECT_NEAR(w.doors()[1].width(), 1.0, 1e-12);
+  // Through the open door: nothing behind.
+  EXPECT_TRUE(std::isinf(w.castRay({1.5, -1}, {0, 1})));
+  // Beside it: the wall.
+  EXPECT_NEAR(w.castRay({0.5, -1}, {0, 1}), 1.0, 1e-12);
+  // The closed door's leaf stands 10 cm behind the wall line (left of 4,0 -> 5,0 is +y).
+  EXPECT_NEAR(w.castRay({4.5, -1}, {0, 1}), 1.1, 1e-12);
+  // The ajar door (90 degrees, hinged at x = 7) leaves the opening free but for its leaf.
+  EXPECT_TRUE(std::isinf(w.castRay({7.5, -1}, {0, 1})));
+  EXPECT_NEAR(w.castRay({6.5, 0.5}, {1, 0}), 0.5, 1e-12);
+}
+
+TEST(WorldFile, ErrorsNameTheLine) {
+  EXPECT_EQ(errorOf("wall 0 0 1 0\nwal 0 0 1 1\n"),
+            "test.world:2: unknown keyword 'wal' (wall, polyline, door, pillar, box)");
+  EXPECT_EQ(errorOf("\n\nwall 0 0 1\n"), "test.world:3: 'wall' expects 4 numbers, got 3");
+  EXPECT_EQ(errorOf("wall 0 0 1 1 2\n"), "test.world:1: 'wall' expects 4 numbers, got 5");
+  EXPECT_EQ(errorOf("wall 0 0 x 1\n"), "test.world:1: 'x' is not a number");
+  EXPECT_EQ(errorOf("wall 1 1 1 1\n"), "test.world:1: wall of zero length");
+  EXPECT_EQ(errorOf("door shut 0 0 1 0\n"),
+            "test.world:1: unknown door kind 'shut' (open, closed or ajar)");
+  EXPECT_EQ(errorOf("door closed 0 0 1 0\n"), "test.world:1: 'door closed' expects 5 numbers, got 4");
+  EXPECT_EQ(errorOf("door closed 0 0 1 0 -0.1\n"), "test.world:1: closed door recess must be in (0, 1] m");
+  EXPECT_EQ(errorOf("polyline 0 0 1\n"),
+            "test.world:1: 'polyline' expects an even number (>= 4) of numbers, got 3");
+  EXPECT_EQ(errorOf("pillar 0 0 nan\n"), "test.world:1: 'nan' is not a number");
+  EXPECT_THROW(loadWorldFile("/nonexistent/a.world"), std::runtime_error);
+}
+
+TEST(WorldFile, ShippedWorldsLoad) {
+  const World maze = loadWorldFile(std::string(LIDARSEG_CONFIG_DIR) + "/worlds/maze.world");
+  EXPECT_GT(maze.walls().size(), 20u);
+  EXPECT_TRUE(maze.doors().empty());
+  const World hospital = loadWorldFile(std::string(LIDARSEG_CONFIG_DIR) + "/worlds/hospital.world");
+  EXPECT_EQ(hospital.doors().size(), 20u);
+  int closed = 0, open = 0, ajar = 0;
+  for (const Door& d : hospital.doors()) {
+    closed += d.kind == DoorKind::kClosed;
+    open += d.kind == DoorKind::kOpen;
+    ajar += d.kind == DoorKind::kAjar;
+    EXPECT_GE(d.width(), 0.8);
+    EXPECT_LE(d.width(), 1.2);
+  }
+  EXPECT_EQ(closed, 12);
+  EXPECT_EQ(open, 4);
+  EXPECT_EQ(ajar, 4);
+  // From the bottom corridor, an open door shows the room behind it (5 m wall at y = 6).
+  EXPECT_NEAR(hospital.castRay({7.0, 0.0}, {0, 1}), 6.0, 1e-9);
+  // A closed door 20 cm deep at x in [21.5, 22.4].
+  EXPECT_NEAR(hospital.castRay({22.0, 0.0}, {0, 1}), 1.4, 1e-9);
+}
+
+}  // namespace
+}  // namespace lidarseg::sim
