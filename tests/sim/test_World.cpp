@@ -66,3 +66,23 @@ TEST(ScanSimulator, SameSeedSameScanAndNoiseHasTheRequestedSigma) {
 
 }  // namespace
 }  // namespace lidarseg::sim
+
+namespace lidarseg::sim {
+namespace {
+
+TEST(SensorModel, ProfilesMatchTheirDataSheets) {
+  const SensorModel lms = SensorModel::lms100();
+  EXPECT_EQ(lms.layout->size(), 541u);
+  EXPECT_NEAR(lms.layout->meanIncrement(), 0.5 * lidarseg::testing::kDeg, 1e-12);
+  EXPECT_EQ(lms.max_range_m, 20.0);
+  EXPECT_EQ(lms.sigmaAt(15.0), 0.012);
+  const SensorModel utm = SensorModel::utm30lx();
+  EXPECT_EQ(utm.layout->size(), 1081u);
+  EXPECT_NEAR(utm.layout->meanIncrement(), 0.25 * lidarseg::testing::kDeg, 1e-12);
+  EXPECT_EQ(utm.sigmaAt(9.9), 0.01);
+  EXPECT_EQ(utm.sigmaAt(10.1), 0.03);
+  EXPECT_EQ(SensorModel::sick180().layout->size(), 181u);
+}
+
+}  // namespace
+}  // namespace lidarseg::sim

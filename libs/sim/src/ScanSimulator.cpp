@@ -13,6 +13,31 @@ SensorModel SensorModel::lms100() {
   m.max_range_m = 20.0;
   m.min_range_m = 0.05;
   m.range_sigma_m = 0.012;
+  m.frequency_hz = 50.0;
+  return m;
+}
+
+SensorModel SensorModel::utm30lx() {
+  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  SensorModel m;
+  m.layout = std::make_shared<BeamLayout>(BeamLayout::centred(1081, 270.0 * kDeg));
+  m.max_range_m = 30.0;
+  m.min_range_m = 0.1;
+  m.range_sigma_m = 0.01;
+  m.far_range_m = 10.0;
+  m.far_range_sigma_m = 0.03;
+  m.frequency_hz = 40.0;
+  return m;
+}
+
+SensorModel SensorModel::sick180() {
+  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  SensorModel m;
+  m.layout = std::make_shared<BeamLayout>(BeamLayout::centred(181, 180.0 * kDeg));
+  m.max_range_m = 80.0;
+  m.min_range_m = 0.05;
+  m.range_sigma_m = 0.01;
+  m.frequency_hz = 75.0;
   return m;
 }
 
@@ -35,7 +60,7 @@ Scan ScanSimulator::scan(const World& world, const Pose2& T_world_sensor) {
     const double hit = world.castRay(origin, {std::cos(a), std::sin(a)});
     double r = sensor_.max_range_m;
     if (hit < sensor_.max_range_m) {
-      r = hit + sensor_.range_sigma_m * noise(rng_);
+      r = hit + sensor_.sigmaAt(hit) * noise(rng_);
       // Noise never turns a return into "no return" or a negative range.
       r = std::min(std::max(r, 0.0), std::nextafter(sensor_.max_range_m, 0.0));
     }

@@ -3,6 +3,7 @@
 /// Simulated range scans of a World, with Gaussian range noise.
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <random>
 
@@ -17,11 +18,25 @@ struct SensorModel {
   std::shared_ptr<const BeamLayout> layout;
   double max_range_m = 20.0;
   double min_range_m = 0.05;
-  /// Standard deviation of the Gaussian noise added to each range (m).
+  /// Standard deviation of the Gaussian noise added to each range (m)...
   double range_sigma_m = 0.0;
+  /// ... and beyond this range (m), this one instead (data sheets often give two figures).
+  double far_range_m = std::numeric_limits<double>::infinity();
+  double far_range_sigma_m = 0.0;
 
-  /// A SICK LMS100-like sensor: 270 deg at 0.5 deg (541 beams), 20 m, sigma 0.012 m.
+  /// Noise standard deviation for a true range r (m).
+  double sigmaAt(double r) const { return r > far_range_m ? far_range_sigma_m : range_sigma_m; }
+
+  /// SICK LMS100: 270 deg at 0.5 deg (541 beams), 50 Hz, 20 m, sigma 0.012 m.
   static SensorModel lms100();
+  /// Hokuyo UTM-30LX: 270 deg at 0.25 deg (1081 beams), 40 Hz, 30 m, sigma 0.01 m under
+  /// 10 m and 0.03 m beyond.
+  static SensorModel utm30lx();
+  /// A 180-degree scanner at 1 deg (181 beams), 80 m, sigma 0.01 m (SICK LMS200-like).
+  static SensorModel sick180();
+
+  /// Scan frequency (Hz): the time between beams is 1 / (frequency * beams per turn).
+  double frequency_hz = 50.0;
 };
 
 /// Produces scans of a World seen from given sensor poses. Deterministic for a seed.
