@@ -69,8 +69,10 @@ case "$cmd" in
   bench)
     install_deps
     build_release
-    "$ROOT/build/release/tests/benchmarks/bench_segmentation" \
-      --benchmark_repetitions=10 --benchmark_report_aggregates_only=true "${@:2}"
+    for b in bench_segmentation bench_simulation; do
+      "$ROOT/build/release/tests/benchmarks/$b" \
+        --benchmark_repetitions=10 --benchmark_report_aggregates_only=true "${@:2}"
+    done
     ;;
   *)
     sed -n '2,9p' "$0"

@@ -31,8 +31,8 @@ TEST(ScanSimulator, NoiselessScanMatchesGeometryAndNoReturnIsMaxRange) {
   w.addWall({-10, 2}, {10, 2});
   SensorModel m = SensorModel::lms100();
   m.range_sigma_m = 0.0;
-  ScanSimulator sim(m, 1);
-  const Scan s = sim.scan(w, {0, 0, kPi / 2});
+  ScanSimulator sim(w, m, 1);
+  const Scan s = sim.scan({0, 0, kPi / 2});
   ASSERT_EQ(s.size(), 541u);
   EXPECT_NEAR(s.ranges_m[270], 2.0, 1e-12);  // straight ahead
   EXPECT_NEAR(s.ranges_m[270 + 60], 2.0 / std::cos(30 * kPi / 180), 1e-12);
@@ -44,14 +44,14 @@ TEST(ScanSimulator, SameSeedSameScanAndNoiseHasTheRequestedSigma) {
   World w;
   w.addWall({-50, 3}, {50, 3});
   SensorModel m = SensorModel::lms100();
-  const Scan a = ScanSimulator(m, 9).scan(w, {0, 0, kPi / 2});
-  const Scan b = ScanSimulator(m, 9).scan(w, {0, 0, kPi / 2});
+  const Scan a = ScanSimulator(w, m, 9).scan({0, 0, kPi / 2});
+  const Scan b = ScanSimulator(w, m, 9).scan({0, 0, kPi / 2});
   EXPECT_EQ(a.ranges_m, b.ranges_m);
   double sum = 0, sq = 0;
   int n = 0;
   for (int rep = 0; rep < 20; ++rep) {
-    ScanSimulator sim(m, 100 + rep);
-    const Scan s = sim.scan(w, {0, 0, kPi / 2});
+    ScanSimulator sim(w, m, 100 + rep);
+    const Scan s = sim.scan({0, 0, kPi / 2});
     for (std::size_t i = 200; i <= 340; ++i) {
       const double err = s.ranges_m[i] - 3.0 / std::cos(s.layout->angle(i));
       sum += err;

@@ -84,8 +84,8 @@ sim::World officeScene() {
 
 Scan simulate(const sim::World& world, const sim::SensorModel& sensor, const sim::Pose2& pose,
               std::uint64_t seed) {
-  sim::ScanSimulator simulator(sensor, seed);
-  return simulator.scan(world, pose);
+  sim::ScanSimulator simulator(world, sensor, seed);
+  return simulator.scan(pose);
 }
 
 Eigen::Vector2d toWorld(const sim::Pose2& pose, const Eigen::Vector2d& p) {

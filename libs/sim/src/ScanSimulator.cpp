@@ -41,30 +41,57 @@ SensorModel SensorModel::sick180() {
   return m;
 }
 
-ScanSimulator::ScanSimulator(SensorModel sensor, std::uint64_t seed)
-    : sensor_(std::move(sensor)), rng_(seed) {
+ScanSimulator::ScanSimulator(const World& world, SensorModel sensor, std::uint64_t seed)
+    : sensor_(std::move(sensor)), caster_(world), rng_(seed) {
   if (!sensor_.layout) throw std::invalid_argument("ScanSimulator: sensor has no beam layout");
+  if (!(sensor_.frequency_hz > 0.0)) throw std::invalid_argument("ScanSimulator: frequency_hz must be > 0");
 }
 
-Scan ScanSimulator::scan(const World& world, const Pose2& T_world_sensor) {
+double ScanSimulator::beamPeriod() const {
+  return sensor_.layout->meanIncrement() / (2.0 * 3.14159265358979323846 * sensor_.frequency_hz);
+}
+
+double ScanSimulator::sweepDuration() const {
+  const std::size_t n = sensor_.layout->size();
+  return n > 1 ? beamPeriod() * static_cast<double>(n - 1) : 0.0;
+}
+
+Scan ScanSimulator::scan(const Pose2& T_world_sensor) { return scan(T_world_sensor, T_world_sensor); }
+
+Scan ScanSimulator::scan(const Pose2& first, const Pose2& last) {
   const BeamLayout& layout = *sensor_.layout;
+  const std::size_t n = layout.size();
   Scan s;
   s.layout = sensor_.layout;
   s.min_range_m = sensor_.min_range_m;
   s.max_range_m = sensor_.max_range_m;
-  s.ranges_m.resize(layout.size());
-  std::normal_distribution<double> noise(0.0, 1.0);
-  const Eigen::Vector2d origin(T_world_sensor.x, T_world_sensor.y);
-  for (std::size_t i = 0; i < layout.size(); ++i) {
-    const double a = T_world_sensor.yaw + layout.angle(i);
-    const double hit = world.castRay(origin, {std::cos(a), std::sin(a)});
+  s.ranges_m.resize(n);
+  s.time_offsets_s.resize(n);
+  const double period = beamPeriod();
+  const double yaw_span = std::remainder(last.yaw - first.yaw, 2.0 * 3.14159265358979323846);
+  const double inv = n > 1 ? 1.0 / static_cast<double>(n - 1) : 0.0;
+  // The heading turns by a constant step per beam: rotate (cos, sin) instead of calling
+  // the trigonometric functions per beam.
+  double cy = std::cos(first.yaw), sy = std::sin(first.yaw);
+  const double step_c = std::cos(yaw_span * inv), step_s = std::sin(yaw_span * inv);
+  for (std::size_t i = 0; i < n; ++i) {
+    // The sensor pose at this beam's instant (linear in time within one sweep).
+    const double f = static_cast<double>(i) * inv;
+    const Eigen::Vector2d origin(first.x + f * (last.x - first.x), first.y + f * (last.y - first.y));
+    const double cb = layout.cosine(i), sb = layout.sine(i);
+    const Eigen::Vector2d dir(cy * cb - sy * sb, sy * cb + cy * sb);
+    const double next_cy = cy * step_c - sy * step_s;
+    sy = sy * step_c + cy * step_s;
+    cy = next_cy;
+    const RayHit hit = caster_.cast(origin, dir, sensor_.max_range_m);
     double r = sensor_.max_range_m;
-    if (hit < sensor_.max_range_m) {
-      r = hit + sensor_.sigmaAt(hit) * noise(rng_);
+    if (hit.hit()) {
+      r = hit.range + sensor_.sigmaAt(hit.range) * unit_noise_(rng_);
       // Noise never turns a return into "no return" or a negative range.
       r = std::min(std::max(r, 0.0), std::nextafter(sensor_.max_range_m, 0.0));
     }
     s.ranges_m[i] = r;
+    s.time_offsets_s[i] = static_cast<double>(i) * period;
   }
   return s;
 }

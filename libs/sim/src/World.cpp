@@ -43,8 +43,8 @@ void World::addDoor(const Door& door) {
       kept.push_back(w);
       continue;
     }
-    if (ta < 0.0) kept.push_back({lo, a});
-    if (tb > width) kept.push_back({b, hi});
+    if (ta < 0.0) kept.push_back({lo, a, w.kind});
+    if (tb > width) kept.push_back({b, hi, w.kind});
   }
   walls_ = std::move(kept);
 
@@ -53,28 +53,30 @@ void World::addDoor(const Door& door) {
       break;
     case DoorKind::kClosed: {
       const Eigen::Vector2d back = door.recess_m * left;
-      addPolyline({a, a + back, b + back, b});
+      addWall(a, a + back);
+      addWall(a + back, b + back, SurfaceKind::kDoor);
+      addWall(b + back, b);
       break;
     }
     case DoorKind::kAjar: {
       const double c = std::cos(door.leaf_angle_rad), s = std::sin(door.leaf_angle_rad);
       // The leaf turns about jamb_a towards the "behind" side.
       const Eigen::Vector2d leaf = width * (c * d + s * left);
-      addWall(a, a + leaf);
+      addWall(a, a + leaf, SurfaceKind::kDoor);
       break;
     }
   }
   doors_.push_back(door);
 }
 
-void World::addPolygon(const std::vector<Eigen::Vector2d>& corners) {
+void World::addPolygon(const std::vector<Eigen::Vector2d>& corners, SurfaceKind kind) {
   if (corners.size() < 2) return;
-  addPolyline(corners);
-  addWall(corners.back(), corners.front());
+  addPolyline(corners, kind);
+  addWall(corners.back(), corners.front(), kind);
 }
 
-void World::addPolyline(const std::vector<Eigen::Vector2d>& corners) {
-  for (std::size_t i = 0; i + 1 < corners.size(); ++i) addWall(corners[i], corners[i + 1]);
+void World::addPolyline(const std::vector<Eigen::Vector2d>& corners, SurfaceKind kind) {
+  for (std::size_t i = 0; i + 1 < corners.size(); ++i) addWall(corners[i], corners[i + 1], kind);
 }
 
 double World::castRay(const Eigen::Vector2d& origin, const Eigen::Vector2d& unit_dir) const {

@@ -123,7 +123,8 @@ World parseWorld(std::istream& in, const std::string& source) {
       if (!(v[2] > 0.0)) p.fail("pillar size must be > 0");
       const double h = 0.5 * v[2];
       world.addPolygon({{v[0] - h, v[1] - h}, {v[0] + h, v[1] - h}, {v[0] + h, v[1] + h},
-                        {v[0] - h, v[1] + h}});
+                        {v[0] - h, v[1] + h}},
+                       SurfaceKind::kClutter);
     } else if (key == "box") {
       const auto v = p.numbers(1, 4, 5);
       if (!(v[2] > 0.0 && v[3] > 0.0)) p.fail("box width and depth must be > 0");
@@ -131,7 +132,7 @@ World parseWorld(std::istream& in, const std::string& source) {
       const Eigen::Vector2d c(v[0], v[1]);
       const Eigen::Vector2d u(std::cos(yaw), std::sin(yaw)), w(-u.y(), u.x());
       const Eigen::Vector2d hu = 0.5 * v[2] * u, hw = 0.5 * v[3] * w;
-      world.addPolygon({c - hu - hw, c + hu - hw, c + hu + hw, c - hu + hw});
+      world.addPolygon({c - hu - hw, c + hu - hw, c + hu + hw, c - hu + hw}, SurfaceKind::kClutter);
     } else {
       p.fail("unknown keyword '" + key + "' (wall, polyline, door, pillar, box)");
     }

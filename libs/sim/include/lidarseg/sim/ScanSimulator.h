@@ -9,6 +9,7 @@
 
 #include "lidarseg/core/BeamLayout.h"
 #include "lidarseg/core/Scan.h"
+#include "lidarseg/sim/RayCaster.h"
 #include "lidarseg/sim/World.h"
 
 namespace lidarseg::sim {
@@ -42,17 +43,32 @@ struct SensorModel {
 /// Produces scans of a World seen from given sensor poses. Deterministic for a seed.
 class ScanSimulator {
  public:
-  ScanSimulator(SensorModel sensor, std::uint64_t seed);
+  /// Indexes the world's walls (the world may change afterwards; this keeps a snapshot).
+  ScanSimulator(const World& world, SensorModel sensor, std::uint64_t seed);
 
-  /// The scan seen by the sensor at `T_world_sensor`. Beams with no wall within the
-  /// maximum range return max_range_m (invalid by the Scan convention).
-  Scan scan(const World& world, const Pose2& T_world_sensor);
+  /// The scan seen by a sensor standing still at `T_world_sensor`. Beams with no wall
+  /// within the maximum range return max_range_m (invalid by the Scan convention).
+  Scan scan(const Pose2& T_world_sensor);
+
+  /// The scan of a moving sensor ("rolling shutter", paper IV.A): beam i is measured at
+  /// time_offsets_s[i] = i * beam period after the first beam, from the sensor pose
+  /// interpolated between `T_world_sensor_first` (first beam) and `T_world_sensor_last`
+  /// (last beam). The ranges are those a real spinning scanner reports: each in the
+  /// sensor frame of its own instant.
+  Scan scan(const Pose2& T_world_sensor_first, const Pose2& T_world_sensor_last);
+
+  /// Time between consecutive beams (s): beam spacing / (2 pi frequency).
+  double beamPeriod() const;
+  /// Duration of one sweep, first to last beam (s).
+  double sweepDuration() const;
 
   const SensorModel& sensor() const { return sensor_; }
 
  private:
   SensorModel sensor_;
+  RayCaster caster_;
   std::mt19937_64 rng_;
+  std::normal_distribution<double> unit_noise_{0.0, 1.0};
 };
 
 }  // namespace lidarseg::sim

@@ -9,10 +9,18 @@
 
 namespace lidarseg::sim {
 
+/// What a wall is made of, for rendering and ground truth.
+enum class SurfaceKind : unsigned char {
+  kWall,     ///< a wall (including a door recess's sides)
+  kDoor,     ///< a door leaf
+  kClutter,  ///< boxes, bins, pillars
+};
+
 /// A wall: a straight segment in the world frame (m).
 struct Wall {
   Eigen::Vector2d a = Eigen::Vector2d::Zero();
   Eigen::Vector2d b = Eigen::Vector2d::Zero();
+  SurfaceKind kind = SurfaceKind::kWall;
 };
 
 /// A 2D pose (m, m, rad): the frame's origin and heading in its parent frame.
@@ -55,11 +63,16 @@ class World {
   void addDoor(const Door& door);
   const std::vector<Door>& doors() const { return doors_; }
 
-  void addWall(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { walls_.push_back({a, b}); }
+  void addWall(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+               SurfaceKind kind = SurfaceKind::kWall) {
+    walls_.push_back({a, b, kind});
+  }
   /// Adds the closed polygon p0-p1-...-pn-p0.
-  void addPolygon(const std::vector<Eigen::Vector2d>& corners);
+  void addPolygon(const std::vector<Eigen::Vector2d>& corners,
+                  SurfaceKind kind = SurfaceKind::kWall);
   /// Adds the polyline p0-p1-...-pn (open).
-  void addPolyline(const std::vector<Eigen::Vector2d>& corners);
+  void addPolyline(const std::vector<Eigen::Vector2d>& corners,
+                   SurfaceKind kind = SurfaceKind::kWall);
 
   const std::vector<Wall>& walls() const { return walls_; }
 

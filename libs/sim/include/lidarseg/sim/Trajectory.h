@@ -1,0 +1,51 @@
+#pragma once
+/// @file Trajectory.h
+/// A robot path through waypoints at constant speed, with rounded corners.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "lidarseg/sim/World.h"
+
+namespace lidarseg::sim {
+
+/// A path through waypoints (world frame, m) driven at constant linear speed; each corner
+/// is rounded by a circular arc of the turn radius (smaller where the legs are short), so
+/// the heading is continuous and the angular speed is speed / radius in the turns.
+class Trajectory {
+ public:
+  /// @throws std::invalid_argument for fewer than 2 waypoints, two equal consecutive
+  /// waypoints, a non-positive speed or a negative radius.
+  Trajectory(std::vector<Eigen::Vector2d> waypoints, double speed_mps, double turn_radius_m);
+
+  /// Total length (m) and duration (s).
+  double length() const { return length_; }
+  double duration() const { return length_ / speed_; }
+  double speed() const { return speed_; }
+
+  /// Robot pose at time t (s from the start), t clamped to [0, duration()].
+  Pose2 poseAt(double t) const;
+  /// Pose at arc length s (m), clamped to [0, length()].
+  Pose2 poseAtDistance(double s) const;
+
+ private:
+  struct Piece {
+    Eigen::Vector2d start;   // start point
+    double heading = 0.0;    // heading at the start (rad)
+    double length = 0.0;     // m
+    double curvature = 0.0;  // 1/m, signed (left turns positive); 0 for a straight piece
+    double s0 = 0.0;         // arc length at the start
+  };
+  std::vector<Piece> pieces_;
+  double length_ = 0.0;
+  double speed_ = 1.0;
+};
+
+/// Reads a trajectory file: `speed V` (m/s), `turn_radius R` (m) and one `waypoint X Y`
+/// per line, `#` comments.
+/// @throws std::runtime_error "file:line: message" for a bad line, or naming the file.
+Trajectory loadTrajectoryFile(const std::string& path);
+
+}  // namespace lidarseg::sim

@@ -1,0 +1,118 @@
+#include "lidarseg/sim/Trajectory.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace lidarseg::sim {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+double wrap(double a) { return std::remainder(a, 2.0 * kPi); }
+}  // namespace
+
+Trajectory::Trajectory(std::vector<Eigen::Vector2d> wp, double speed_mps, double radius)
+    : speed_(speed_mps) {
+  if (wp.size() < 2) throw std::invalid_argument("Trajectory: needs at least 2 waypoints");
+  if (!(speed_mps > 0.0)) throw std::invalid_argument("Trajectory: speed must be > 0");
+  if (!(radius >= 0.0)) throw std::invalid_argument("Trajectory: turn radius must be >= 0");
+  for (std::size_t i = 0; i + 1 < wp.size(); ++i) {
+    if ((wp[i + 1] - wp[i]).norm() < 1e-9) {
+      throw std::invalid_argument("Trajectory: waypoints " + std::to_string(i) + " and " +
+                                  std::to_string(i + 1) + " are equal");
+    }
+  }
+  // Tangent length cut from each corner: d = r tan(turn / 2), at most half of either leg.
+  const std::size_t n = wp.size();
+  std::vector<double> cut(n, 0.0), turn(n, 0.0), r_eff(n, 0.0);
+  for (std::size_t i = 1; i + 1 < n; ++i) {
+    const Eigen::Vector2d u = (wp[i] - wp[i - 1]).normalized(), v = (wp[i + 1] - wp[i]).normalized();
+    turn[i] = std::atan2(u.x() * v.y() - u.y() * v.x(), u.dot(v));
+    const double half_tan = std::tan(0.5 * std::abs(turn[i]));
+    if (half_tan < 1e-12 || radius == 0.0) continue;
+    const double max_cut = 0.5 * std::min((wp[i] - wp[i - 1]).norm(), (wp[i + 1] - wp[i]).norm());
+    cut[i] = std::min(radius * half_tan, max_cut);
+    r_eff[i] = cut[i] / half_tan;
+  }
+  double s = 0.0;
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    const Eigen::Vector2d d = (wp[i + 1] - wp[i]).normalized();
+    const double heading = std::atan2(d.y(), d.x());
+    Piece line{wp[i] + cut[i] * d, heading, (wp[i + 1] - wp[i]).norm() - cut[i] - cut[i + 1], 0.0, s};
+    pieces_.push_back(line);
+    s += line.length;
+    if (i + 1 < n - 1 && cut[i + 1] > 0.0) {
+      Piece arc{wp[i + 1] - cut[i + 1] * d, heading, r_eff[i + 1] * std::abs(turn[i + 1]),
+                (turn[i + 1] > 0 ? 1.0 : -1.0) / r_eff[i + 1], s};
+      pieces_.push_back(arc);
+      s += arc.length;
+    }
+  }
+  length_ = s;
+}
+
+Pose2 Trajectory::poseAtDistance(double s) const {
+  s = std::clamp(s, 0.0, length_);
+  auto it = std::upper_bound(pieces_.begin(), pieces_.end(), s,
+                             [](double v, const Piece& p) { return v < p.s0; });
+  const Piece& p = *(it == pieces_.begin() ? it : it - 1);
+  const double ds = std::min(s - p.s0, p.length);
+  if (p.curvature == 0.0) {
+    return {p.start.x() + ds * std::cos(p.heading), p.start.y() + ds * std::sin(p.heading), wrap(p.heading)};
+  }
+  const double k = p.curvature;
+  const double h = p.heading + k * ds;
+  return {p.start.x() + (std::sin(h) - std::sin(p.heading)) / k,
+          p.start.y() - (std::cos(h) - std::cos(p.heading)) / k, wrap(h)};
+}
+
+Pose2 Trajectory::poseAt(double t) const { return poseAtDistance(t * speed_); }
+
+Trajectory loadTrajectoryFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot open trajectory file '" + path + "'");
+  double speed = 1.0, radius = 0.5;
+  std::vector<Eigen::Vector2d> points;
+  std::string text;
+  for (int line = 1; std::getline(in, text); ++line) {
+    const auto fail = [&](const std::string& m) {
+      throw std::runtime_error(path + ":" + std::to_string(line) + ": " + m);
+    };
+    if (const auto h = text.find('#'); h != std::string::npos) text.erase(h);
+    std::istringstream words(text);
+    std::vector<std::string> t;
+    for (std::string w; words >> w;) t.push_back(w);
+    if (t.empty()) continue;
+    const std::size_t want = t[0] == "waypoint" ? 3 : 2;
+    if (t[0] != "waypoint" && t[0] != "speed" && t[0] != "turn_radius") {
+      fail("unknown keyword '" + t[0] + "' (speed, turn_radius, waypoint)");
+    }
+    if (t.size() != want) fail("'" + t[0] + "' expects " + std::to_string(want - 1) + " numbers, got " + std::to_string(t.size() - 1));
+    std::vector<double> v;
+    for (std::size_t i = 1; i < t.size(); ++i) {
+      errno = 0;
+      char* end = nullptr;
+      const double x = std::strtod(t[i].c_str(), &end);
+      if (end != t[i].c_str() + t[i].size() || errno == ERANGE || !std::isfinite(x)) fail("'" + t[i] + "' is not a number");
+      v.push_back(x);
+    }
+    if (t[0] == "speed") {
+      if (!(v[0] > 0.0)) fail("speed must be > 0");
+      speed = v[0];
+    } else if (t[0] == "turn_radius") {
+      if (!(v[0] >= 0.0)) fail("turn_radius must be >= 0");
+      radius = v[0];
+    } else {
+      if (!points.empty() && (points.back() - Eigen::Vector2d(v[0], v[1])).norm() < 1e-9) fail("waypoint equal to the previous one");
+      points.emplace_back(v[0], v[1]);
+    }
+  }
+  if (points.size() < 2) throw std::runtime_error(path + ": needs at least 2 waypoints");
+  return Trajectory(points, speed, radius);
+}
+
+}  // namespace lidarseg::sim

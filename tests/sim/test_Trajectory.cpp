@@ -1,0 +1,89 @@
+#include <cmath>
+#include <fstream>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "SyntheticScenes.h"
+#include "lidarseg/sim/RayCaster.h"
+#include "lidarseg/sim/Trajectory.h"
+#include "lidarseg/sim/WorldFile.h"
+
+namespace lidarseg::sim {
+namespace {
+using lidarseg::testing::kPi;
+const std::string kWorlds = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/";
+
+TEST(Trajectory, StraightLegsAndRoundedCorner) {
+  const Trajectory t({{0, 0}, {10, 0}, {10, 10}}, 2.0, 1.0);
+  // Two legs of 10 m minus 1 m each, plus a quarter circle of radius 1.
+  EXPECT_NEAR(t.length(), 18.0 + kPi / 2, 1e-12);
+  EXPECT_NEAR(t.duration(), t.length() / 2.0, 1e-12);
+  const Pose2 mid_leg = t.poseAt(2.5);
+  EXPECT_NEAR(mid_leg.x, 5.0, 1e-12);
+  EXPECT_NEAR(mid_leg.yaw, 0.0, 1e-12);
+  // Middle of the arc: centre (9, 1), radius 1, heading 45 deg.
+  const Pose2 arc = t.poseAtDistance(9.0 + kPi / 4);
+  EXPECT_NEAR(arc.x, 9.0 + std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(arc.y, 1.0 - std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(arc.yaw, kPi / 4, 1e-12);
+  const Pose2 end = t.poseAt(1e9);
+  EXPECT_NEAR(end.x, 10.0, 1e-12);
+  EXPECT_NEAR(end.y, 10.0, 1e-12);
+  EXPECT_NEAR(end.yaw, kPi / 2, 1e-12);
+}
+
+TEST(Trajectory, PoseIsContinuous) {
+  const Trajectory t({{0, 0}, {5, 0}, {5, 3}, {-2, 3}, {-2, -4}}, 1.0, 0.8);
+  Pose2 prev = t.poseAtDistance(0.0);
+  for (double s = 0.01; s <= t.length(); s += 0.01) {
+    const Pose2 p = t.poseAtDistance(s);
+    EXPECT_NEAR(std::hypot(p.x - prev.x, p.y - prev.y), 0.01, 1e-6) << "s = " << s;
+    EXPECT_LT(std::abs(std::remainder(p.yaw - prev.yaw, 2 * kPi)), 0.01 / 0.8 + 1e-9);
+    prev = p;
+  }
+}
+
+// The shipped trajectories start and end at the origin, are about 110 m long like the
+// paper's, and never come closer than 0.5 m to a wall.
+TEST(Trajectory, ShippedTrajectoriesLoopInFreeSpace) {
+  for (const char* name : {"maze", "hospital"}) {
+    const World world = loadWorldFile(kWorlds + name + ".world");
+    const Trajectory t = loadTrajectoryFile(kWorlds + name + ".traj");
+    EXPECT_NEAR(t.length(), 108.0, 3.0) << name;
+    const Pose2 start = t.poseAt(0), end = t.poseAt(t.duration());
+    EXPECT_NEAR(std::hypot(start.x, start.y), 0.0, 1e-9) << name;
+    EXPECT_NEAR(std::hypot(end.x, end.y), 0.0, 1e-9) << name;
+    const RayCaster caster(world);
+    for (double s = 0.0; s <= t.length(); s += 0.25) {
+      const Pose2 p = t.poseAtDistance(s);
+      for (int k = 0; k < 16; ++k) {
+        const double a = k * kPi / 8;
+        EXPECT_GT(caster.cast({p.x, p.y}, {std::cos(a), std::sin(a)}).range, 0.5)
+            << name << " at s = " << s;
+      }
+    }
+  }
+}
+
+TEST(Trajectory, FileErrorsNameTheLine) {
+  const std::string path = std::string(LIDARSEG_TEST_TMP_DIR) + "/bad.traj";
+  const auto errorOf = [&](const std::string& text) {
+    std::ofstream(path) << text;
+    try {
+      loadTrajectoryFile(path);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no exception");
+  };
+  EXPECT_EQ(errorOf("speed 1\nwaypoint 0 0\nwaypont 1 1\n"),
+            path + ":3: unknown keyword 'waypont' (speed, turn_radius, waypoint)");
+  EXPECT_EQ(errorOf("waypoint 0\n"), path + ":1: 'waypoint' expects 2 numbers, got 1");
+  EXPECT_EQ(errorOf("speed -1\n"), path + ":1: speed must be > 0");
+  EXPECT_EQ(errorOf("waypoint 0 0\nwaypoint 0 0\n"), path + ":2: waypoint equal to the previous one");
+  EXPECT_EQ(errorOf("waypoint 0 0\n"), path + ": needs at least 2 waypoints");
+}
+
+}  // namespace
+}  // namespace lidarseg::sim
