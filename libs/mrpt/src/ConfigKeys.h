@@ -1,0 +1,95 @@
+#pragma once
+// Private to lidarseg::mrpt: loading and saving a parameter struct through a key table.
+//
+// A parameter struct is described once by a visitor, `forEachKey(params, visit)`, calling
+// visit(key, field) for every field (double or std::size_t). From it come load (strict
+// number parsing, unknown-key check, validate(), errors naming file:line [section] key),
+// save (full precision) and the list of keys.
+
+#include <map>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/config/CConfigFileMemory.h>
+
+namespace lidarseg::mrpt_adapter::detail {
+
+/// Line number (1-based) of each key of one section in the source text.
+using LineMap = std::map<std::string, int>;
+
+/// A configuration file read into memory: INI, or YAML when the name ends in .yaml/.yml.
+struct LoadedConfig {
+  mrpt::config::CConfigFileMemory cfg;
+  std::string text;
+  bool yaml = false;
+};
+
+/// @throws std::runtime_error if the file cannot be read; std::invalid_argument for bad YAML.
+LoadedConfig readConfigFile(const std::string& path);
+
+/// Lines of the keys of `section` in an INI or YAML text.
+LineMap keyLines(const std::string& text, const std::string& section, bool yaml);
+
+/// "file.ini:12 [section] key" (without ":line" when unknown).
+std::string where(const std::string& source, const LineMap& lines, const std::string& section,
+                  const std::string& key);
+
+double parseDouble(const std::string& text, const std::string& context);
+std::size_t parseCount(const std::string& text, const std::string& context);
+
+/// Throws naming the first key of `section` that `known` does not list.
+void rejectUnknownKeys(const mrpt::config::CConfigFileBase& cfg, const std::string& section,
+                       const std::vector<std::string>& known, const std::string& source,
+                       const LineMap& lines);
+
+/// Rethrows a validate() failure (whose message starts with the key) with its location.
+[[noreturn]] void rethrowWithLocation(const std::invalid_argument& e, const std::string& source,
+                                      const LineMap& lines, const std::string& section);
+
+template <typename Params, typename ForEachKey>
+std::vector<std::string> keysOf(ForEachKey forEachKey) {
+  std::vector<std::string> keys;
+  Params p;
+  forEachKey(p, [&](const char* key, auto&) { keys.emplace_back(key); });
+  return keys;
+}
+
+/// Reads the keys present in `section` into `params` (absent keys keep their value), then
+/// validates; `params` is only changed when everything is valid.
+template <typename Params, typename ForEachKey>
+void loadKeys(Params& params, const mrpt::config::CConfigFileBase& cfg, const std::string& section,
+              const std::string& source, const LineMap& lines, ForEachKey forEachKey) {
+  rejectUnknownKeys(cfg, section, keysOf<Params>(forEachKey), source, lines);
+  Params loaded = params;
+  forEachKey(loaded, [&](const char* key, auto& field) {
+    if (!cfg.keyExists(section, key)) return;
+    const std::string text = cfg.read_string(section, key, "");
+    using Field = std::decay_t<decltype(field)>;
+    if constexpr (std::is_same_v<Field, double>) {
+      field = parseDouble(text, where(source, lines, section, key));
+    } else {
+      field = static_cast<Field>(parseCount(text, where(source, lines, section, key)));
+    }
+  });
+  try {
+    loaded.validate();
+  } catch (const std::invalid_argument& e) {
+    rethrowWithLocation(e, source, lines, section);
+  }
+  params = loaded;
+}
+
+/// Writes every key of `params` with full precision.
+std::string formatValue(double v);
+template <typename Params, typename ForEachKey>
+void saveKeys(const Params& params, mrpt::config::CConfigFileBase& cfg, const std::string& section,
+              ForEachKey forEachKey) {
+  Params copy = params;
+  forEachKey(copy, [&](const char* key, auto& field) {
+    cfg.write(section, key, formatValue(static_cast<double>(field)));
+  });
+}
+
+}  // namespace lidarseg::mrpt_adapter::detail
