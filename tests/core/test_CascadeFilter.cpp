@@ -83,6 +83,18 @@ TEST(CascadeFilter, NoiseGateFusesNoisyPiecesOfOneWall) {
   EXPECT_FALSE(CascadeFilter::canFuse(wall, door, p, SensorNoise{}));
 }
 
+TEST(CascadeFilter, NanSegmentsNeverFuse) {
+  const Segment a = makeSegment({1, 2}, {0, 2});
+  Segment b = makeSegment({-0.2, 2}, {-1.2, 2});
+  b.start = Eigen::Vector2d::Constant(std::nan(""));
+  EXPECT_FALSE(CascadeFilter::canFuse(a, b, FusionParams{}, SensorNoise{}));
+  // Not aligned, so only the noise gate could fuse it; NaN moments must not pass it.
+  Segment c = makeSegment({-0.2, 2.3}, {-1.2, 2.3});
+  c.moments.sum_xx = std::nan("");
+  c.residual_ss_m2 = std::nan("");
+  EXPECT_FALSE(CascadeFilter::canFuse(a, c, FusionParams{}, SensorNoise{0.5, 0.0}));
+}
+
 TEST(CascadeFilter, FusionRefitsFromTheUnionOfThePoints) {
   const CascadeFilter filter;
   const SegmentLevel in = levelOf({makeSegment({3, 2.0}, {1, 2.0}), makeSegment({0.9, 2.01}, {-1, 2.01}),

@@ -116,6 +116,20 @@ TEST(SegmentationConfig, ErrorsNameFileLineSectionAndKey) {
   EXPECT_NE(yaml.find("bad.yaml:3 [segmentation] wd_min_points"), std::string::npos) << yaml;
 }
 
+TEST(SegmentationConfig, YamlWithOneKeyAndSectionRules) {
+  EXPECT_EQ(loadSegmentationParamsFile(writeTemp("one.yaml", "segmentation:\n  wd_threshold_m: 0.03\n"))
+                .wall_danielsson.threshold_m,
+            0.03);
+  // A misspelt or missing section is an error, not a silent fallback to the defaults.
+  EXPECT_EQ(errorOf("nosection.ini", "[segmentaton]\nwd_threshold_m = 0.03\n"),
+            std::string(LIDARSEG_TEST_TMP_DIR) + "/nosection.ini: no [segmentation] section");
+  EXPECT_NE(errorOf("flat.yaml", "wd_threshold_m: 0.03\n").find("section"), std::string::npos);
+  // Section names as MRPT reads them (spaces, case); the last duplicate key wins and is the
+  // one an error points at.
+  const std::string dup = errorOf("dup.ini", "[ Segmentation ]\nwd_min_points = 3\nwd_min_points = 1\n");
+  EXPECT_NE(dup.find("dup.ini:3 [segmentation] wd_min_points"), std::string::npos) << dup;
+}
+
 TEST(SegmentationConfig, MissingFileIsAClearError) {
   try {
     loadSegmentationParamsFile("/nonexistent/lidarseg.ini");

@@ -59,9 +59,13 @@ void BeamLayout::precompute() {
   wraps_ = false;
   if (n >= 2) {
     mean_increment_ = std::abs(angles_.back() - angles_.front()) / static_cast<double>(n - 1);
-    const double span = std::abs(angles_.back() - angles_.front()) + mean_increment_;
-    wraps_ = mean_increment_ > 0.0 &&
-             std::abs(span - kTwoPi) <= kWrapTolerance * mean_increment_;
+    // A full turn either ends one increment short of the first beam (360 beams at 1 deg
+    // from -180) or ends on the first beam's direction again (MRPT's 360-degree scans:
+    // -pi..+pi inclusive).
+    const double covered = std::abs(angles_.back() - angles_.front());
+    const double tol = kWrapTolerance * mean_increment_;
+    wraps_ = mean_increment_ > 0.0 && (std::abs(covered + mean_increment_ - kTwoPi) <= tol ||
+                                       std::abs(covered - kTwoPi) <= tol);
   }
 }
 

@@ -58,8 +58,8 @@ struct FusionGate {
         noise_gate(p.noise_gate_sigmas > 0.0) {}
 
   bool operator()(const Segment& a, const Segment& b) const {
-    // Close (D): the end of a and the start of b.
-    if ((b.start - a.end).squaredNorm() > max_gap_sq) return false;
+    // Close (D): the end of a and the start of b. Written so that NaN fails.
+    if (!((b.start - a.end).squaredNorm() <= max_gap_sq)) return false;
     // Parallel: |sin| of the angle between the normals is the same modulo pi (normals may
     // point either way) and needs no trigonometry; max_angle_rad <= pi/2 keeps it monotonic.
     const double sin_angle = std::abs(a.normal.x() * b.normal.y() - a.normal.y() * b.normal.x());

@@ -27,7 +27,8 @@ double residualSumOfSquares(const LineMoments& m) {
   const double mxy = m.sum_xy - m.sum_x * cy;
   const double myy = m.sum_yy - m.sum_y * cy;
   const double half_diff = 0.5 * (mxx - myy);
-  return std::max(0.0, 0.5 * (mxx + myy) - std::sqrt(half_diff * half_diff + mxy * mxy));
+  const double ss = 0.5 * (mxx + myy) - std::sqrt(half_diff * half_diff + mxy * mxy);
+  return ss > 0.0 ? ss : (ss == ss ? 0.0 : ss);  // clamp rounding below 0, keep NaN
 }
 
 void fitSegment(Segment& s, const SensorNoise& noise) {
@@ -83,7 +84,9 @@ void fitSegment(Segment& s, const SensorNoise& noise) {
   //   d(offset at centroid) = mean(e_i),  d(theta) = -sum(e_i u_i) / sum(u_i^2),
   // and rho = n(theta) . centroid adds s_mean * d(theta).
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  if (n_pts < 2.0 || !(spread > 0.0)) {
+  // Degenerate: fewer than 2 points, or all at one place (relative to their distance from
+  // the sensor, so that rounding noise does not pass for a spread).
+  if (n_pts < 2.0 || !(spread > 1e-12 * (m.sum_xx + m.sum_yy))) {
     s.covariance << kInf, 0.0, 0.0, kInf;
     return;
   }

@@ -48,7 +48,7 @@ std::size_t toPoints(const Scan& scan, const BeamLayout& layout, const std::uint
                      Eigen::Vector2d* points) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   const double lo = std::max(scan.min_range_m, 0.0);
-  const double hi = scan.max_range_m;
+  const double hi = std::min(scan.max_range_m, kMaxPhysicalRangeM);
   const double* ranges = scan.ranges_m.data();
   std::size_t valid = 0;
   const std::size_t n = scan.size();

@@ -10,6 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <mrpt/containers/yaml.h>
+
 namespace lidarseg::mrpt_adapter::detail {
 
 namespace {
@@ -20,12 +22,56 @@ std::string trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
+char lower(char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); }
+
+bool equalsIgnoreCase(const std::string& a, const std::string& b) {
+  return a.size() == b.size() &&
+         std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) { return lower(x) == lower(y); });
+}
+
 bool endsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         std::equal(suffix.rbegin(), suffix.rend(), s.rbegin(),
-                    [](char a, char b) { return std::tolower(a) == std::tolower(b); });
+  return s.size() >= suffix.size() && equalsIgnoreCase(s.substr(s.size() - suffix.size()), suffix);
+}
+
+// Loads a YAML text of sections (maps of scalars) into `out`, with the keys' lines.
+void loadYaml(const std::string& path, LoadedConfig& out) {
+  mrpt::containers::yaml doc;
+  try {
+    doc = mrpt::containers::yaml::FromText(out.text);
+  } catch (const std::exception& e) {
+    std::string what = e.what();
+    throw std::invalid_argument(path + ": not valid YAML: " + what.substr(0, what.find('\n')));
+  }
+  if (doc.isNullNode()) return;
+  if (!doc.isMap()) throw std::invalid_argument(path + ": the top level must map section names to keys");
+  for (const auto& [section_node, body] : doc.asMap()) {
+    const std::string section = section_node.as<std::string>();
+    const int section_line = section_node.marks.line + 1;
+    if (!body.isMap()) {
+      throw std::invalid_argument(path + ":" + std::to_string(section_line) + " [" + section +
+                                  "]: a section must map keys to values");
+    }
+    for (const auto& [key_node, value] : body.asMap()) {
+      const std::string key = key_node.as<std::string>();
+      const int line = key_node.marks.line + 1;
+      if (!value.isScalar()) {
+        throw std::invalid_argument(path + ":" + std::to_string(line) + " [" + section + "] " + key +
+                                    ": the value must be a single number");
+      }
+      out.cfg.write(section, key, value.as<std::string>());
+      out.lines[section][key] = line;
+    }
+  }
 }
 }  // namespace
+
+const LineMap& LoadedConfig::linesOf(const std::string& section) const {
+  static const LineMap kNone;
+  for (const auto& [name, map] : lines) {
+    if (equalsIgnoreCase(name, section)) return map;
+  }
+  return kNone;
+}
 
 LoadedConfig readConfigFile(const std::string& path) {
   std::ifstream in(path);
@@ -36,18 +82,24 @@ LoadedConfig readConfigFile(const std::string& path) {
   out.text = text.str();
   out.yaml = endsWith(path, ".yaml") || endsWith(path, ".yml");
   if (out.yaml) {
-    try {
-      out.cfg.setContentFromYAML(out.text);
-    } catch (const std::exception& e) {
-      throw std::invalid_argument(path + ": not valid YAML: " + e.what());
-    }
+    loadYaml(path, out);
   } else {
     out.cfg.setContent(out.text);
+    std::vector<std::string> sections;
+    out.cfg.getAllSections(sections);
+    for (const std::string& s : sections) out.lines[s] = iniKeyLines(out.text, s);
   }
   return out;
 }
 
-LineMap keyLines(const std::string& text, const std::string& section, bool yaml) {
+void requireSection(const mrpt::config::CConfigFileBase& cfg, const std::string& section,
+                    const std::string& source) {
+  if (!cfg.sectionExists(section)) {
+    throw std::invalid_argument(source + ": no [" + section + "] section");
+  }
+}
+
+LineMap iniKeyLines(const std::string& text, const std::string& section) {
   LineMap lines;
   std::istringstream in(text);
   std::string line;
@@ -55,19 +107,14 @@ LineMap keyLines(const std::string& text, const std::string& section, bool yaml)
   for (int number = 1; std::getline(in, line); ++number) {
     const std::string t = trim(line);
     if (t.empty() || t[0] == '#' || t[0] == ';' || t.rfind("//", 0) == 0) continue;
-    const bool indented = !line.empty() && (line[0] == ' ' || line[0] == '\t');
-    if (!yaml && t[0] == '[') {
-      current = t.substr(1, t.find(']') - 1);
+    if (t[0] == '[') {
+      current = trim(t.substr(1, t.find(']') - 1));
       continue;
     }
-    const auto sep = t.find(yaml ? ':' : '=');
+    const auto sep = t.find('=');
     if (sep == std::string::npos) continue;
-    const std::string key = trim(t.substr(0, sep));
-    if (yaml && !indented) {
-      current = key;
-      continue;
-    }
-    if (current == section && !lines.count(key)) lines[key] = number;
+    // The last occurrence of a key wins in MRPT: point at that one.
+    if (equalsIgnoreCase(current, section)) lines[trim(t.substr(0, sep))] = number;
   }
   return lines;
 }

@@ -2,7 +2,7 @@
 // Private to lidarseg::mrpt: loading and saving a parameter struct through a key table.
 //
 // A parameter struct is described once by a visitor, `forEachKey(params, visit)`, calling
-// visit(key, field) for every field (double or std::size_t). From it come load (strict
+// visit(key, field) for every field (double, std::size_t, std::uint64_t or bool). From it come load (strict
 // number parsing, unknown-key check, validate(), errors naming file:line [section] key),
 // save (full precision) and the list of keys.
 
@@ -19,18 +19,29 @@ namespace lidarseg::mrpt_adapter::detail {
 /// Line number (1-based) of each key of one section in the source text.
 using LineMap = std::map<std::string, int>;
 
-/// A configuration file read into memory: INI, or YAML when the name ends in .yaml/.yml.
+/// A configuration file read into memory: INI, or YAML when the name ends in .yaml/.yml
+/// (top-level keys are sections, as in CConfigFileBase::setContentFromYAML).
 struct LoadedConfig {
   mrpt::config::CConfigFileMemory cfg;
   std::string text;
   bool yaml = false;
+  /// Line of each key, per section (from the YAML parser's marks; scanned for INI).
+  std::map<std::string, LineMap> lines;
+
+  const LineMap& linesOf(const std::string& section) const;
 };
 
 /// @throws std::runtime_error if the file cannot be read; std::invalid_argument for bad YAML.
 LoadedConfig readConfigFile(const std::string& path);
 
-/// Lines of the keys of `section` in an INI or YAML text.
-LineMap keyLines(const std::string& text, const std::string& section, bool yaml);
+/// Lines of the keys of `section` in an INI text (section names compared as MRPT does:
+/// trimmed, case-insensitive).
+LineMap iniKeyLines(const std::string& text, const std::string& section);
+
+/// Throws naming the source when `section` is absent: a misspelt or missing section must
+/// not silently give the defaults.
+void requireSection(const mrpt::config::CConfigFileBase& cfg, const std::string& section,
+                    const std::string& source);
 
 /// "file.ini:12 [section] key" (without ":line" when unknown).
 std::string where(const std::string& source, const LineMap& lines, const std::string& section,
@@ -61,6 +72,7 @@ std::vector<std::string> keysOf(ForEachKey forEachKey) {
 template <typename Params, typename ForEachKey>
 void loadKeys(Params& params, const mrpt::config::CConfigFileBase& cfg, const std::string& section,
               const std::string& source, const LineMap& lines, ForEachKey forEachKey) {
+  requireSection(cfg, section, source);
   rejectUnknownKeys(cfg, section, keysOf<Params>(forEachKey), source, lines);
   Params loaded = params;
   forEachKey(loaded, [&](const char* key, auto& field) {
@@ -69,6 +81,13 @@ void loadKeys(Params& params, const mrpt::config::CConfigFileBase& cfg, const st
     using Field = std::decay_t<decltype(field)>;
     if constexpr (std::is_same_v<Field, double>) {
       field = parseDouble(text, where(source, lines, section, key));
+    } else if constexpr (std::is_same_v<Field, bool>) {
+      const std::size_t v = parseCount(text, where(source, lines, section, key));
+      if (v > 1) {
+        throw std::invalid_argument(where(source, lines, section, key) + ": '" + text +
+                                    "' is not 0 or 1");
+      }
+      field = v == 1;
     } else {
       field = static_cast<Field>(parseCount(text, where(source, lines, section, key)));
     }

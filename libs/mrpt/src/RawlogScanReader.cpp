@@ -88,7 +88,8 @@ std::optional<RawlogScan> RawlogScanReader::next() {
       // MRPT's messages carry a stack trace; the line after "Message:" says what failed.
       const auto m = what.find("Message:");
       if (m != std::string::npos) what = what.substr(m + 8);
-      what = what.substr(what.find_first_not_of(' '));
+      const auto first = what.find_first_not_of(' ');
+      what = first == std::string::npos ? std::string() : what.substr(first);
       what = what.substr(0, what.find('\n'));
       throw std::runtime_error("rawlog '" + path_ + "', entry " + std::to_string(entries_read_) +
                                ": truncated or corrupt (" + what + ")");

@@ -47,4 +47,37 @@ Scan ScanConverter::convert(const mrpt::obs::CObservation2DRangeScan& obs) {
   return scan;
 }
 
+mrpt::obs::CObservation2DRangeScan::Ptr makeRangeScanObservation(
+    const Scan& scan, const std::string& sensor_label, const mrpt::poses::CPose3D& sensor_pose,
+    double range_sigma_m) {
+  scan.validate();
+  const BeamLayout& layout = *scan.layout;
+  const std::size_t n = layout.size();
+  if (n < 2) throw std::invalid_argument("makeRangeScanObservation: needs at least 2 beams");
+  const double first = layout.angle(0), last = layout.angle(n - 1);
+  const double step = (last - first) / static_cast<double>(n - 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (std::abs(layout.angle(i) - (first + step * static_cast<double>(i))) > 1e-9 ||
+        std::abs(first + last) > 1e-9) {
+      throw std::invalid_argument(
+          "makeRangeScanObservation: MRPT needs evenly spaced beams centred on x (beam " +
+          std::to_string(i) + ")");
+    }
+  }
+  auto obs = mrpt::obs::CObservation2DRangeScan::Create();
+  obs->sensorLabel = sensor_label;
+  obs->timestamp = mrpt::Clock::fromDouble(scan.stamp_s);
+  obs->aperture = static_cast<float>(std::abs(last - first));
+  obs->rightToLeft = step > 0.0;
+  obs->maxRange = static_cast<float>(std::isfinite(scan.max_range_m) ? scan.max_range_m : 1e6);
+  obs->stdError = static_cast<float>(range_sigma_m);
+  obs->sensorPose = sensor_pose;
+  obs->resizeScan(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    obs->setScanRange(i, static_cast<float>(scan.ranges_m[i]));
+    obs->setScanRangeValidity(i, scan.beamValid(i));
+  }
+  return obs;
+}
+
 }  // namespace lidarseg::mrpt_adapter

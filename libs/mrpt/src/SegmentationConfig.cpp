@@ -46,7 +46,7 @@ void saveSegmentationParams(const SegmentationParams& params, mrpt::config::CCon
 SegmentationParams loadSegmentationParamsFile(const std::string& path, const std::string& section) {
   const detail::LoadedConfig file = detail::readConfigFile(path);
   SegmentationParams params;
-  detail::loadKeys(params, file.cfg, section, path, detail::keyLines(file.text, section, file.yaml),
+  detail::loadKeys(params, file.cfg, section, path, file.linesOf(section),
                    SegmentationKeys{});
   return params;
 }

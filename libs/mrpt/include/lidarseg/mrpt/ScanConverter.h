@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <map>
 #include <memory>
+#include <string>
 #include <tuple>
 
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -38,5 +39,13 @@ class ScanConverter {
   double min_range_m_;
   std::map<std::tuple<std::size_t, double, bool>, std::shared_ptr<const BeamLayout>> layouts_;
 };
+
+/// The MRPT observation of a core scan (the inverse of ScanConverter::convert()).
+/// The layout must be evenly spaced and centred on the sensor's x axis, as MRPT's
+/// observations are (aperture + direction); invalid beams are flagged invalid.
+/// @throws std::invalid_argument otherwise.
+mrpt::obs::CObservation2DRangeScan::Ptr makeRangeScanObservation(
+    const Scan& scan, const std::string& sensor_label, const mrpt::poses::CPose3D& sensor_pose,
+    double range_sigma_m);
 
 }  // namespace lidarseg::mrpt_adapter

@@ -1,0 +1,52 @@
+#pragma once
+/// @file SimulateApp.h
+/// The logic of `lidarseg-simulate`: a simulated run written as an MRPT rawlog with its
+/// ground truth.
+
+#include <cstdint>
+#include <string>
+
+namespace lidarseg::apps {
+
+/// Command-line options of `lidarseg-simulate`.
+struct SimulateOptions {
+  std::string world_path;       ///< config/worlds/*.world
+  std::string trajectory_path;  ///< config/worlds/*.traj
+  std::string sensor = "lms100";
+  /// Optional INI/YAML with a [simulation] section (config/simulate.ini).
+  std::string config_path;
+  std::uint64_t seed = 1;
+  /// Output prefix: writes PREFIX.rawlog, PREFIX_Images/, PREFIX.gt.tum, PREFIX.odom.tum,
+  /// PREFIX.features.csv, PREFIX.rois.csv (and PREFIX.carmen.log).
+  std::string out_prefix;
+  bool rolling_shutter = true;
+  /// -1: keep the configuration's value; 0: no camera; N: an image every N scans.
+  long camera_every_scans = -1;
+  bool write_carmen = false;
+};
+
+/// What a run produced.
+struct SimulateReport {
+  std::size_t scans = 0;
+  std::size_t images = 0;
+  double length_m = 0.0;
+  double duration_s = 0.0;
+  std::size_t door_sightings = 0;
+  std::size_t corner_sightings = 0;
+  std::string rawlog_path;
+};
+
+/// Simulates the run and writes every output atomically (temporary names renamed at the
+/// end: an error leaves no partial file).
+class SimulateApp {
+ public:
+  explicit SimulateApp(SimulateOptions options);
+  /// @throws std::runtime_error / std::invalid_argument naming the file and line or key.
+  SimulateReport run();
+
+ private:
+  SimulateReport runOrThrow();
+  SimulateOptions options_;
+};
+
+}  // namespace lidarseg::apps

@@ -1,0 +1,39 @@
+#include "lidarseg/sim/OdometrySimulator.h"
+
+#include <cmath>
+
+namespace lidarseg::sim {
+
+Pose2 compose(const Pose2& a, const Pose2& b) {
+  const double c = std::cos(a.yaw), s = std::sin(a.yaw);
+  return {a.x + c * b.x - s * b.y, a.y + s * b.x + c * b.y,
+          std::remainder(a.yaw + b.yaw, 2.0 * 3.14159265358979323846)};
+}
+
+Pose2 relative(const Pose2& a, const Pose2& b) {
+  const double c = std::cos(b.yaw), s = std::sin(b.yaw);
+  const double dx = a.x - b.x, dy = a.y - b.y;
+  return {c * dx + s * dy, -s * dx + c * dy,
+          std::remainder(a.yaw - b.yaw, 2.0 * 3.14159265358979323846)};
+}
+
+Pose2 OdometrySimulator::update(const Pose2& true_pose) {
+  if (!started_) {
+    started_ = true;
+    last_true_ = true_pose;
+    odometry_ = true_pose;
+    return odometry_;
+  }
+  Pose2 delta = relative(true_pose, last_true_);
+  last_true_ = true_pose;
+  const double dist = std::hypot(delta.x, delta.y);
+  const double t_sigma = noise_.translation_per_m * dist;
+  const double r_sigma = noise_.rotation_per_rad * std::abs(delta.yaw) + noise_.rotation_per_m * dist;
+  delta.x += t_sigma * unit_(rng_);
+  delta.y += t_sigma * unit_(rng_);
+  delta.yaw += r_sigma * unit_(rng_);
+  odometry_ = compose(odometry_, delta);
+  return odometry_;
+}
+
+}  // namespace lidarseg::sim

@@ -1,0 +1,80 @@
+#include "lidarseg/sim/Simulation.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace lidarseg::sim {
+
+namespace {
+void requirePositive(const char* key, double v) {
+  if (!(std::isfinite(v) && v > 0.0)) {
+    throw std::invalid_argument(std::string(key) + " must be finite and > 0 (got " + std::to_string(v) + ")");
+  }
+}
+void requireNonNegative(const char* key, double v) {
+  if (!(std::isfinite(v) && v >= 0.0)) {
+    throw std::invalid_argument(std::string(key) + " must be finite and >= 0 (got " + std::to_string(v) + ")");
+  }
+}
+}  // namespace
+
+void SimulationParams::validate() const {
+  if (!sensor.layout || sensor.layout->size() < 2) throw std::invalid_argument("sensor needs at least 2 beams");
+  requirePositive("max_range_m", sensor.max_range_m);
+  requireNonNegative("range_sigma_m", sensor.range_sigma_m);
+  requireNonNegative("far_range_sigma_m", sensor.far_range_sigma_m);
+  requirePositive("frequency_hz", sensor.frequency_hz);
+  requireNonNegative("lidar_z_m", lidar_z_m);
+  if (camera.width < 16 || camera.height < 16) throw std::invalid_argument("camera_width and camera_height must be >= 16");
+  requirePositive("camera_fx", camera.fx);
+  requirePositive("camera_fy", camera.fy);
+  requirePositive("camera_z_m", camera.z_m);
+  requirePositive("wall_height_m", heights.wall_m);
+  requirePositive("door_height_m", heights.door_m);
+  requireNonNegative("odom_translation_per_m", odometry.translation_per_m);
+  requireNonNegative("odom_rotation_per_rad", odometry.rotation_per_rad);
+  requireNonNegative("odom_rotation_per_m", odometry.rotation_per_m);
+}
+
+std::vector<std::string> sensorProfiles() { return {"lms100", "utm30lx", "sick180"}; }
+
+SensorModel sensorProfile(const std::string& name) {
+  if (name == "lms100") return SensorModel::lms100();
+  if (name == "utm30lx") return SensorModel::utm30lx();
+  if (name == "sick180") return SensorModel::sick180();
+  throw std::invalid_argument("unknown sensor profile '" + name + "' (lms100, utm30lx, sick180)");
+}
+
+Simulation::Simulation(const World& world, const Trajectory& trajectory, const SimulationParams& params)
+    : world_(&world),
+      trajectory_(&trajectory),
+      params_(params),
+      lidar_(world, (params.validate(), params.sensor), params.seed * 4 + 0),
+      odometry_(params.odometry, params.seed * 4 + 1),
+      camera_(world, params.camera, params.heights),
+      oracle_(world) {
+  num_scans_ = static_cast<std::size_t>(std::floor(trajectory.duration() * params.sensor.frequency_hz)) + 1;
+}
+
+SimulatedFrame Simulation::next() {
+  if (next_ >= num_scans_) throw std::out_of_range("Simulation::next: past the last scan");
+  SimulatedFrame f;
+  f.index = next_++;
+  const double t = static_cast<double>(f.index) / params_.sensor.frequency_hz;
+  f.stamp_s = params_.start_time_s + t;
+  f.T_world_robot = trajectory_->poseAt(t);
+  const Pose2 last = params_.rolling_shutter ? trajectory_->poseAt(t + lidar_.sweepDuration()) : f.T_world_robot;
+  f.scan = lidar_.scan(f.T_world_robot, last);
+  f.scan.stamp_s = f.stamp_s;
+  if (!params_.rolling_shutter) f.scan.time_offsets_s.assign(f.scan.size(), 0.0);
+  f.odometry = odometry_.update(f.T_world_robot);
+  f.features = oracle_.visible(f.T_world_robot, *params_.sensor.layout, params_.sensor.max_range_m);
+  if (params_.camera_every_scans > 0 && f.index % params_.camera_every_scans == 0) {
+    f.has_image = true;
+    f.image = camera_.render(f.T_world_robot);
+    f.door_boxes = camera_.visibleDoors(f.T_world_robot);
+  }
+  return f;
+}
+
+}  // namespace lidarseg::sim
