@@ -2,7 +2,8 @@
 # lidarseg's single entry script. Each command installs what is missing (Debian packages),
 # configures and builds incrementally, then runs.
 #
-#   ./run.sh main    segment the embedded real dataset and print statistics per level
+#   ./run.sh main    segment the embedded real dataset and the bundled simulated one (made on
+#                    first use, deterministically); print statistics per cascade level
 #   ./run.sh test    build with AddressSanitizer + UBSan and run the whole suite (CTest)
 #   ./run.sh bench   Release build, then the Google Benchmark timings (docs/performance.md)
 #   ./run.sh deps    only install the Debian packages
@@ -56,7 +57,17 @@ case "$cmd" in
   main)
     install_deps
     build_release
-    "$ROOT/build/release/apps/lidarseg-segment" --config "$ROOT/config/default.ini" "$DEFAULT_RAWLOG"
+    bin="$ROOT/build/release/apps"
+    "$bin/lidarseg-segment" --config "$ROOT/config/default.ini" "$DEFAULT_RAWLOG"
+    # The bundled simulated dataset: the paper's maze run, seed 1 (datasets/README.md).
+    sim="$ROOT/datasets/sim/maze_lms100_seed1"
+    if [ ! -f "$sim.rawlog" ]; then
+      log "generating the bundled simulated dataset $sim.rawlog"
+      "$bin/lidarseg-simulate" --world "$ROOT/config/worlds/maze.world" \
+        --trajectory "$ROOT/config/worlds/maze.traj" --sensor lms100 --seed 1 --out "$sim"
+    fi
+    echo
+    "$bin/lidarseg-segment" --config "$ROOT/config/default.ini" "$sim.rawlog"
     ;;
   test)
     install_deps
