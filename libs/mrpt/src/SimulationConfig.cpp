@@ -8,6 +8,8 @@ namespace {
 struct SimulationKeys {
   template <typename Params, typename Visitor>
   void operator()(Params& p, Visitor&& visit) const {
+    visit("num_beams", p.num_beams);
+    visit("field_of_view_rad", p.field_of_view_rad);
     visit("range_sigma_m", p.sensor.range_sigma_m);
     visit("far_range_m", p.sensor.far_range_m);
     visit("far_range_sigma_m", p.sensor.far_range_sigma_m);

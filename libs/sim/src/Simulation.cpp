@@ -25,6 +25,11 @@ void SimulationParams::validate() const {
   requireNonNegative("far_range_sigma_m", sensor.far_range_sigma_m);
   requirePositive("frequency_hz", sensor.frequency_hz);
   requireNonNegative("lidar_z_m", lidar_z_m);
+  requireNonNegative("field_of_view_rad", field_of_view_rad);
+  if (field_of_view_rad > 2.0 * 3.14159265358979323846 + 1e-9) {
+    throw std::invalid_argument("field_of_view_rad must be <= 2 pi (got " + std::to_string(field_of_view_rad) + ")");
+  }
+  if (num_beams == 1) throw std::invalid_argument("num_beams must be 0 (profile) or >= 2");
   if (camera.width < 16 || camera.height < 16) throw std::invalid_argument("camera_width and camera_height must be >= 16");
   requirePositive("camera_fx", camera.fx);
   requirePositive("camera_fy", camera.fy);
@@ -45,11 +50,25 @@ SensorModel sensorProfile(const std::string& name) {
   throw std::invalid_argument("unknown sensor profile '" + name + "' (lms100, utm30lx, sick180)");
 }
 
+namespace {
+SimulationParams withSensorOverrides(SimulationParams p) {
+  p.validate();
+  if (p.num_beams > 0 || p.field_of_view_rad > 0.0) {
+    const std::size_t n = p.num_beams > 0 ? p.num_beams : p.sensor.layout->size();
+    const double fov = p.field_of_view_rad > 0.0
+                           ? p.field_of_view_rad
+                           : std::abs(p.sensor.layout->angles().back() - p.sensor.layout->angles().front());
+    p.sensor.layout = std::make_shared<BeamLayout>(BeamLayout::centred(n, fov));
+  }
+  return p;
+}
+}  // namespace
+
 Simulation::Simulation(const World& world, const Trajectory& trajectory, const SimulationParams& params)
     : world_(&world),
       trajectory_(&trajectory),
-      params_(params),
-      lidar_(world, (params.validate(), params.sensor), params.seed * 4 + 0),
+      params_(withSensorOverrides(params)),
+      lidar_(world, params_.sensor, params.seed * 4 + 0),
       odometry_(params.odometry, params.seed * 4 + 1),
       camera_(world, params.camera, params.heights),
       oracle_(world) {

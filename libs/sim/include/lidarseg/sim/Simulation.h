@@ -21,6 +21,10 @@ namespace lidarseg::sim {
 /// is the lidar frame in the plane), `lidar_z_m` above the floor.
 struct SimulationParams {
   SensorModel sensor = SensorModel::lms100();
+  /// Override of the profile's beam count and field of view (0: keep the profile's); the
+  /// beams stay evenly spaced and centred on the sensor's x axis.
+  std::size_t num_beams = 0;
+  double field_of_view_rad = 0.0;
   /// Each beam measured at its own time while the robot moves (paper IV.A); off: every
   /// beam of a scan from the pose at the scan's time.
   bool rolling_shutter = true;
