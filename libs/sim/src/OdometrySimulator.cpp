@@ -4,19 +4,6 @@
 
 namespace lidarseg::sim {
 
-Pose2 compose(const Pose2& a, const Pose2& b) {
-  const double c = std::cos(a.yaw), s = std::sin(a.yaw);
-  return {a.x + c * b.x - s * b.y, a.y + s * b.x + c * b.y,
-          std::remainder(a.yaw + b.yaw, 2.0 * 3.14159265358979323846)};
-}
-
-Pose2 relative(const Pose2& a, const Pose2& b) {
-  const double c = std::cos(b.yaw), s = std::sin(b.yaw);
-  const double dx = a.x - b.x, dy = a.y - b.y;
-  return {c * dx + s * dy, -s * dx + c * dy,
-          std::remainder(a.yaw - b.yaw, 2.0 * 3.14159265358979323846)};
-}
-
 Pose2 OdometrySimulator::update(const Pose2& true_pose) {
   if (!started_) {
     started_ = true;

@@ -37,9 +37,4 @@ class OdometrySimulator {
   Pose2 odometry_;
 };
 
-/// a (+) b: pose b expressed in frame a, composed into a's parent frame.
-Pose2 compose(const Pose2& a, const Pose2& b);
-/// a (-) b: pose a expressed in frame b.
-Pose2 relative(const Pose2& a, const Pose2& b);
-
 }  // namespace lidarseg::sim

@@ -7,6 +7,8 @@
 
 #include <Eigen/Core>
 
+#include "lidarseg/core/Pose2D.h"
+
 namespace lidarseg::sim {
 
 /// What a wall is made of, for rendering and ground truth.
@@ -24,11 +26,7 @@ struct Wall {
 };
 
 /// A 2D pose (m, m, rad): the frame's origin and heading in its parent frame.
-struct Pose2 {
-  double x = 0.0;
-  double y = 0.0;
-  double yaw = 0.0;
-};
+using Pose2 = lidarseg::Pose2D;
 
 /// Kinds of doors a world can hold (the paper's §III.B features).
 enum class DoorKind { kOpen, kClosed, kAjar };
