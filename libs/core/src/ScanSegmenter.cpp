@@ -18,6 +18,11 @@ void ScanSegmenter::process(const Scan& scan, Segmentation& out) const {
   cascade_.apply(out);
 }
 
+void ScanSegmenter::process(const Scan& scan, Segmentation& out, const Twist2D& motion) const {
+  wall_danielsson_.segment(scan, out, motion);
+  cascade_.apply(out);
+}
+
 Segmentation ScanSegmenter::process(const Scan& scan) const {
   Segmentation out;
   process(scan, out);

@@ -80,6 +80,10 @@ WallDanielssonSegmenter::WallDanielssonSegmenter(const WallDanielssonParams& par
 }
 
 void WallDanielssonSegmenter::segment(const Scan& scan, Segmentation& out) const {
+  segment(scan, out, Twist2D{});
+}
+
+void WallDanielssonSegmenter::segment(const Scan& scan, Segmentation& out, const Twist2D& motion) const {
   scan.validate();
   out.clear();
   const std::size_t n = scan.size();
@@ -91,6 +95,19 @@ void WallDanielssonSegmenter::segment(const Scan& scan, Segmentation& out) const
                                : (scan.valid.empty()
                                       ? toPoints(scan, layout, nullptr, out.points.data())
                                       : toPoints(scan, layout, scan.valid.data(), out.points.data()));
+  const bool moving = motion.vx != 0.0 || motion.vy != 0.0 || motion.omega != 0.0;
+  if (moving && !scan.time_offsets_s.empty()) {
+    // p_0 = T_0_i p_i with T_0_i the motion during the beam's time offset; first order in
+    // the small rotation (omega * 15 ms).
+    for (std::size_t i = 0; i < n; ++i) {
+      Eigen::Vector2d& p = out.points[i];
+      if (std::isnan(p.x())) continue;
+      const double t = scan.time_offsets_s[i];
+      const double a = motion.omega * t;
+      const double c = 1.0 - 0.5 * a * a;
+      p = Eigen::Vector2d(c * p.x() - a * p.y() + motion.vx * t, a * p.x() + c * p.y() + motion.vy * t);
+    }
+  }
 
   SegmentLevel& level0 = out.levels[0];
   // |area| / chord > T  <=>  (2 area)^2 > 4 T^2 chord^2: no square root per point.

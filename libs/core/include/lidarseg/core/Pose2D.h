@@ -23,6 +23,16 @@ struct Pose2D {
   }
 };
 
+/// A planar velocity in a body frame: linear (m/s) along x and y, angular (rad/s).
+struct Twist2D {
+  double vx = 0.0;
+  double vy = 0.0;
+  double omega = 0.0;
+
+  /// The motion after dt seconds at this constant velocity, to first order (T_t0_t).
+  Pose2D integrate(double dt) const { return {vx * dt, vy * dt, omega * dt}; }
+};
+
 /// Angle wrapped to (-pi, pi].
 inline double wrapAngle(double a) {
   constexpr double kPi = 3.14159265358979323846;

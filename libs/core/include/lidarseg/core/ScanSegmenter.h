@@ -30,6 +30,10 @@ class ScanSegmenter {
   /// @throws std::invalid_argument if the scan is inconsistent (see Scan::validate()).
   void process(const Scan& scan, Segmentation& out) const;
 
+  /// The same for a moving sensor (rolling-shutter correction, see
+  /// WallDanielssonSegmenter::segment()).
+  void process(const Scan& scan, Segmentation& out, const Twist2D& motion) const;
+
   /// Convenience overload returning a new Segmentation.
   Segmentation process(const Scan& scan) const;
 

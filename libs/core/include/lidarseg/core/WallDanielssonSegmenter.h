@@ -4,6 +4,7 @@
 
 #include <cstddef>
 
+#include "lidarseg/core/Pose2D.h"
 #include "lidarseg/core/Scan.h"
 #include "lidarseg/core/Segmentation.h"
 #include "lidarseg/core/SensorNoise.h"
@@ -48,6 +49,12 @@ class WallDanielssonSegmenter {
   /// (other levels are cleared). An empty or all-invalid scan gives no segment.
   /// @throws std::invalid_argument if the scan is inconsistent (see Scan::validate()).
   void segment(const Scan& scan, Segmentation& out) const;
+
+  /// The same, for a sensor moving at `motion` (its own frame) during the sweep: each beam's
+  /// point is first moved from the sensor frame at its own time (Scan::time_offsets_s) to
+  /// the frame at the scan's time (rolling-shutter correction, paper IV.A). Without time
+  /// offsets it is segment(scan, out).
+  void segment(const Scan& scan, Segmentation& out, const Twist2D& motion) const;
 
   const WallDanielssonParams& params() const { return params_; }
 

@@ -1,0 +1,117 @@
+#pragma once
+/// @file SegmentOdometry.h
+/// Laser odometry from consecutive scans: segment each scan once, match it with the
+/// previous one, integrate the motion.
+
+#include <optional>
+
+#include <Eigen/Core>
+
+#include "lidarseg/core/Pose2D.h"
+#include "lidarseg/core/Scan.h"
+#include "lidarseg/core/ScanSegmenter.h"
+#include "lidarseg/core/SegmentMatcher.h"
+
+namespace lidarseg {
+
+/// Parameters of the laser odometry.
+struct OdometryParams {
+  SegmentationParams segmentation;
+  MatcherParams matcher;
+  /// Cascade level whose segments are matched (paper: the high level).
+  CascadeLevel level = CascadeLevel::kFusedAgain;
+  /// Keyframes (beyond the paper): each scan is matched against the last keyframe, which
+  /// is renewed once the sensor has moved this far (m) or turned this much (rad) from it,
+  /// or when a match fails. Matching against a keyframe instead of the previous scan adds
+  /// the noise of one match per keyframe, not per scan. Both 0: every scan is a keyframe
+  /// (the paper's scan-to-scan matching).
+  double keyframe_distance_m = 1.0;
+  double keyframe_angle_rad = 0.2;
+  /// Correct each scan for the motion during its sweep (rolling shutter), with the
+  /// estimated velocity, when the scan has per-beam time offsets.
+  bool deskew = true;
+  /// The velocity (for the constant-velocity prior and the rolling-shutter correction) is
+  /// the mean motion over this much past time (s): one step's translation is too noisy.
+  double velocity_window_s = 0.2;
+  /// The angular velocity reacts faster (a turn starts abruptly and rotation is what
+  /// distorts a scan most), over this window (s).
+  double angular_velocity_window_s = 0.1;
+  /// When the rotation measured by the match differs from the one used to correct the
+  /// scan by more than this over a sweep (rad), the scan is corrected again and re-matched.
+  double deskew_tolerance_rad = 0.002;
+
+  void validate() const;
+};
+
+/// One step of the odometry.
+struct OdometryStep {
+  std::size_t index = 0;
+  double stamp_s = 0.0;
+  /// Pose of the sensor in the odometry frame (the first scan's sensor frame).
+  Pose2D T_odom_sensor;
+  /// Motion since the previous scan, T_prev_curr, and its covariance (x, y, yaw).
+  Pose2D increment;
+  Eigen::Matrix3d increment_covariance = Eigen::Matrix3d::Zero();
+  /// The prediction the matcher started from.
+  Pose2D prior;
+  /// Matching details (status, couples, weights) against the keyframe; empty for the
+  /// first scan. match.T_prev_curr is T_keyframe_curr.
+  MatchResult match;
+  /// Whether this scan became the keyframe.
+  bool keyframe = false;
+  bool first = false;
+  /// Wall-clock time of each stage (microseconds).
+  double wall_danielsson_us = 0.0;
+  double cascade_us = 0.0;
+  double matching_us = 0.0;
+};
+
+/// Laser odometry with the segment matcher. Each scan is segmented once; the keyframe's
+/// segments are kept for the next scans. The prior is the constant-velocity prediction (the previous
+/// increment scaled to the time elapsed), or, when given, the wheel-odometry increment.
+/// When the matcher fails, the prior is used and the step's covariance says so.
+class SegmentOdometry {
+ public:
+  /// @throws std::invalid_argument for invalid parameters.
+  explicit SegmentOdometry(const OdometryParams& params = {});
+
+  /// Processes the next scan.
+  /// @param odometry_increment wheel odometry T_prev_curr of the sensor since the
+  ///        previous scan, used as the prior instead of constant velocity.
+  /// @throws std::invalid_argument for an inconsistent scan (see Scan::validate()).
+  OdometryStep process(const Scan& scan, const std::optional<Pose2D>& odometry_increment = {});
+
+  /// The segmentation of the last scan processed.
+  const Segmentation& lastSegmentation() const { return segmentation_[current_]; }
+  /// The segmentation of the current keyframe (the last scan when it became one).
+  const Segmentation& keyframeSegmentation() const { return segmentation_[keyframe_]; }
+  const Pose2D& pose() const { return pose_; }
+  /// Current velocity estimate, in the sensor frame.
+  const Twist2D& velocity() const { return velocity_; }
+  void reset();
+
+ private:
+  void remember(double stamp);
+  void segmentInto(const Scan& scan, int slot, const Twist2D& motion, OdometryStep& step);
+  MatchResult matchWithKeyframe(int slot, const Pose2D& prior, OdometryStep& step) const;
+  Twist2D meanVelocity(double stamp, double window) const;
+
+  OdometryParams params_;
+  ScanSegmenter segmenter_;
+  SegmentMatcher matcher_;
+  Segmentation segmentation_[2];  // the keyframe's and the current scan's
+  int keyframe_ = 0;
+  int current_ = 0;
+  std::size_t count_ = 0;
+  double last_stamp_ = 0.0;
+  /// Recent (stamp, pose): a ring buffer for the velocity estimate.
+  static constexpr std::size_t kHistory = 64;
+  double history_stamp_[kHistory] = {};
+  Pose2D history_pose_[kHistory];
+  std::size_t history_size_ = 0;
+  Twist2D velocity_;
+  Pose2D pose_;           // T_odom_sensor of the last scan
+  Pose2D keyframe_pose_;  // T_odom_sensor of the keyframe
+};
+
+}  // namespace lidarseg

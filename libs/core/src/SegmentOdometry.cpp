@@ -1,0 +1,152 @@
+#include "lidarseg/core/SegmentOdometry.h"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace lidarseg {
+
+namespace {
+double microsecondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+}
+
+
+}  // namespace
+
+void OdometryParams::validate() const {
+  segmentation.validate();
+  matcher.validate();
+  if (!(keyframe_distance_m >= 0.0)) throw std::invalid_argument("keyframe_distance_m must be >= 0");
+  if (!(keyframe_angle_rad >= 0.0)) throw std::invalid_argument("keyframe_angle_rad must be >= 0");
+  if (!(velocity_window_s > 0.0)) throw std::invalid_argument("velocity_window_s must be > 0");
+}
+
+SegmentOdometry::SegmentOdometry(const OdometryParams& params)
+    : params_((params.validate(), params)), segmenter_(params.segmentation), matcher_(params.matcher) {}
+
+void SegmentOdometry::reset() {
+  count_ = 0;
+  pose_ = {};
+  keyframe_pose_ = {};
+  history_size_ = 0;
+  velocity_ = {};
+}
+
+void SegmentOdometry::segmentInto(const Scan& scan, int slot, const Twist2D& motion, OdometryStep& step) {
+  auto t0 = std::chrono::steady_clock::now();
+  segmenter_.wallDanielsson().segment(scan, segmentation_[slot], motion);
+  step.wall_danielsson_us += microsecondsSince(t0);
+  t0 = std::chrono::steady_clock::now();
+  segmenter_.cascade().apply(segmentation_[slot]);
+  step.cascade_us += microsecondsSince(t0);
+}
+
+MatchResult SegmentOdometry::matchWithKeyframe(int slot, const Pose2D& prior, OdometryStep& step) const {
+  const auto t0 = std::chrono::steady_clock::now();
+  MatchResult m = matcher_.match(segmentation_[keyframe_].level(params_.level).segments,
+                                 segmentation_[slot].level(params_.level).segments, prior);
+  step.matching_us += microsecondsSince(t0);
+  return m;
+}
+
+OdometryStep SegmentOdometry::process(const Scan& scan, const std::optional<Pose2D>& odometry_increment) {
+  OdometryStep step;
+  step.index = count_;
+  step.stamp_s = scan.stamp_s;
+  // The current scan goes in the slot that is not the keyframe's.
+  const int slot = count_ == 0 ? 0 : 1 - keyframe_;
+  const bool deskew = params_.deskew && !scan.time_offsets_s.empty();
+  const Twist2D motion = deskew ? velocity_ : Twist2D{};
+  segmentInto(scan, slot, motion, step);
+  current_ = slot;
+
+  if (count_ == 0) {
+    step.first = true;
+    step.keyframe = true;
+    keyframe_ = slot;
+    keyframe_pose_ = pose_;
+    last_stamp_ = scan.stamp_s;
+    ++count_;
+    step.T_odom_sensor = pose_;
+    remember(scan.stamp_s);
+    return step;
+  }
+  const double dt = scan.stamp_s - last_stamp_;
+  const Pose2D increment_prior = odometry_increment ? *odometry_increment : velocity_.integrate(dt);
+  step.prior = increment_prior;
+  // The matcher works from the keyframe: T_key_curr = T_key_last (+) predicted increment.
+  const Pose2D prior_from_key = compose(relative(pose_, keyframe_pose_), increment_prior);
+  step.match = matchWithKeyframe(slot, prior_from_key, step);
+
+  if (deskew && dt > 0.0) {
+    // The rolling-shutter correction used the predicted rotation rate. Where the match
+    // says otherwise (a turn starts or ends) or failed, segment again with the measured
+    // rate (or none) and keep the better match.
+    const double sweep = scan.time_offsets_s.back();
+    Twist2D corrected = motion;
+    if (step.match.status == MatchStatus::kTooFewMatches) {
+      corrected = Twist2D{};
+    } else {
+      const Pose2D measured = relative(compose(keyframe_pose_, step.match.T_prev_curr), pose_);
+      corrected.omega = measured.yaw / dt;
+    }
+    if (std::abs(corrected.omega - motion.omega) * sweep > params_.deskew_tolerance_rad ||
+        (step.match.status == MatchStatus::kTooFewMatches && (motion.omega != 0.0 || motion.vx != 0.0))) {
+      segmentInto(scan, slot, corrected, step);
+      MatchResult again = matchWithKeyframe(slot, prior_from_key, step);
+      if (again.status != MatchStatus::kTooFewMatches || step.match.status == MatchStatus::kTooFewMatches) {
+        step.match = std::move(again);
+      } else {
+        segmentInto(scan, slot, motion, step);  // keep the segments that gave the match
+      }
+    }
+  }
+
+  const Pose2D new_pose = compose(keyframe_pose_, step.match.T_prev_curr);
+  step.increment = relative(new_pose, pose_);
+  // The increment's uncertainty: that of the keyframe match, seen from the last pose.
+  step.increment_covariance = step.match.covariance;
+  pose_ = new_pose;
+  step.T_odom_sensor = pose_;
+  last_stamp_ = scan.stamp_s;
+  ++count_;
+  remember(scan.stamp_s);
+
+  const Pose2D from_key = step.match.T_prev_curr;
+  const bool moved = std::hypot(from_key.x, from_key.y) >= params_.keyframe_distance_m ||
+                     std::abs(from_key.yaw) >= params_.keyframe_angle_rad;
+  if (moved || step.match.status != MatchStatus::kOk) {
+    keyframe_ = slot;
+    keyframe_pose_ = pose_;
+    step.keyframe = true;
+  }
+  return step;
+}
+
+void SegmentOdometry::remember(double stamp) {
+  history_stamp_[history_size_ % kHistory] = stamp;
+  history_pose_[history_size_ % kHistory] = pose_;
+  ++history_size_;
+  const Twist2D linear = meanVelocity(stamp, params_.velocity_window_s);
+  const Twist2D angular = meanVelocity(stamp, params_.angular_velocity_window_s);
+  velocity_ = {linear.vx, linear.vy, angular.omega};
+}
+
+Twist2D SegmentOdometry::meanVelocity(double stamp, double window) const {
+  // The oldest remembered pose within the window, and the mean motion since.
+  const std::size_t available = std::min(history_size_, kHistory);
+  std::size_t oldest = history_size_ - 1;
+  for (std::size_t k = 1; k < available; ++k) {
+    const std::size_t idx = (history_size_ - 1 - k) % kHistory;
+    oldest = history_size_ - 1 - k;
+    if (stamp - history_stamp_[idx] >= window - 1e-9) break;
+  }
+  const std::size_t o = oldest % kHistory;
+  const double span = stamp - history_stamp_[o];
+  if (!(span > 0.0)) return {};
+  const Pose2D motion = relative(pose_, history_pose_[o]);
+  return {motion.x / span, motion.y / span, motion.yaw / span};
+}
+
+}  // namespace lidarseg

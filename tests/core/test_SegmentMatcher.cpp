@@ -1,0 +1,107 @@
+// The segment matcher on synthetic scans with known motion.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "SyntheticScenes.h"
+#include "lidarseg/core/ScanSegmenter.h"
+#include "lidarseg/core/SegmentMatcher.h"
+
+namespace lidarseg {
+namespace {
+using namespace lidarseg::testing;
+
+struct Pair {
+  Segmentation previous, current;
+};
+
+Pair scansOf(const sim::World& world, const Pose2D& T_world_prev, const Pose2D& T_prev_curr,
+             double sigma) {
+  const auto sensor = makeSensor(541, 270, sigma);
+  SegmentationParams p;
+  p.noise.range_sigma_m = std::max(sigma, 1e-3);
+  const ScanSegmenter seg(p);
+  return {seg.process(simulate(world, sensor, T_world_prev, 1)),
+          seg.process(simulate(world, sensor, compose(T_world_prev, T_prev_curr), 2))};
+}
+
+class MatcherMotions : public ::testing::TestWithParam<Pose2D> {};
+
+// Office scene: the matcher recovers the motion between two scans from a rough prior.
+TEST_P(MatcherMotions, RecoversTheMotionInAnOffice) {
+  const Pose2D truth = GetParam();
+  const Pair s = scansOf(officeScene(), {-3.0, 1.0, 0.2}, truth, 0.012);
+  const SegmentMatcher matcher;
+  // The prior is off by 5 cm and 2 degrees, like a constant-velocity prediction.
+  const Pose2D prior{truth.x + 0.05, truth.y - 0.03, truth.yaw + 2.0 * kDeg};
+  const MatchResult r = matcher.match(s.previous.levels[3].segments, s.current.levels[3].segments, prior);
+  ASSERT_NE(r.status, MatchStatus::kTooFewMatches);
+  EXPECT_GE(r.matches.size(), 3u);
+  EXPECT_NEAR(r.T_prev_curr.yaw, truth.yaw, 0.003);
+  if (r.status == MatchStatus::kOk) {
+    EXPECT_NEAR(r.T_prev_curr.x, truth.x, 0.02);
+    EXPECT_NEAR(r.T_prev_curr.y, truth.y, 0.02);
+  }
+  EXPECT_GT(r.covariance(0, 0), 0.0);
+  EXPECT_GT(r.covariance(2, 2), 0.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Motions, MatcherMotions,
+                         ::testing::Values(Pose2D{0.0, 0.0, 0.0}, Pose2D{0.2, 0.0, 0.0},
+                                           Pose2D{0.3, 0.05, 0.05}, Pose2D{0.1, -0.05, -0.1},
+                                           Pose2D{0.0, 0.0, 0.25}));
+
+// A corridor of two parallel walls only: the translation along it is unconstrained; the
+// matcher says so and keeps the prediction there.
+TEST(SegmentMatcher, DegenerateCorridorKeepsThePredictionAlongIt) {
+  sim::World corridor;
+  corridor.addWall({-30, 0}, {30, 0});
+  corridor.addWall({-30, 2}, {30, 2});
+  const Pose2D truth{0.3, 0.02, 0.01};
+  const Pair s = scansOf(corridor, {0, 1, 0}, truth, 0.01);
+  const SegmentMatcher matcher;
+  const Pose2D prior{0.25, 0.0, 0.0};
+  const MatchResult r = matcher.match(s.previous.levels[3].segments, s.current.levels[3].segments, prior);
+  ASSERT_EQ(r.status, MatchStatus::kDegenerate);
+  EXPECT_NEAR(std::abs(r.degenerate_direction.x()), 1.0, 0.05);
+  EXPECT_NEAR(r.T_prev_curr.y, truth.y, 0.01);
+  EXPECT_NEAR(r.T_prev_curr.yaw, truth.yaw, 0.002);
+  EXPECT_NEAR(r.T_prev_curr.x, prior.x, 0.02);  // along the corridor: the prediction
+  EXPECT_GT(r.covariance(0, 0), 100 * r.covariance(1, 1));
+}
+
+TEST(SegmentMatcher, NothingToMatchReturnsThePrior) {
+  const SegmentMatcher matcher;
+  const Pose2D prior{0.1, 0.2, 0.3};
+  const MatchResult r = matcher.match({}, {}, prior);
+  EXPECT_EQ(r.status, MatchStatus::kTooFewMatches);
+  EXPECT_EQ(r.T_prev_curr.x, prior.x);
+  EXPECT_EQ(r.T_prev_curr.yaw, prior.yaw);
+}
+
+TEST(SegmentMatcher, FocusedBandComputesFewerWeightsThanTheFullMatrix) {
+  const Pair s = scansOf(officeScene(), {-3.0, 1.0, 0.2}, {0.1, 0.0, 0.02}, 0.012);
+  MatcherParams banded, full;
+  full.band_half_width = 0;
+  const auto& a = s.previous.levels[0].segments;  // many segments: the band matters
+  const auto& b = s.current.levels[0].segments;
+  const MatchResult rb = SegmentMatcher(banded).match(a, b, {0.1, 0.0, 0.02});
+  const MatchResult rf = SegmentMatcher(full).match(a, b, {0.1, 0.0, 0.02});
+  EXPECT_LT(rb.weights_computed, rf.weights_computed);
+  EXPECT_GT(rf.weights_gated, 0u);
+  EXPECT_NEAR(rb.T_prev_curr.x, rf.T_prev_curr.x, 0.02);
+}
+
+TEST(MatcherParams, ValidateNamesTheKey) {
+  MatcherParams p;
+  p.max_weight = -1;
+  try {
+    p.validate();
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("max_weight"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace lidarseg
