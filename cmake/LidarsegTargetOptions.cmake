@@ -20,3 +20,26 @@ endfunction()
 
 # Third-party headers (MRPT, Eigen) trigger -Wconversion/-Wshadow noise: adapters
 # include them as SYSTEM through imported targets, which CMake already does.
+
+# lidarseg_add_library(<short name> SOURCES ... [DEPENDS ...] [NO_INSTALL])
+# Defines target lidarseg_<name> with alias lidarseg::<name>, public headers under
+# include/, the project's compile options and, unless NO_INSTALL, its installation into
+# the exported lidarseg package.
+function(lidarseg_add_library name)
+  cmake_parse_arguments(ARG "NO_INSTALL" "" "SOURCES;DEPENDS" ${ARGN})
+  set(target lidarseg_${name})
+  add_library(${target} ${ARG_SOURCES})
+  add_library(lidarseg::${name} ALIAS ${target})
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME ${target})
+  target_include_directories(${target} PUBLIC
+    $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  target_link_libraries(${target} PUBLIC ${ARG_DEPENDS})
+  lidarseg_target_options(${target})
+  if(NOT ARG_NO_INSTALL)
+    install(TARGETS ${target} EXPORT lidarsegTargets
+      ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+      LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+    install(DIRECTORY include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  endif()
+endfunction()

@@ -6,40 +6,31 @@
 
 namespace lidarseg::sim {
 
-SensorModel SensorModel::lms100() {
+namespace {
+// An evenly spaced sensor centred on x, from its data sheet's figures.
+SensorModel profile(std::size_t beams, double fov_deg, double max_range_m, double min_range_m,
+                    double sigma_m, double frequency_hz) {
   constexpr double kDeg = 3.14159265358979323846 / 180.0;
   SensorModel m;
-  m.layout = std::make_shared<BeamLayout>(BeamLayout::centred(541, 270.0 * kDeg));
-  m.max_range_m = 20.0;
-  m.min_range_m = 0.05;
-  m.range_sigma_m = 0.012;
-  m.frequency_hz = 50.0;
+  m.layout = std::make_shared<BeamLayout>(BeamLayout::centred(beams, fov_deg * kDeg));
+  m.max_range_m = max_range_m;
+  m.min_range_m = min_range_m;
+  m.range_sigma_m = sigma_m;
+  m.frequency_hz = frequency_hz;
   return m;
 }
+}  // namespace
+
+SensorModel SensorModel::lms100() { return profile(541, 270.0, 20.0, 0.05, 0.012, 50.0); }
 
 SensorModel SensorModel::utm30lx() {
-  constexpr double kDeg = 3.14159265358979323846 / 180.0;
-  SensorModel m;
-  m.layout = std::make_shared<BeamLayout>(BeamLayout::centred(1081, 270.0 * kDeg));
-  m.max_range_m = 30.0;
-  m.min_range_m = 0.1;
-  m.range_sigma_m = 0.01;
+  SensorModel m = profile(1081, 270.0, 30.0, 0.1, 0.01, 40.0);
   m.far_range_m = 10.0;
   m.far_range_sigma_m = 0.03;
-  m.frequency_hz = 40.0;
   return m;
 }
 
-SensorModel SensorModel::sick180() {
-  constexpr double kDeg = 3.14159265358979323846 / 180.0;
-  SensorModel m;
-  m.layout = std::make_shared<BeamLayout>(BeamLayout::centred(181, 180.0 * kDeg));
-  m.max_range_m = 80.0;
-  m.min_range_m = 0.05;
-  m.range_sigma_m = 0.01;
-  m.frequency_hz = 75.0;
-  return m;
-}
+SensorModel SensorModel::sick180() { return profile(181, 180.0, 80.0, 0.05, 0.01, 75.0); }
 
 ScanSimulator::ScanSimulator(const World& world, SensorModel sensor, std::uint64_t seed)
     : sensor_(std::move(sensor)), caster_(world), rng_(seed) {
