@@ -1,5 +1,7 @@
 #include "lidarseg/apps/SegmentStatsApp.h"
 
+#include "OutputFiles.h"
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -22,26 +24,6 @@ constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 double microsecondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// Writes `content` to `path` through a temporary file and a rename, so that a failure
-// never leaves a partial file behind.
-void writeFileAtomically(const std::string& path, const std::string& content) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot write '" + tmp + "'");
-    out << content;
-    out.flush();
-    if (!out) {
-      std::remove(tmp.c_str());
-      throw std::runtime_error("error while writing '" + tmp + "'");
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error("cannot rename '" + tmp + "' to '" + path + "'");
-  }
 }
 
 struct LevelAccumulator {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "Validation.h"
+
 namespace lidarseg {
 
 namespace {
@@ -17,9 +19,15 @@ double microsecondsSince(std::chrono::steady_clock::time_point t0) {
 void OdometryParams::validate() const {
   segmentation.validate();
   matcher.validate();
-  if (!(keyframe_distance_m >= 0.0)) throw std::invalid_argument("keyframe_distance_m must be >= 0");
-  if (!(keyframe_angle_rad >= 0.0)) throw std::invalid_argument("keyframe_angle_rad must be >= 0");
-  if (!(velocity_window_s > 0.0)) throw std::invalid_argument("velocity_window_s must be > 0");
+  if (static_cast<std::size_t>(level) >= kNumCascadeLevels) {
+    detail::failKey("level", "a cascade level 0..3", static_cast<double>(static_cast<std::size_t>(level)));
+  }
+  detail::requireNonNegative("keyframe_distance_m", keyframe_distance_m);
+  detail::requireNonNegative("keyframe_angle_rad", keyframe_angle_rad);
+  detail::requirePositive("velocity_window_s", velocity_window_s);
+  detail::requirePositive("angular_velocity_window_s", angular_velocity_window_s);
+  detail::requirePositive("deskew_tolerance_rad", deskew_tolerance_rad);
+  detail::requireNonNegative("scanner_rotation_hz", scanner_rotation_hz);
 }
 
 SegmentOdometry::SegmentOdometry(const OdometryParams& params)
@@ -50,7 +58,29 @@ MatchResult SegmentOdometry::matchWithKeyframe(int slot, const Pose2D& prior, Od
   return m;
 }
 
-OdometryStep SegmentOdometry::process(const Scan& scan, const std::optional<Pose2D>& odometry_increment) {
+const Scan& SegmentOdometry::withBeamTimes(const Scan& scan) {
+  if (!scan.time_offsets_s.empty() || !(params_.scanner_rotation_hz > 0.0) || !scan.layout) return scan;
+  if (scan.layout != timed_layout_) {
+    const BeamLayout& layout = *scan.layout;
+    beam_times_.assign(layout.size(), 0.0);
+    const double period = 1.0 / (2.0 * 3.14159265358979323846 * params_.scanner_rotation_hz);
+    for (std::size_t i = 1; i < layout.size(); ++i) {
+      beam_times_[i] = beam_times_[i - 1] + std::abs(layout.angle(i) - layout.angle(i - 1)) * period;
+    }
+    timed_layout_ = scan.layout;
+  }
+  timed_.layout = scan.layout;
+  timed_.ranges_m = scan.ranges_m;
+  timed_.valid = scan.valid;
+  timed_.time_offsets_s = beam_times_;
+  timed_.stamp_s = scan.stamp_s;
+  timed_.min_range_m = scan.min_range_m;
+  timed_.max_range_m = scan.max_range_m;
+  return timed_;
+}
+
+OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pose2D>& odometry_increment) {
+  const Scan& scan = withBeamTimes(input);
   OdometryStep step;
   step.index = count_;
   step.stamp_s = scan.stamp_s;

@@ -88,6 +88,8 @@ void loadKeys(Params& params, const mrpt::config::CConfigFileBase& cfg, const st
                                     "' is not 0 or 1");
       }
       field = v == 1;
+    } else if constexpr (std::is_enum_v<Field>) {
+      field = static_cast<Field>(parseCount(text, where(source, lines, section, key)));
     } else {
       field = static_cast<Field>(parseCount(text, where(source, lines, section, key)));
     }
@@ -107,7 +109,12 @@ void saveKeys(const Params& params, mrpt::config::CConfigFileBase& cfg, const st
               ForEachKey forEachKey) {
   Params copy = params;
   forEachKey(copy, [&](const char* key, auto& field) {
-    cfg.write(section, key, formatValue(static_cast<double>(field)));
+    using Field = std::decay_t<decltype(field)>;
+    if constexpr (std::is_enum_v<Field>) {
+      cfg.write(section, key, formatValue(static_cast<double>(static_cast<std::size_t>(field))));
+    } else {
+      cfg.write(section, key, formatValue(static_cast<double>(field)));
+    }
   });
 }
 

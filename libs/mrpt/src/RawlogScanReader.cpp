@@ -6,6 +6,8 @@
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CStream.h>
 #include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 
@@ -62,14 +64,31 @@ bool RawlogScanReader::accept(const mrpt::obs::CObservation2DRangeScan::Ptr& sca
   return scan->sensorLabel == label_;
 }
 
+void RawlogScanReader::take(const mrpt::obs::CObservation::Ptr& obs) {
+  if (!obs) return;
+  if (auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(obs)) {
+    odometry_ = odo->odometry;
+  }
+  auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs);
+  if (!accept(scan)) {
+    companions_.push_back(obs);
+    return;
+  }
+  RawlogScan out;
+  out.entry_index = entries_read_ - 1;
+  out.observation = scan;
+  out.odometry = odometry_;
+  out.companions = std::move(companions_);
+  companions_.clear();
+  pending_.push_back(std::move(out));
+}
+
 std::optional<RawlogScan> RawlogScanReader::next() {
   while (true) {
     if (!pending_.empty()) {
-      RawlogScan out;
-      out.entry_index = entries_read_ - 1;
-      out.scan_index = scans_returned_++;
-      out.observation = pending_.front();
+      RawlogScan out = std::move(pending_.front());
       pending_.erase(pending_.begin());
+      out.scan_index = scans_returned_++;
       return out;
     }
     if (at_end_) return std::nullopt;
@@ -98,14 +117,15 @@ std::optional<RawlogScan> RawlogScanReader::next() {
     if (!object) continue;
 
     if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(object)) {
-      for (const auto& obs : *sf) {
-        auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs);
-        if (accept(scan)) pending_.push_back(scan);
+      for (const auto& obs : *sf) take(obs);
+    } else if (auto actions = std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(object)) {
+      if (auto move = actions->getBestMovementEstimation()) {
+        const mrpt::poses::CPose2D increment = move->poseChange->getMeanVal();
+        odometry_ = odometry_ ? *odometry_ + increment : increment;
       }
-    } else if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(object)) {
-      if (accept(scan)) pending_.push_back(scan);
+    } else if (auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation>(object)) {
+      take(obs);
     }
-    // Actions (odometry) and other observation types are not scans: skipped here.
   }
 }
 

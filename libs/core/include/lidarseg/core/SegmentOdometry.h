@@ -39,6 +39,11 @@ struct OdometryParams {
   /// When the rotation measured by the match differs from the one used to correct the
   /// scan by more than this over a sweep (rad), the scan is corrected again and re-matched.
   double deskew_tolerance_rad = 0.002;
+  /// Rotation frequency of the scanner's mirror (Hz) for scans without per-beam times:
+  /// beam i is then taken at i * (beam spacing) / (2 pi f) after the first, as a spinning
+  /// scanner measures them (e.g. 50 for a SICK LMS100 at 50 Hz). 0 = the beams of such
+  /// scans are taken as simultaneous (no rolling-shutter correction).
+  double scanner_rotation_hz = 0.0;
 
   void validate() const;
 };
@@ -95,6 +100,7 @@ class SegmentOdometry {
   void segmentInto(const Scan& scan, int slot, const Twist2D& motion, OdometryStep& step);
   MatchResult matchWithKeyframe(int slot, const Pose2D& prior, OdometryStep& step) const;
   Twist2D meanVelocity(double stamp, double window) const;
+  const Scan& withBeamTimes(const Scan& scan);
 
   OdometryParams params_;
   ScanSegmenter segmenter_;
@@ -112,6 +118,9 @@ class SegmentOdometry {
   Twist2D velocity_;
   Pose2D pose_;           // T_odom_sensor of the last scan
   Pose2D keyframe_pose_;  // T_odom_sensor of the keyframe
+  Scan timed_;            // a scan given beam times from scanner_rotation_hz
+  std::shared_ptr<const BeamLayout> timed_layout_;
+  std::vector<double> beam_times_;
 };
 
 }  // namespace lidarseg

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/poses/CPose2D.h>
 
 namespace mrpt::io {
 class CFileGZInputStream;
@@ -24,6 +25,13 @@ struct RawlogScan {
   /// 0-based index of this scan among the scans returned so far.
   std::size_t scan_index = 0;
   mrpt::obs::CObservation2DRangeScan::Ptr observation;
+  /// Wheel odometry of the robot when the scan was read (odometry frame): the sum of the
+  /// `CActionRobotMovement2D` increments so far (sensory-frame layout) or the last
+  /// `CObservationOdometry` (observations layout); empty when the log has none yet.
+  std::optional<mrpt::poses::CPose2D> odometry;
+  /// The other observations read since the previous scan (same sensory frame, or between
+  /// the two scans), in file order: cameras, other lasers, odometry observations.
+  std::vector<mrpt::obs::CObservation::Ptr> companions;
 };
 
 /// Reads the `CObservation2DRangeScan`s of an MRPT rawlog one at a time, in both rawlog
@@ -63,7 +71,10 @@ class RawlogScanReader {
   std::unique_ptr<mrpt::io::CFileGZInputStream> file_;
   std::unique_ptr<CountingStream> counter_;
   bool at_end_ = false;
-  std::vector<mrpt::obs::CObservation2DRangeScan::Ptr> pending_;  // from one sensory frame
+  void take(const mrpt::obs::CObservation::Ptr& obs);
+  std::vector<RawlogScan> pending_;  // from one sensory frame
+  std::optional<mrpt::poses::CPose2D> odometry_;
+  std::vector<mrpt::obs::CObservation::Ptr> companions_;
   std::vector<std::string> labels_seen_;
   std::size_t entries_read_ = 0;
   std::size_t scans_returned_ = 0;

@@ -1,0 +1,126 @@
+#pragma once
+/// @file OdometryApp.h
+/// The logic of `lidarseg-odometry`: laser odometry of a log with lidarseg and, in the
+/// same run, with MRPT's ICP; trajectories, timings and errors against ground truth.
+
+#include <cstddef>
+#include <iosfwd>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lidarseg/core/Statistics.h"
+#include "lidarseg/eval/Relations.h"
+#include "lidarseg/eval/StampedTrajectory.h"
+#include "lidarseg/eval/TrajectoryMetrics.h"
+
+namespace lidarseg::apps {
+
+/// Command-line options of `lidarseg-odometry`.
+struct OdometryOptions {
+  /// MRPT .rawlog (either layout) or CARMEN log (.clf/.log, optionally .gz).
+  std::string input;
+  /// INI/YAML with [segmentation], [matcher], [odometry] and [icp] sections (each optional).
+  std::string config_path;
+  /// Rawlog sensor label or CARMEN laser type; empty = the first laser met.
+  std::string sensor;
+  /// Stop after this many scans (0 = all).
+  std::size_t max_scans = 0;
+  /// Also run MRPT's CICP on the same scans with the same prior.
+  bool baseline_icp = false;
+  /// Use the log's wheel odometry as the prior of both methods (default: constant velocity).
+  bool use_odometry = false;
+  /// Output folder (created); empty = no files.
+  std::string out_dir;
+  /// Ground truth (TUM); empty = PREFIX.gt.tum beside PREFIX.rawlog when it exists.
+  std::string gt_path;
+  bool auto_gt = true;
+  /// Freiburg relations file to evaluate both trajectories on.
+  std::string relations_path;
+  double relations_tolerance_s = 0.01;
+  /// Use the poses written in the log (CARMEN laser lines; the corrected poses of
+  /// "corrected" logs) as the reference of a per-scan relative-motion evaluation.
+  bool log_reference = false;
+  /// Write the input back with lidarseg's odometry as the robot's movement.
+  std::string write_rawlog;
+  /// Scanner rotation frequency for rolling-shutter correction (Hz); < 0 = the config's.
+  double scanner_rotation_hz = -1.0;
+  /// Progress on stderr (only shown when stderr is a terminal).
+  bool progress = true;
+  /// Draw PNG pictures in out_dir.
+  bool plots = true;
+  /// Time gap between scans beyond which the motion prior restarts from rest (s).
+  double max_time_gap_s = 1.0;
+  /// Speed beyond which an odometry increment is implausible (m/s, rad/s).
+  double max_speed_mps = 10.0;
+  double max_turn_rate_radps = 10.0;
+};
+
+/// Figures of one method over a run.
+struct MethodReport {
+  std::string name;
+  eval::StampedTrajectory trajectory;
+  /// Time per scan (microseconds); for lidarseg also the stages.
+  std::vector<double> time_us;
+  Summary time_summary_us;
+  std::vector<double> segmentation_us, cascade_us, matching_us;
+  /// Per scan: the match status ("first" for the first scan) and the number of couples.
+  std::vector<std::string> scan_status;
+  std::vector<std::size_t> scan_matches;
+  /// lidarseg: matches per status ("ok", "degenerate", "too_few_matches"); ICP: "converged", "not_converged", "skipped".
+  std::map<std::string, std::size_t> status_counts;
+  /// Standard deviations (x, y: m; yaw: rad) of the final pose from the propagated covariance.
+  double final_sigma_x_m = 0.0, final_sigma_y_m = 0.0, final_sigma_yaw_rad = 0.0;
+  /// Largest 1-sigma of a single scan's translation, and the scans where it exceeded 0.1 m.
+  std::size_t weak_scans = 0;
+  std::optional<eval::TrajectoryErrors> errors;
+  std::optional<eval::RelationErrors> relations;
+  std::optional<eval::RelationErrors> log_relations;
+};
+
+/// Everything a run measured.
+struct OdometryReport {
+  std::string input;
+  std::string format;
+  std::string sensor;
+  std::size_t frames = 0;
+  /// Scans or lines skipped, with where and why (the first 100), and the count.
+  std::vector<std::string> skipped;
+  std::size_t skipped_count = 0;
+  /// Scans whose time did not increase (processed with a synthetic time step).
+  std::size_t non_increasing_stamps = 0;
+  /// Time gaps beyond max_time_gap_s (the prior restarted from rest).
+  std::size_t time_gaps = 0;
+  /// Wheel-odometry increments rejected as implausible (a jump).
+  std::size_t odometry_jumps = 0;
+  std::vector<std::string> warnings;
+  std::string gt_path;
+  std::string relations_path;
+  MethodReport lidarseg;
+  std::optional<MethodReport> icp;
+  /// Median ICP time / median lidarseg time, measured in the same run.
+  double speedup_median = 0.0;
+  std::vector<std::string> outputs;
+};
+
+/// Runs lidarseg (and optionally MRPT ICP) over a log and writes the outputs.
+class OdometryApp {
+ public:
+  explicit OdometryApp(OdometryOptions options);
+  /// @throws std::runtime_error / std::invalid_argument naming the file and entry/line
+  /// or key when the input cannot be read to the end or the configuration is invalid;
+  /// then no output is written. Scans that cannot be processed are skipped and counted.
+  OdometryReport run();
+  /// A readable summary (the Markdown table and counts).
+  static void print(const OdometryReport& report, std::ostream& os);
+  /// The results as a Markdown table (paper Table I columns plus final error and ATE).
+  static std::string markdownTable(const OdometryReport& report);
+  /// summary.json.
+  static std::string summaryJson(const OdometryReport& report);
+
+ private:
+  OdometryOptions options_;
+};
+
+}  // namespace lidarseg::apps

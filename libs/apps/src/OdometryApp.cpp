@@ -1,0 +1,531 @@
+#include "lidarseg/apps/OdometryApp.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+
+#include <unistd.h>
+
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/slam/CICP.h>
+
+#include "Json.h"
+#include "OutputFiles.h"
+#include "Plots.h"
+#include "lidarseg/mrpt/LaserLogReader.h"
+#include "lidarseg/mrpt/LaserOdometry.h"
+#include "lidarseg/mrpt/OdometryConfig.h"
+
+namespace lidarseg::apps {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double microsecondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+}
+
+mrpt::poses::CPose2D toMrpt(const Pose2D& p) { return {p.x, p.y, p.yaw}; }
+Pose2D fromMrpt(const mrpt::poses::CPose2D& p) { return {p.x(), p.y(), p.phi()}; }
+
+std::string stemOf(const std::string& path) {
+  for (const char* ext : {".rawlog.gz", ".rawlog", ".clf.gz", ".log.gz", ".clf", ".log"}) {
+    const std::string e(ext);
+    if (path.size() > e.size() && path.compare(path.size() - e.size(), e.size(), e) == 0) {
+      return path.substr(0, path.size() - e.size());
+    }
+  }
+  return path;
+}
+
+// Progress on stderr: a counter with the rate, redrawn at most 5 times a second.
+class Progress {
+ public:
+  explicit Progress(bool enabled) : enabled_(enabled && isatty(STDERR_FILENO) == 1) {}
+  void update(std::size_t scans, bool force = false) {
+    if (!enabled_) return;
+    const auto now = Clock::now();
+    if (!force && now - last_ < std::chrono::milliseconds(200)) return;
+    last_ = now;
+    const double s = std::chrono::duration<double>(now - start_).count();
+    std::cerr << "\r[lidarseg-odometry] " << scans << " scans, " << std::fixed << std::setprecision(1) << s
+              << " s (" << std::setprecision(0) << (s > 0 ? scans / s : 0.0) << " scans/s)   " << std::flush;
+  }
+  void done(std::size_t scans) {
+    if (!enabled_) return;
+    update(scans, true);
+    std::cerr << "\n";
+  }
+
+ private:
+  bool enabled_;
+  Clock::time_point start_ = Clock::now();
+  Clock::time_point last_{};
+};
+
+void finishMethod(MethodReport& m) { m.time_summary_us = summarize(m.time_us); }
+
+void evaluate(MethodReport& m, const eval::StampedTrajectory* gt, double gt_tolerance,
+              const std::vector<eval::Relation>* relations, double rel_tolerance,
+              const std::vector<eval::Relation>* log_relations) {
+  if (gt != nullptr) m.errors = eval::evaluateTrajectory(m.trajectory, *gt, gt_tolerance);
+  if (relations != nullptr) m.relations = eval::evaluateRelations(m.trajectory, *relations, rel_tolerance);
+  if (log_relations != nullptr) m.log_relations = eval::evaluateRelations(m.trajectory, *log_relations, 1e-9);
+}
+
+std::string tumOf(const eval::StampedTrajectory& t, const std::string& header) {
+  std::ostringstream os;
+  eval::writeTum(os, t, header);
+  return os.str();
+}
+
+void writeSummary(JsonWriter& j, const char* key, const Summary& s, double scale) {
+  j.beginObject(key);
+  j.value("mean", s.mean * scale).value("std", s.stddev * scale).value("median", s.median * scale);
+  j.value("p99", s.p99 * scale).value("max", s.max * scale).value("count", s.count);
+  j.endObject();
+}
+
+void writeRelations(JsonWriter& j, const char* key, const eval::RelationErrors& r) {
+  j.beginObject(key);
+  j.value("relations", r.relations).value("evaluated", r.evaluated);
+  writeSummary(j, "translation_m", r.translation_m, 1.0);
+  writeSummary(j, "rotation_deg", r.rotation_rad, 180.0 / M_PI);
+  j.endObject();
+}
+
+}  // namespace
+
+OdometryApp::OdometryApp(OdometryOptions options) : options_(std::move(options)) {}
+
+OdometryReport OdometryApp::run() {
+  const OdometryOptions& o = options_;
+  OdometryReport report;
+  report.input = o.input;
+
+  // Configuration: lidarseg's sections and MRPT's ICP section.
+  OdometryParams params;
+  mrpt::slam::CICP icp;
+  if (!o.config_path.empty()) {
+    params = mrpt_adapter::loadOdometryParamsFile(o.config_path);
+    mrpt::config::CConfigFile cfg(o.config_path);
+    if (cfg.sectionExists("icp")) icp.options.loadFromConfigFile(cfg, "icp");
+  }
+  if (o.scanner_rotation_hz >= 0.0) params.scanner_rotation_hz = o.scanner_rotation_hz;
+  params.validate();
+
+  // Reference data, read before the run so that a bad file fails early.
+  std::string gt_path = o.gt_path;
+  if (gt_path.empty() && o.auto_gt) {
+    const std::string candidate = stemOf(o.input) + ".gt.tum";
+    if (fs::exists(candidate)) gt_path = candidate;
+  }
+  std::optional<eval::StampedTrajectory> gt;
+  if (!gt_path.empty()) gt = eval::readTum(gt_path);
+  report.gt_path = gt_path;
+  std::optional<std::vector<eval::Relation>> relations;
+  if (!o.relations_path.empty()) relations = eval::readRelations(o.relations_path);
+  report.relations_path = o.relations_path;
+
+  mrpt_adapter::LaserLogReader reader(o.input, o.sensor);
+  report.format = reader.format() == mrpt_adapter::LogFormat::kRawlog ? "rawlog" : "carmen";
+  mrpt_adapter::LaserOdometry odometry(params);
+
+  report.lidarseg.name = "lidarseg";
+  MethodReport icp_report;
+  icp_report.name = "icp";
+  eval::StampedTrajectory log_poses;
+
+  // Rawlog output, written as it goes under a temporary name.
+  OutputSet outputs;
+  std::unique_ptr<mrpt::io::CFileGZOutputStream> rawlog_out;
+  if (!o.write_rawlog.empty()) {
+    rawlog_out = std::make_unique<mrpt::io::CFileGZOutputStream>();
+    outputs.addWritten(o.write_rawlog);
+    if (!rawlog_out->open(o.write_rawlog + ".tmp", 0)) {
+      throw std::runtime_error("cannot write '" + o.write_rawlog + ".tmp'");
+    }
+  }
+
+  // State of the run.
+  Progress progress(o.progress);
+  bool have_previous = false;
+  double last_stamp = 0.0, last_dt = 0.1;
+  std::optional<Pose2D> last_odometry;
+  Pose2D last_lidarseg_pose;
+  // ICP: the previous scan's points, pose and last increment (constant velocity).
+  mrpt::maps::CSimplePointsMap icp_previous;
+  bool icp_have_previous = false;
+  Pose2D icp_pose, icp_last_increment;
+  double icp_last_dt = 0.0;
+  std::vector<double> dts;
+
+  while (true) {
+    if (o.max_scans != 0 && report.frames >= o.max_scans) break;
+    auto record = reader.next();
+    if (!record) break;
+    const auto& obs = *record->observation;
+
+    // Time: a non-increasing stamp gets a synthetic step (the median step so far); a long
+    // gap restarts the motion prior from rest.
+    double stamp = record->stamp_s;
+    bool restart_prior = false;
+    if (have_previous) {
+      double dt = stamp - last_stamp;
+      if (!(dt > 0.0)) {
+        ++report.non_increasing_stamps;
+        dt = last_dt;
+        stamp = last_stamp + dt;
+      } else if (dt > o.max_time_gap_s) {
+        ++report.time_gaps;
+        restart_prior = true;
+        if (report.warnings.size() < 100) {
+          report.warnings.push_back(record->where + ": time gap of " + std::to_string(dt) +
+                                    " s; the motion prior restarts from rest");
+        }
+      } else {
+        last_dt = dt;
+      }
+    }
+    const double dt = have_previous ? stamp - last_stamp : 0.0;
+
+    // Wheel-odometry prior, when asked for and plausible.
+    std::optional<mrpt::poses::CPose2D> odo_increment;
+    if (o.use_odometry && record->odometry) {
+      if (last_odometry) {
+        const Pose2D inc = relative(*record->odometry, *last_odometry);
+        const double limit_t = o.max_speed_mps * std::max(dt, 0.05) + 0.1;
+        const double limit_r = o.max_turn_rate_radps * std::max(dt, 0.05) + 0.1;
+        if (std::hypot(inc.x, inc.y) > limit_t || std::abs(inc.yaw) > limit_r) {
+          ++report.odometry_jumps;
+          if (report.warnings.size() < 100) {
+            report.warnings.push_back(record->where + ": wheel odometry jumps by " +
+                                      std::to_string(std::hypot(inc.x, inc.y)) + " m / " +
+                                      std::to_string(inc.yaw) + " rad; ignored as a prior");
+          }
+        } else {
+          odo_increment = toMrpt(inc);
+        }
+      }
+      last_odometry = record->odometry;
+    }
+    std::optional<mrpt::poses::CPose2D> lidarseg_prior = odo_increment;
+    if (!lidarseg_prior && restart_prior) lidarseg_prior = mrpt::poses::CPose2D();
+
+    // lidarseg.
+    mrpt_adapter::LaserOdometryStep step;
+    try {
+      mrpt::obs::CObservation2DRangeScan timed = obs;  // the stamp used for the motion model
+      timed.timestamp = mrpt::Clock::fromDouble(stamp);
+      step = odometry.process(timed, lidarseg_prior);
+    } catch (const std::invalid_argument& e) {
+      ++report.skipped_count;
+      if (report.skipped.size() < 100) report.skipped.push_back(record->where + " (scan " + std::to_string(record->index) + "): " + e.what());
+      continue;
+    }
+    const Pose2D pose = fromMrpt(step.robot_pose.mean);
+    report.lidarseg.trajectory.push_back({stamp, pose});
+    report.lidarseg.segmentation_us.push_back(step.core.wall_danielsson_us);
+    report.lidarseg.cascade_us.push_back(step.core.cascade_us);
+    report.lidarseg.matching_us.push_back(step.core.matching_us);
+    report.lidarseg.time_us.push_back(step.core.wall_danielsson_us + step.core.cascade_us +
+                                      step.core.matching_us);
+    report.lidarseg.scan_status.push_back(step.core.first ? "first" : toString(step.core.match.status));
+    report.lidarseg.scan_matches.push_back(step.core.match.matches.size());
+    if (!step.core.first) {
+      ++report.lidarseg.status_counts[toString(step.core.match.status)];
+      if (std::sqrt(std::max(step.increment.cov(0, 0), step.increment.cov(1, 1))) > 0.1) {
+        ++report.lidarseg.weak_scans;
+      }
+    }
+    report.lidarseg.final_sigma_x_m = std::sqrt(step.robot_pose.cov(0, 0));
+    report.lidarseg.final_sigma_y_m = std::sqrt(step.robot_pose.cov(1, 1));
+    report.lidarseg.final_sigma_yaw_rad = std::sqrt(step.robot_pose.cov(2, 2));
+    if (record->log_pose) log_poses.push_back({stamp, *record->log_pose});
+
+    // MRPT ICP, scan to scan, with the same kind of prior.
+    if (o.baseline_icp) {
+      const auto t0 = Clock::now();
+      mrpt::maps::CSimplePointsMap current;
+      current.insertionOptions.minDistBetweenLaserPoints = 0.0f;
+      current.loadFromRangeScan(obs);
+      if (icp_have_previous) {
+        Pose2D prior;
+        if (odo_increment) {
+          prior = fromMrpt(*odo_increment);
+        } else if (!restart_prior && icp_last_dt > 0.0) {
+          const double k = dt / icp_last_dt;
+          prior = {icp_last_increment.x * k, icp_last_increment.y * k, icp_last_increment.yaw * k};
+        }
+        Pose2D increment = prior;
+        if (current.size() >= 5 && icp_previous.size() >= 5) {
+          mrpt::slam::CICP::TReturnInfo info;
+          const auto pdf = icp.AlignPDF(&icp_previous, &current,
+                                        mrpt::poses::CPosePDFGaussian(toMrpt(prior)), info);
+          increment = fromMrpt(pdf->getMeanVal());
+          ++icp_report.status_counts[info.nIterations < icp.options.maxIterations ? "converged"
+                                                                                      : "not_converged"];
+        } else {
+          ++icp_report.status_counts["skipped"];
+        }
+        icp_pose = compose(icp_pose, increment);
+        icp_last_increment = increment;
+        icp_last_dt = dt;
+      }
+      icp_previous = std::move(current);
+      icp_have_previous = true;
+      icp_report.time_us.push_back(microsecondsSince(t0));
+      icp_report.trajectory.push_back({stamp, icp_pose});
+    }
+
+    // Rawlog output: lidarseg's motion as the robot's odometry action, then the scan and
+    // the observations that came with it.
+    if (rawlog_out) {
+      auto archive = mrpt::serialization::archiveFrom(*rawlog_out);
+      mrpt::obs::CActionCollection actions;
+      mrpt::obs::CActionRobotMovement2D move;
+      const Pose2D inc = step.core.first ? Pose2D{} : relative(pose, last_lidarseg_pose);
+      move.rawOdometryIncrementReading = toMrpt(inc);
+      move.estimationMethod = mrpt::obs::CActionRobotMovement2D::emScan2DMatching;
+      move.poseChange = mrpt::poses::CPosePDFGaussian::Create(toMrpt(inc), step.increment.cov);
+      move.timestamp = obs.timestamp;
+      actions.insert(move);
+      archive << actions;
+      mrpt::obs::CSensoryFrame frame;
+      for (const auto& other : record->companions) frame.insert(other);
+      frame.insert(record->observation);
+      archive << frame;
+    }
+    last_lidarseg_pose = pose;
+    if (have_previous) dts.push_back(dt);
+    last_stamp = stamp;
+    have_previous = true;
+    ++report.frames;
+    progress.update(report.frames);
+  }
+  progress.done(report.frames);
+  report.sensor = reader.sensor();
+  for (const auto& s : reader.issues()) {
+    if (report.skipped.size() < 100) report.skipped.push_back(s);
+  }
+  report.skipped_count += reader.skipped();
+  for (const auto& s : reader.unknownTypes()) report.warnings.push_back(s);
+  if (report.frames == 0) {
+    throw std::runtime_error("'" + o.input + "' holds no usable laser scan" +
+                             (o.sensor.empty() ? std::string() : " with sensor '" + o.sensor + "'"));
+  }
+  if (rawlog_out) rawlog_out->close();
+
+  // Evaluation.
+  finishMethod(report.lidarseg);
+  const double median_dt = dts.empty() ? 0.1 : summarize(dts).median;
+  const double gt_tolerance = std::max(1e-6, 0.25 * median_dt);
+  std::optional<std::vector<eval::Relation>> log_relations;
+  if (o.log_reference) {
+    if (log_poses.size() < 2) {
+      report.warnings.push_back("--log-reference: the log has no poses beside its scans");
+    } else {
+      log_relations = eval::relationsFrom(log_poses, 0.0, 0.0, 1);
+    }
+  }
+  evaluate(report.lidarseg, gt ? &*gt : nullptr, gt_tolerance, relations ? &*relations : nullptr,
+           o.relations_tolerance_s, log_relations ? &*log_relations : nullptr);
+  if (o.baseline_icp) {
+    finishMethod(icp_report);
+    evaluate(icp_report, gt ? &*gt : nullptr, gt_tolerance, relations ? &*relations : nullptr,
+             o.relations_tolerance_s, log_relations ? &*log_relations : nullptr);
+    if (report.lidarseg.time_summary_us.median > 0.0) {
+      report.speedup_median = icp_report.time_summary_us.median / report.lidarseg.time_summary_us.median;
+    }
+    report.icp = std::move(icp_report);
+  }
+
+  // Outputs, all put in place together.
+  if (!o.out_dir.empty()) {
+    fs::create_directories(o.out_dir);
+    const auto path = [&](const char* name) { return (fs::path(o.out_dir) / name).string(); };
+    outputs.add(path("lidarseg.tum"), tumOf(report.lidarseg.trajectory, "lidarseg robot poses, odometry frame"));
+    if (report.icp) outputs.add(path("icp.tum"), tumOf(report.icp->trajectory, "MRPT ICP robot poses, odometry frame"));
+    std::ostringstream csv;
+    csv << "index,stamp_s,segmentation_us,cascade_us,matching_us,total_us,status,matches"
+        << (report.icp ? ",icp_total_us" : "") << "\n";
+    csv << std::setprecision(9);
+    for (std::size_t k = 0; k < report.lidarseg.time_us.size(); ++k) {
+      csv << k << ',' << std::fixed << report.lidarseg.trajectory[k].stamp_s << std::defaultfloat << ','
+          << report.lidarseg.segmentation_us[k] << ',' << report.lidarseg.cascade_us[k] << ','
+          << report.lidarseg.matching_us[k] << ',' << report.lidarseg.time_us[k];
+      csv << ',' << report.lidarseg.scan_status[k] << ',' << report.lidarseg.scan_matches[k];
+      if (report.icp) csv << ',' << report.icp->time_us[k];
+      csv << '\n';
+    }
+    outputs.add(path("timing.csv"), csv.str());
+    outputs.add(path("summary.json"), summaryJson(report));
+    outputs.add(path("results.md"), markdownTable(report));
+    if (o.plots) {
+      std::vector<PlotSeries> series;
+      const auto add = [&](const std::string& name, const eval::StampedTrajectory& t, int b, int g, int r,
+                           const Pose2D& anchor) {
+        PlotSeries s{name, b, g, r, {}, {}, false};
+        for (const auto& p : t) {
+          const Pose2D q = compose(anchor, p.pose);
+          s.x.push_back(q.x);
+          s.y.push_back(q.y);
+        }
+        series.push_back(std::move(s));
+      };
+      // Every trajectory starts where the reference starts (ground truth or log poses).
+      const eval::StampedTrajectory* reference = gt ? &*gt : (log_poses.empty() ? nullptr : &log_poses);
+      Pose2D anchor;
+      if (reference != nullptr) {
+        const auto k = eval::nearestIndex(*reference, report.lidarseg.trajectory.front().stamp_s, gt_tolerance);
+        if (k) anchor = (*reference)[*k].pose;
+        add(gt ? "ground truth" : "log poses", *reference, 0, 0, 0, {});
+      }
+      add("lidarseg", report.lidarseg.trajectory, 200, 80, 0, anchor);
+      if (report.icp) add("MRPT ICP", report.icp->trajectory, 0, 0, 220, anchor);
+      outputs.add(path("trajectories.png"), plotTrajectoriesPng(series, "Trajectories: " + fs::path(o.input).filename().string()));
+      std::vector<PlotSeries> hist;
+      hist.push_back({"lidarseg (segmentation + cascade + matching)", 200, 80, 0, report.lidarseg.time_us, {}, false});
+      if (report.icp) hist.push_back({"MRPT ICP (points + alignment)", 0, 0, 220, report.icp->time_us, {}, false});
+      outputs.add(path("timing.png"), plotHistogramsPng(hist, "Time per scan", "microseconds"));
+    }
+    report.outputs = {path("lidarseg.tum"), path("timing.csv"), path("summary.json"), path("results.md")};
+    if (report.icp) report.outputs.push_back(path("icp.tum"));
+  }
+  outputs.commit();
+  if (!o.write_rawlog.empty()) report.outputs.push_back(o.write_rawlog);
+  return report;
+}
+
+std::string OdometryApp::markdownTable(const OdometryReport& r) {
+  std::ostringstream os;
+  os << std::fixed;
+  std::vector<const MethodReport*> methods = {&r.lidarseg};
+  if (r.icp) methods.push_back(&*r.icp);
+  os << "Input: `" << r.input << "` (" << r.format << ", sensor " << r.sensor << "), " << r.frames
+     << " scans";
+  if (!r.gt_path.empty()) os << ", ground truth `" << r.gt_path << "`";
+  os << "\n\n";
+  const bool gt = r.lidarseg.errors.has_value();
+  os << "| method | t (ms) | σt (ms) | median (ms) | p99 (ms)";
+  if (gt) os << " | edx (mm) | σedx (mm) | edy (mm) | σedy (mm) | edθ (mrad) | σedθ (mrad) | final error (m) | ATE RMSE (m)";
+  os << " |\n|---|---:|---:|---:|---:";
+  if (gt) os << "|---:|---:|---:|---:|---:|---:|---:|---:";
+  os << "|\n";
+  for (const auto* m : methods) {
+    const Summary& t = m->time_summary_us;
+    os << "| " << m->name << " | " << std::setprecision(4) << t.mean / 1e3 << " | " << t.stddev / 1e3 << " | "
+       << t.median / 1e3 << " | " << t.p99 / 1e3;
+    if (gt && m->errors) {
+      const auto& e = *m->errors;
+      os << std::setprecision(2) << " | " << e.motion.dx_m.mean * 1e3 << " | " << e.motion.dx_m.stddev * 1e3
+         << " | " << e.motion.dy_m.mean * 1e3 << " | " << e.motion.dy_m.stddev * 1e3 << " | "
+         << e.motion.dtheta_rad.mean * 1e3 << " | " << e.motion.dtheta_rad.stddev * 1e3 << " | "
+         << std::setprecision(3) << e.final_position_error_m << " | " << e.ate_rmse_m;
+    }
+    os << " |\n";
+  }
+  if (r.icp) os << "\nSpeed-up (median ICP time / median lidarseg time, same run): " << std::setprecision(1)
+                << r.speedup_median << "x\n";
+  const auto relTable = [&](const char* title, auto get) {
+    if (!get(r.lidarseg)) return;
+    os << "\n" << title << "\n\n| method | evaluated | trans. mean (m) | trans. median (m) | trans. std (m) | rot. mean (deg) | rot. median (deg) | rot. std (deg) |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const auto* m : methods) {
+      const auto& e = *get(*m);
+      os << "| " << m->name << " | " << e.evaluated << "/" << e.relations << std::setprecision(4) << " | "
+         << e.translation_m.mean << " | " << e.translation_m.median << " | " << e.translation_m.stddev << " | "
+         << e.rotation_rad.mean * 180 / M_PI << " | " << e.rotation_rad.median * 180 / M_PI << " | "
+         << e.rotation_rad.stddev * 180 / M_PI << " |\n";
+    }
+  };
+  relTable("Relations (Kümmerle et al. 2009):", [](const MethodReport& m) { return m.relations ? &*m.relations : nullptr; });
+  relTable("Per-scan relative motion against the log's poses:",
+           [](const MethodReport& m) { return m.log_relations ? &*m.log_relations : nullptr; });
+  return os.str();
+}
+
+std::string OdometryApp::summaryJson(const OdometryReport& r) {
+  JsonWriter j;
+  j.beginObject();
+  j.value("input", r.input).value("format", r.format).value("sensor", r.sensor).value("frames", r.frames);
+  j.value("skipped", r.skipped_count);
+  j.beginArray("skipped_examples");
+  for (const auto& s : r.skipped) j.value(nullptr, s);
+  j.endArray();
+  j.value("non_increasing_stamps", r.non_increasing_stamps).value("time_gaps", r.time_gaps);
+  j.value("odometry_jumps", r.odometry_jumps);
+  j.beginArray("warnings");
+  for (const auto& s : r.warnings) j.value(nullptr, s);
+  j.endArray();
+  if (!r.gt_path.empty()) j.value("ground_truth", r.gt_path);
+  if (!r.relations_path.empty()) j.value("relations", r.relations_path);
+  j.beginObject("methods");
+  std::vector<const MethodReport*> methods = {&r.lidarseg};
+  if (r.icp) methods.push_back(&*r.icp);
+  for (const auto* m : methods) {
+    j.beginObject(m->name.c_str());
+    writeSummary(j, "time_ms", m->time_summary_us, 1e-3);
+    j.value("trajectory", m->name + ".tum");
+    j.beginObject("status");
+    for (const auto& [k, v] : m->status_counts) j.value(k.c_str(), v);
+    j.endObject();
+    if (m->name == "lidarseg") {
+      writeSummary(j, "segmentation_ms", summarize(m->segmentation_us), 1e-3);
+      writeSummary(j, "cascade_ms", summarize(m->cascade_us), 1e-3);
+      writeSummary(j, "matching_ms", summarize(m->matching_us), 1e-3);
+      j.beginObject("final_sigma");
+      j.value("x_m", m->final_sigma_x_m).value("y_m", m->final_sigma_y_m).value("yaw_rad", m->final_sigma_yaw_rad);
+      j.endObject();
+      j.value("weak_scans", m->weak_scans);
+    }
+    if (m->errors) {
+      const auto& e = *m->errors;
+      j.beginObject("errors");
+      j.value("associated", e.associated).value("path_length_m", e.path_length_m);
+      j.value("final_position_error_m", e.final_position_error_m).value("final_yaw_error_rad", e.final_yaw_error_rad);
+      j.value("ate_rmse_m", e.ate_rmse_m).value("ate_mean_m", e.ate_mean_m).value("ate_max_m", e.ate_max_m);
+      j.beginObject("table1");
+      j.value("t_ms", m->time_summary_us.mean * 1e-3).value("sigma_t_ms", m->time_summary_us.stddev * 1e-3);
+      j.value("edx_m", e.motion.dx_m.mean).value("sigma_edx_m", e.motion.dx_m.stddev);
+      j.value("edy_m", e.motion.dy_m.mean).value("sigma_edy_m", e.motion.dy_m.stddev);
+      j.value("edtheta_rad", e.motion.dtheta_rad.mean).value("sigma_edtheta_rad", e.motion.dtheta_rad.stddev);
+      j.endObject();
+      j.endObject();
+    }
+    if (m->relations) writeRelations(j, "relations", *m->relations);
+    if (m->log_relations) writeRelations(j, "log_relations", *m->log_relations);
+    j.endObject();
+  }
+  j.endObject();
+  if (r.icp) j.value("speedup_median", r.speedup_median);
+  j.endObject();
+  return j.str();
+}
+
+void OdometryApp::print(const OdometryReport& r, std::ostream& os) {
+  os << markdownTable(r);
+  os << "\nskipped: " << r.skipped_count << ", non-increasing stamps: " << r.non_increasing_stamps
+     << ", time gaps: " << r.time_gaps << ", odometry jumps: " << r.odometry_jumps << "\n";
+  os << "lidarseg status:";
+  for (const auto& [k, v] : r.lidarseg.status_counts) os << " " << k << "=" << v;
+  os << "\n";
+  for (const auto& s : r.skipped) os << "skipped: " << s << "\n";
+  for (const auto& s : r.warnings) os << "warning: " << s << "\n";
+  for (const auto& s : r.outputs) os << "wrote " << s << "\n";
+}
+
+}  // namespace lidarseg::apps

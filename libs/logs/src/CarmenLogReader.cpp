@@ -1,0 +1,189 @@
+#include "lidarseg/logs/CarmenLogReader.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <set>
+#include <stdexcept>
+
+namespace lidarseg::logs {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+constexpr std::size_t kMaxBeams = 100000;
+constexpr std::size_t kMaxIssuesKept = 100;
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+    const std::size_t start = i;
+    while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
+    if (i > start) out.emplace_back(line, start, i - start);
+  }
+  return out;
+}
+
+// A number field; throws a message naming the field.
+double number(const std::vector<std::string>& f, std::size_t i, const char* name) {
+  if (i >= f.size()) throw std::invalid_argument(std::string("missing field '") + name + "'");
+  const char* s = f[i].c_str();
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(s, &end);
+  if (end == s || *end != '\0') {
+    throw std::invalid_argument(std::string("field '") + name + "' = '" + f[i] + "' is not a number");
+  }
+  return v;
+}
+
+double finiteNumber(const std::vector<std::string>& f, std::size_t i, const char* name) {
+  const double v = number(f, i, name);
+  if (!std::isfinite(v)) {
+    throw std::invalid_argument(std::string("field '") + name + "' = '" + f[i] + "' is not finite");
+  }
+  return v;
+}
+
+std::size_t count(const std::vector<std::string>& f, std::size_t i, const char* name) {
+  const double v = finiteNumber(f, i, name);
+  if (v < 0.0 || v != std::floor(v) || v > static_cast<double>(kMaxBeams)) {
+    throw std::invalid_argument(std::string("field '") + name + "' = '" + f[i] +
+                                "' is not a count in [0, " + std::to_string(kMaxBeams) + "]");
+  }
+  return static_cast<std::size_t>(v);
+}
+
+bool isSickErrorCode(double r) { return r >= 81.83 || (r >= 32.763 && r <= 32.767); }
+
+const std::set<std::string>& ignoredTypes() {
+  static const std::set<std::string> types = {
+      "NEFF", "SYNC", "TRUEPOS", "RAWLASER1", "RAWLASER2", "RAWLASER3", "RAWLASER4",
+      "ROBOTLASER2", "GPSNMEA", "GPSGGA", "GPSRMC", "SONAR", "BUMPER", "SCANMARK",
+      "POSITIONLASER", "IMU", "VECTORMOVE", "ROBOTVELOCITY", "FOLLOWTRAJECTORY",
+      "BASEVELOCITY", "ARMSTATE", "LASER1", "LASER2", "LASER3", "LASER4", "LASER5"};
+  return types;
+}
+
+}  // namespace
+
+CarmenLogReader::CarmenLogReader(const std::string& path, CarmenReaderOptions options)
+    : reader_(path), options_(std::move(options)) {}
+
+void CarmenLogReader::report(const std::string& message) {
+  ++malformed_;
+  if (issues_.size() < kMaxIssuesKept) {
+    issues_.push_back(reader_.path() + ":" + std::to_string(reader_.lineNumber()) + ": " + message);
+  }
+}
+
+double CarmenLogReader::paramDouble(const std::string& key, double fallback) const {
+  const auto it = params_.find(key);
+  if (it == params_.end()) return fallback;
+  char* end = nullptr;
+  const double v = std::strtod(it->second.c_str(), &end);
+  return (end != it->second.c_str() && std::isfinite(v)) ? v : fallback;
+}
+
+bool CarmenLogReader::parseLaser(const std::string& type, const std::vector<std::string>& f,
+                                 CarmenLaser& out) {
+  out.type = type;
+  out.line = reader_.lineNumber();
+  const bool front = type != "RLASER";
+  const std::string side = front ? "front" : "rear";
+  if (type == "ROBOTLASER1") {
+    // ROBOTLASER1 laser_type start_angle fov resolution max_range accuracy remission_mode
+    //   n r1..rn n_rem rem1..rem_nrem laser_x laser_y laser_theta robot_x robot_y robot_theta
+    //   tv rv forward_safety side_safety turn_axis ipc_ts host logger_ts
+    out.start_angle_rad = finiteNumber(f, 2, "start_angle");
+    finiteNumber(f, 3, "field_of_view");
+    out.angular_resolution_rad = finiteNumber(f, 4, "angular_resolution");
+    out.max_range_m = finiteNumber(f, 5, "maximum_range");
+    const std::size_t n = count(f, 8, "num_readings");
+    if (f.size() < 9 + n + 1) throw std::invalid_argument("fewer ranges than num_readings = " + f[8]);
+    out.ranges_m.resize(n);
+    for (std::size_t i = 0; i < n; ++i) out.ranges_m[i] = number(f, 9 + i, "range");
+    const std::size_t nr = count(f, 9 + n, "num_remissions");
+    const std::size_t base = 10 + n + nr;
+    if (f.size() != base + 14) {
+      throw std::invalid_argument(std::to_string(f.size()) + " fields, expected " +
+                                  std::to_string(base + 14) + " for " + std::to_string(n) +
+                                  " ranges and " + std::to_string(nr) + " remissions");
+    }
+    out.laser_pose = {finiteNumber(f, base, "laser_x"), finiteNumber(f, base + 1, "laser_y"),
+                      finiteNumber(f, base + 2, "laser_theta")};
+    out.robot_pose = {finiteNumber(f, base + 3, "robot_x"), finiteNumber(f, base + 4, "robot_y"),
+                      finiteNumber(f, base + 5, "robot_theta")};
+    out.stamp_s = finiteNumber(f, base + 11, "ipc_timestamp");
+    out.laser_on_robot = relative(out.laser_pose, out.robot_pose);
+  } else {
+    const std::size_t n = count(f, 1, "num_readings");
+    if (f.size() != n + 11) {
+      throw std::invalid_argument(std::to_string(f.size()) + " fields, expected " +
+                                  std::to_string(n + 11) + " for num_readings = " + f[1]);
+    }
+    out.ranges_m.resize(n);
+    for (std::size_t i = 0; i < n; ++i) out.ranges_m[i] = number(f, 2 + i, "range");
+    out.laser_pose = {finiteNumber(f, n + 2, "x"), finiteNumber(f, n + 3, "y"), finiteNumber(f, n + 4, "theta")};
+    out.robot_pose = {finiteNumber(f, n + 5, "odom_x"), finiteNumber(f, n + 6, "odom_y"),
+                      finiteNumber(f, n + 7, "odom_theta")};
+    out.stamp_s = finiteNumber(f, n + 8, "ipc_timestamp");
+    const double fov_deg = paramDouble("laser_" + side + "_laser_fov", 180.0);
+    double res_deg = paramDouble("laser_" + side + "_laser_resolution", 0.0);
+    if (!(res_deg > 0.0) && n > 1) res_deg = (n % 2 == 1) ? fov_deg / static_cast<double>(n - 1)
+                                                          : fov_deg / static_cast<double>(n);
+    out.angular_resolution_rad = res_deg * kDeg;
+    out.start_angle_rad = -0.5 * fov_deg * kDeg;
+    double max_range = paramDouble("robot_" + side + "_laser_max", 0.0);
+    if (!(max_range > 0.0)) max_range = paramDouble("laser_" + side + "_laser_max_range", 0.0);
+    if (!(max_range > 0.0)) max_range = options_.default_max_range_m;
+    out.max_range_m = max_range;
+    const double offset = paramDouble("robot_" + side + "laser_offset", 0.0);
+    out.laser_on_robot = front ? Pose2D{offset, 0.0, 0.0} : Pose2D{-offset, 0.0, kPi};
+  }
+  for (double& r : out.ranges_m) {
+    if (isSickErrorCode(r)) r = std::numeric_limits<double>::infinity();
+  }
+  return true;
+}
+
+std::optional<CarmenLaser> CarmenLogReader::next() {
+  std::string line;
+  while (reader_.next(line)) {
+    const auto f = split(line);
+    if (f.empty() || f[0][0] == '#') continue;
+    const std::string& type = f[0];
+    if (type == "PARAM") {
+      if (f.size() >= 3) params_[f[1]] = f[2];
+      else report("PARAM line with " + std::to_string(f.size()) + " fields (expected name and value)");
+      continue;
+    }
+    if (type == "ODOM") {
+      try {
+        odometry_ = Pose2D{finiteNumber(f, 1, "x"), finiteNumber(f, 2, "y"), finiteNumber(f, 3, "theta")};
+      } catch (const std::invalid_argument& e) {
+        report(std::string("ODOM: ") + e.what());
+      }
+      continue;
+    }
+    if (type == "FLASER" || type == "RLASER" || type == "ROBOTLASER1") {
+      if (options_.laser_type.empty()) options_.laser_type = type;
+      if (type != options_.laser_type) continue;
+      CarmenLaser laser;
+      try {
+        parseLaser(type, f, laser);
+      } catch (const std::invalid_argument& e) {
+        report(type + ": " + e.what() + " (line skipped)");
+        continue;
+      }
+      return laser;
+    }
+    if (ignoredTypes().count(type) == 0) ++unknown_[type];
+  }
+  return std::nullopt;
+}
+
+}  // namespace lidarseg::logs

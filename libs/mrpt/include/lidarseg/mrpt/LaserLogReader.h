@@ -1,0 +1,84 @@
+#pragma once
+/// @file LaserLogReader.h
+/// One reader for every supported laser log: MRPT rawlogs (both layouts) and CARMEN logs.
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
+#include "lidarseg/core/Pose2D.h"
+
+namespace lidarseg::logs {
+class CarmenLogReader;
+}
+
+namespace lidarseg::mrpt_adapter {
+
+class RawlogScanReader;
+
+/// Format of a laser log.
+enum class LogFormat { kRawlog, kCarmen };
+
+/// One scan of a log, with what the log says about the robot at that time.
+struct LaserRecord {
+  /// 0-based index of the scan among the scans returned.
+  std::size_t index = 0;
+  /// Where the scan is in the file, for messages: "file, entry 12" or "file:345".
+  std::string where;
+  /// Time of the scan in the log's clock (s); CARMEN: the line's ipc timestamp.
+  double stamp_s = 0.0;
+  /// The scan (CARMEN lines are converted: aperture, direction, sensor pose, max range).
+  mrpt::obs::CObservation2DRangeScan::Ptr observation;
+  /// Wheel odometry of the robot (odometry frame), when the log has it.
+  std::optional<Pose2D> odometry;
+  /// Robot pose written in the log beside the scan (CARMEN laser lines: in "corrected"
+  /// logs, the corrected pose), usable as a reference.
+  std::optional<Pose2D> log_pose;
+  /// Other observations read since the previous scan (rawlogs only).
+  std::vector<mrpt::obs::CObservation::Ptr> companions;
+};
+
+/// Streams the scans of a laser log of either format, one sensor only.
+class LaserLogReader {
+ public:
+  /// Opens `path`: a rawlog when the name ends in .rawlog (or .rawlog.gz), CARMEN when it
+  /// ends in .clf, .log or .log.gz / .clf.gz; otherwise the first bytes decide (text is
+  /// CARMEN). `sensor`: rawlog sensor label or CARMEN line type (FLASER, RLASER,
+  /// ROBOTLASER1); empty = the first laser met.
+  /// @throws std::runtime_error naming the file when it cannot be opened.
+  explicit LaserLogReader(const std::string& path, const std::string& sensor = {});
+  ~LaserLogReader();
+
+  /// The next scan, or std::nullopt at the end.
+  /// @throws std::runtime_error naming the file and entry/line for a truncated or corrupt file.
+  std::optional<LaserRecord> next();
+
+  LogFormat format() const { return format_; }
+  const std::string& path() const { return path_; }
+  /// The sensor label or line type being read (known after the first scan).
+  std::string sensor() const;
+  /// Skipped lines/scans with their location (the first 100), and how many in all.
+  const std::vector<std::string>& issues() const { return issues_; }
+  std::size_t skipped() const { return skipped_; }
+  /// Messages about line types that were not understood ("UNKNOWN: 12 lines").
+  std::vector<std::string> unknownTypes() const;
+
+ private:
+  void note(const std::string& message);
+  std::string path_;
+  LogFormat format_ = LogFormat::kRawlog;
+  std::unique_ptr<RawlogScanReader> rawlog_;
+  std::unique_ptr<logs::CarmenLogReader> carmen_;
+  std::size_t returned_ = 0;
+  std::size_t skipped_ = 0;
+  std::vector<std::string> issues_;
+};
+
+/// The format `path` is read as (see LaserLogReader).
+LogFormat detectLogFormat(const std::string& path);
+
+}  // namespace lidarseg::mrpt_adapter

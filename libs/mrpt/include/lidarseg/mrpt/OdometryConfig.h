@@ -1,0 +1,44 @@
+#pragma once
+/// @file OdometryConfig.h
+/// Loading and saving the matcher and odometry parameters with MRPT's configuration files.
+
+#include <string>
+#include <vector>
+
+#include <mrpt/config/CConfigFileBase.h>
+
+#include "lidarseg/core/SegmentOdometry.h"
+#include "lidarseg/mrpt/SegmentationConfig.h"
+
+namespace lidarseg::mrpt_adapter {
+
+inline const std::string kMatcherSection = "matcher";
+inline const std::string kOdometrySection = "odometry";
+
+/// Names of every key of the [matcher] and [odometry] sections, in file order.
+std::vector<std::string> matcherKeys();
+std::vector<std::string> odometryKeys();
+
+/// Reads the keys present in `section` into `params`, then validates them.
+/// @throws std::invalid_argument naming source, section and key (unknown key, not a
+/// number, out of range) or a missing section.
+void loadMatcherParams(MatcherParams& params, const mrpt::config::CConfigFileBase& cfg,
+                       const std::string& section = kMatcherSection,
+                       const std::string& source = "configuration");
+void saveMatcherParams(const MatcherParams& params, mrpt::config::CConfigFileBase& cfg,
+                       const std::string& section = kMatcherSection);
+
+/// Reads [segmentation], [matcher] and [odometry], each when present (absent sections
+/// keep the defaults: a file may hold only some of them), and validates.
+/// @throws std::invalid_argument as above.
+void loadOdometryParams(OdometryParams& params, const mrpt::config::CConfigFileBase& cfg,
+                        const std::string& source = "configuration");
+/// Writes the three sections with every key.
+void saveOdometryParams(const OdometryParams& params, mrpt::config::CConfigFileBase& cfg);
+
+/// Loads an INI (or YAML, by extension) file's three sections on top of the defaults,
+/// with errors naming file:line [section] key.
+/// @throws std::runtime_error if the file cannot be read; std::invalid_argument as above.
+OdometryParams loadOdometryParamsFile(const std::string& path);
+
+}  // namespace lidarseg::mrpt_adapter

@@ -1,0 +1,70 @@
+#pragma once
+// Private to lidarseg::mrpt: the key tables of the parameter structs (see ConfigKeys.h),
+// shared by the configuration loaders and the alignment algorithm's TConfigParams.
+
+#include "lidarseg/core/SegmentOdometry.h"
+
+namespace lidarseg::mrpt_adapter::detail {
+
+// Every key of the [segmentation] section and the field it sets.
+struct SegmentationKeys {
+  template <typename Params, typename Visitor>
+  void operator()(Params& p, Visitor&& visit) const {
+    visit("range_sigma_m", p.noise.range_sigma_m);
+    visit("bearing_sigma_rad", p.noise.bearing_sigma_rad);
+    visit("wd_threshold_m", p.wall_danielsson.threshold_m);
+    visit("wd_max_range_jump_m", p.wall_danielsson.max_range_jump_m);
+    visit("wd_max_range_jump_ratio", p.wall_danielsson.max_range_jump_ratio);
+    visit("wd_min_points", p.wall_danielsson.min_points);
+    visit("fusion1_max_angle_rad", p.cascade.first_fusion.max_angle_rad);
+    visit("fusion1_max_line_distance_m", p.cascade.first_fusion.max_line_distance_m);
+    visit("fusion1_max_gap_m", p.cascade.first_fusion.max_gap_m);
+    visit("fusion1_noise_gate_sigmas", p.cascade.first_fusion.noise_gate_sigmas);
+    visit("erosion_min_length_m", p.cascade.erosion.min_length_m);
+    visit("erosion_min_points", p.cascade.erosion.min_points);
+    visit("fusion2_max_angle_rad", p.cascade.second_fusion.max_angle_rad);
+    visit("fusion2_max_line_distance_m", p.cascade.second_fusion.max_line_distance_m);
+    visit("fusion2_max_gap_m", p.cascade.second_fusion.max_gap_m);
+    visit("fusion2_noise_gate_sigmas", p.cascade.second_fusion.noise_gate_sigmas);
+  }
+};
+
+// Every key of the [matcher] section.
+struct MatcherKeys {
+  template <typename Params, typename Visitor>
+  void operator()(Params& p, Visitor&& visit) const {
+    visit("cog_gate_m", p.cog_gate_m);
+    visit("cog_gate_length_ratio", p.cog_gate_length_ratio);
+    visit("rho_scale_m", p.rho_scale_m);
+    visit("theta_scale_rad", p.theta_scale_rad);
+    visit("cog_scale_m", p.cog_scale_m);
+    visit("length_weight", p.length_weight);
+    visit("max_weight", p.max_weight);
+    visit("ambiguity_ratio", p.ambiguity_ratio);
+    visit("band_half_width", p.band_half_width);
+    visit("min_matches", p.min_matches);
+    visit("iterations", p.iterations);
+    visit("outlier_sigmas", p.outlier_sigmas);
+    visit("degeneracy_ratio", p.degeneracy_ratio);
+    visit("unconstrained_sigma_m", p.unconstrained_sigma_m);
+    visit("min_rho_sigma_m", p.min_rho_sigma_m);
+    visit("min_theta_sigma_rad", p.min_theta_sigma_rad);
+  }
+};
+
+// Every key of the [odometry] section (the matcher's and segmentation's have their own).
+struct OdometryKeys {
+  template <typename Params, typename Visitor>
+  void operator()(Params& p, Visitor&& visit) const {
+    visit("level", p.level);
+    visit("keyframe_distance_m", p.keyframe_distance_m);
+    visit("keyframe_angle_rad", p.keyframe_angle_rad);
+    visit("deskew", p.deskew);
+    visit("velocity_window_s", p.velocity_window_s);
+    visit("angular_velocity_window_s", p.angular_velocity_window_s);
+    visit("deskew_tolerance_rad", p.deskew_tolerance_rad);
+    visit("scanner_rotation_hz", p.scanner_rotation_hz);
+  }
+};
+
+}  // namespace lidarseg::mrpt_adapter::detail

@@ -1,0 +1,135 @@
+#include "lidarseg/mrpt/SegmentAlignment.h"
+
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+#include <mrpt/maps/CPointsMap.h>
+#include <mrpt/poses/CPose3DPDFGaussian.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
+
+#include "ConfigKeys.h"
+#include "KeyTables.h"
+
+namespace lidarseg::mrpt_adapter {
+
+namespace {
+
+// The [segmentation] keys, the [matcher] keys and the level in one section.
+struct AlignmentKeys {
+  template <typename Params, typename Visitor>
+  void operator()(Params& p, Visitor&& visit) const {
+    detail::SegmentationKeys{}(p.segmentation, visit);
+    detail::MatcherKeys{}(p.matcher, visit);
+    visit("level", p.level);
+  }
+};
+
+// The points of a map as a scan seen from the map's origin: one beam per point, in map
+// order, at the point's bearing.
+Scan scanOf(const mrpt::maps::CMetricMap* map, const char* which) {
+  const auto* points = dynamic_cast<const mrpt::maps::CPointsMap*>(map);
+  if (points == nullptr) {
+    throw std::invalid_argument(std::string("SegmentAlignment: ") + which +
+                                " is not a point map (CSimplePointsMap built from a 2D scan)");
+  }
+  const auto& xs = points->getPointsBufferRef_x();
+  const auto& ys = points->getPointsBufferRef_y();
+  std::vector<double> angles(xs.size());
+  Scan scan;
+  scan.ranges_m.resize(xs.size());
+  for (std::size_t i = 0; i < xs.size(); ++i) {
+    angles[i] = std::atan2(static_cast<double>(ys[i]), static_cast<double>(xs[i]));
+    scan.ranges_m[i] = std::hypot(static_cast<double>(xs[i]), static_cast<double>(ys[i]));
+  }
+  // Bearings may wrap past +-pi (a 360-degree scan): keep them continuous.
+  for (std::size_t i = 1; i < angles.size(); ++i) {
+    while (angles[i] - angles[i - 1] > M_PI) angles[i] -= 2.0 * M_PI;
+    while (angles[i] - angles[i - 1] < -M_PI) angles[i] += 2.0 * M_PI;
+  }
+  scan.layout = std::make_shared<const BeamLayout>(std::move(angles));
+  return scan;
+}
+
+}  // namespace
+
+void SegmentAlignment::TConfigParams::validate() const {
+  segmentation.validate();
+  matcher.validate();
+  if (static_cast<std::size_t>(level) >= kNumCascadeLevels) {
+    throw std::invalid_argument("level = " + std::to_string(static_cast<std::size_t>(level)) +
+                                " must be a cascade level 0..3");
+  }
+}
+
+void SegmentAlignment::TConfigParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+                                                         const std::string& section) {
+  detail::loadKeys(*this, source, section, "configuration", {}, AlignmentKeys{});
+}
+
+void SegmentAlignment::TConfigParams::saveToConfigFile(mrpt::config::CConfigFileBase& target,
+                                                       const std::string& section) const {
+  detail::saveKeys(*this, target, section, AlignmentKeys{});
+}
+
+SegmentAlignment::SegmentAlignment(const TConfigParams& params) : options(params) { options.validate(); }
+
+mrpt::poses::CPosePDF::Ptr SegmentAlignment::AlignPDF(
+    const mrpt::maps::CMetricMap* m1, const mrpt::maps::CMetricMap* m2,
+    const mrpt::poses::CPosePDFGaussian& initial,
+    mrpt::optional_ref<mrpt::slam::TMetricMapAlignmentResult> outInfo) {
+  const auto t0 = std::chrono::steady_clock::now();
+  options.validate();
+  const Scan s1 = scanOf(m1, "m1"), s2 = scanOf(m2, "m2");
+  ScanSegmenter segmenter(options.segmentation);
+  Segmentation g1, g2;
+  segmenter.process(s1, g1);
+  segmenter.process(s2, g2);
+  const SegmentMatcher matcher(options.matcher);
+  const Pose2D prior{initial.mean.x(), initial.mean.y(), initial.mean.phi()};
+  const MatchResult r = matcher.match(g1.level(options.level).segments, g2.level(options.level).segments, prior);
+  mrpt::math::CMatrixDouble33 cov;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) cov(i, j) = r.covariance(i, j);
+  auto out = std::make_shared<mrpt::poses::CPosePDFGaussian>(
+      mrpt::poses::CPose2D(r.T_prev_curr.x, r.T_prev_curr.y, r.T_prev_curr.yaw), cov);
+  if (outInfo) {
+    auto& base = outInfo.value().get();
+    base.executionTime = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (auto* info = dynamic_cast<TReturnInfo*>(&base)) {
+      info->status = r.status;
+      info->matches = r.matches.size();
+      info->segments_m1 = g1.level(options.level).segments.size();
+      info->segments_m2 = g2.level(options.level).segments.size();
+    }
+  }
+  return out;
+}
+
+mrpt::poses::CPose3DPDF::Ptr SegmentAlignment::Align3DPDF(
+    const mrpt::maps::CMetricMap* m1, const mrpt::maps::CMetricMap* m2,
+    const mrpt::poses::CPose3DPDFGaussian& initial,
+    mrpt::optional_ref<mrpt::slam::TMetricMapAlignmentResult> outInfo) {
+  const auto& p = initial.mean;
+  if (std::abs(p.z()) > 1e-6 || std::abs(p.pitch()) > 1e-6 || std::abs(p.roll()) > 1e-6) {
+    throw std::invalid_argument(
+        "SegmentAlignment::Align3DPDF: segment matching is planar; the initial estimate has z = " +
+        std::to_string(p.z()) + ", pitch = " + std::to_string(p.pitch()) + ", roll = " +
+        std::to_string(p.roll()) + " (all must be 0)");
+  }
+  mrpt::poses::CPosePDFGaussian initial2d(mrpt::poses::CPose2D(p.x(), p.y(), p.yaw()));
+  const auto pdf2d = AlignPDF(m1, m2, initial2d, outInfo);
+  const auto& g = dynamic_cast<const mrpt::poses::CPosePDFGaussian&>(*pdf2d);
+  mrpt::math::CMatrixDouble66 cov;
+  cov.setZero();
+  // MRPT's 3D order: x y z yaw pitch roll.
+  const int map2d[3] = {0, 1, 3};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) cov(map2d[i], map2d[j]) = g.cov(i, j);
+  cov(2, 2) = cov(4, 4) = cov(5, 5) = 1e-12;
+  return std::make_shared<mrpt::poses::CPose3DPDFGaussian>(
+      mrpt::poses::CPose3D(g.mean.x(), g.mean.y(), 0.0, g.mean.phi(), 0.0, 0.0), cov);
+}
+
+}  // namespace lidarseg::mrpt_adapter
