@@ -184,10 +184,12 @@ OdometryReport OdometryApp::run() {
     // gap restarts the motion prior from rest.
     double stamp = record->stamp_s;
     bool restart_prior = false;
+    bool synthetic_time = false;
     if (have_previous) {
       double dt = stamp - last_stamp;
       if (!(dt > 0.0)) {
         ++report.non_increasing_stamps;
+        synthetic_time = true;
         dt = last_dt;
         stamp = last_stamp + dt;
       } else if (dt > o.max_time_gap_s) {
@@ -208,8 +210,10 @@ OdometryReport OdometryApp::run() {
     if (o.use_odometry && record->odometry) {
       if (last_odometry) {
         const Pose2D inc = relative(*record->odometry, *last_odometry);
-        const double limit_t = o.max_speed_mps * std::max(dt, 0.05) + 0.1;
-        const double limit_r = o.max_turn_rate_radps * std::max(dt, 0.05) + 0.1;
+        // Without a usable time step, a step of up to 0.5 s is allowed.
+        const double span = synthetic_time ? 0.5 : std::max(dt, 0.05);
+        const double limit_t = o.max_speed_mps * span + 0.1;
+        const double limit_r = o.max_turn_rate_radps * span + 0.1;
         if (std::hypot(inc.x, inc.y) > limit_t || std::abs(inc.yaw) > limit_r) {
           ++report.odometry_jumps;
           if (report.warnings.size() < 100) {

@@ -1,0 +1,67 @@
+#pragma once
+/// @file BatchApp.h
+/// The logic of `lidarseg-batch`: the paper's experiment (§IV.B) — many simulated runs of
+/// one trajectory with different noise seeds, each matched by lidarseg and MRPT ICP —
+/// as independent, resumable jobs, and the aggregation of their results.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace lidarseg::apps {
+
+/// What one run is made of (a job).
+struct BatchJob {
+  std::string world_path;
+  std::string trajectory_path;
+  std::string sensor = "lms100";
+  /// Optional INI/YAML with a [simulation] section (lidarseg-simulate's).
+  std::string sim_config_path;
+  /// Optional INI/YAML with [segmentation] [matcher] [odometry] [icp] (lidarseg-odometry's).
+  std::string odometry_config_path;
+  std::uint64_t seed = 1;
+  /// Results folder: the run goes to OUT/run_<seed>/ (written as run_<seed>.partial/ and
+  /// renamed when complete, so a killed job leaves no result that looks finished).
+  std::string out_dir;
+  bool baseline_icp = true;
+  /// Keep the simulated rawlog and images (large); default: only the results.
+  bool keep_data = false;
+};
+
+/// Aggregated figures over the runs found in a results folder.
+struct BatchSummary {
+  std::size_t runs = 0;
+  std::vector<std::uint64_t> seeds;
+  std::vector<std::string> failed;  ///< "seed N: message" of runs that failed
+  std::string table_markdown;
+};
+
+class BatchApp {
+ public:
+  /// The folder of one seed's finished run.
+  static std::string runDir(const std::string& out_dir, std::uint64_t seed);
+  /// Whether that run has finished (its folder holds metrics.csv).
+  static bool finished(const std::string& out_dir, std::uint64_t seed);
+
+  /// Runs one job in this process: simulate, run both methods, write OUT/run_<seed>/
+  /// (summary.json, metrics.csv, trajectories, timing). Skips a finished run.
+  /// @throws std::runtime_error on failure (nothing is left that looks finished).
+  static void runOne(const BatchJob& job);
+
+  /// Runs the jobs for `seeds` that have not finished, `jobs` at a time, each in its own
+  /// process (`self_exe one ...`), so that a failing or crashing run is reported while the
+  /// others finish. Returns the seeds that failed with their messages.
+  static std::vector<std::string> runMany(const BatchJob& base, const std::vector<std::uint64_t>& seeds,
+                                          std::size_t jobs, const std::string& self_exe, bool progress);
+
+  /// Reads every OUT/run_*/metrics.csv, writes OUT/table1.md, OUT/aggregate.csv and
+  /// OUT/final_errors.png, and returns the summary.
+  /// @throws std::runtime_error when no finished run is found or a metrics file is bad.
+  static BatchSummary aggregate(const std::string& out_dir, const std::string& title);
+};
+
+/// Parses "1-50", "3", "1,4,9-12".
+/// @throws std::invalid_argument naming the bad part.
+std::vector<std::uint64_t> parseSeeds(const std::string& text);
+
+}  // namespace lidarseg::apps

@@ -1,0 +1,322 @@
+#include "lidarseg/apps/BatchApp.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "OutputFiles.h"
+#include "Plots.h"
+#include "lidarseg/apps/OdometryApp.h"
+#include "lidarseg/apps/SimulateApp.h"
+#include "lidarseg/core/Statistics.h"
+#include "lidarseg/mrpt/SimulationConfig.h"
+#include "lidarseg/sim/Simulation.h"
+
+namespace lidarseg::apps {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The per-run figures aggregated over runs, in metrics.csv's column order.
+const std::vector<std::string>& metricNames() {
+  static const std::vector<std::string> names = {
+      "frames",
+      "lidarseg_final_error_m", "lidarseg_ate_rmse_m", "lidarseg_t_ms", "lidarseg_sigma_t_ms",
+      "lidarseg_median_ms", "lidarseg_p99_ms", "lidarseg_edx_m", "lidarseg_sigma_edx_m", "lidarseg_edy_m",
+      "lidarseg_sigma_edy_m", "lidarseg_edtheta_rad", "lidarseg_sigma_edtheta_rad",
+      "icp_final_error_m", "icp_ate_rmse_m", "icp_t_ms", "icp_sigma_t_ms", "icp_median_ms", "icp_p99_ms",
+      "icp_edx_m", "icp_sigma_edx_m", "icp_edy_m", "icp_sigma_edy_m", "icp_edtheta_rad",
+      "icp_sigma_edtheta_rad", "speedup_median", "path_length_m"};
+  return names;
+}
+
+std::vector<double> metricsOf(const OdometryReport& r) {
+  const auto method = [](const std::optional<MethodReport>& m, std::vector<double>& out) {
+    if (!m || !m->errors) {
+      out.insert(out.end(), 12, std::nan(""));
+      return;
+    }
+    const auto& e = *m->errors;
+    const auto& t = m->time_summary_us;
+    out.insert(out.end(), {e.final_position_error_m, e.ate_rmse_m, t.mean * 1e-3, t.stddev * 1e-3, t.median * 1e-3,
+                           t.p99 * 1e-3, e.motion.dx_m.mean, e.motion.dx_m.stddev, e.motion.dy_m.mean,
+                           e.motion.dy_m.stddev, e.motion.dtheta_rad.mean, e.motion.dtheta_rad.stddev});
+  };
+  std::vector<double> out = {static_cast<double>(r.frames)};
+  method(std::optional<MethodReport>(r.lidarseg), out);
+  method(r.icp, out);
+  out.push_back(r.speedup_median);
+  out.push_back(r.lidarseg.errors ? r.lidarseg.errors->path_length_m : std::nan(""));
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::uint64_t> parseSeeds(const std::string& text) {
+  std::vector<std::uint64_t> seeds;
+  std::stringstream ss(text);
+  std::string part;
+  while (std::getline(ss, part, ',')) {
+    const auto dash = part.find('-');
+    try {
+      std::size_t used = 0;
+      if (dash == std::string::npos) {
+        const auto v = std::stoull(part, &used);
+        if (used != part.size()) throw std::invalid_argument(part);
+        seeds.push_back(v);
+      } else {
+        const std::string a = part.substr(0, dash), b = part.substr(dash + 1);
+        std::size_t ua = 0, ub = 0;
+        const auto lo = std::stoull(a, &ua), hi = std::stoull(b, &ub);
+        if (ua != a.size() || ub != b.size() || hi < lo || hi - lo > 100000) throw std::invalid_argument(part);
+        for (auto s = lo; s <= hi; ++s) seeds.push_back(s);
+      }
+    } catch (const std::exception&) {
+      throw std::invalid_argument("seeds: '" + part + "' is not a seed or a range like 1-50");
+    }
+  }
+  if (seeds.empty()) throw std::invalid_argument("seeds: none given");
+  std::sort(seeds.begin(), seeds.end());
+  seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+  return seeds;
+}
+
+std::string BatchApp::runDir(const std::string& out_dir, std::uint64_t seed) {
+  return (fs::path(out_dir) / ("run_" + std::to_string(seed))).string();
+}
+
+bool BatchApp::finished(const std::string& out_dir, std::uint64_t seed) {
+  return fs::exists(fs::path(runDir(out_dir, seed)) / "metrics.csv");
+}
+
+void BatchApp::runOne(const BatchJob& job) {
+  if (finished(job.out_dir, job.seed)) return;
+  const fs::path final_dir = runDir(job.out_dir, job.seed);
+  const fs::path work = final_dir.string() + ".partial";
+  std::error_code ec;
+  fs::remove_all(work, ec);
+  fs::create_directories(work);
+
+  SimulateOptions sim;
+  sim.world_path = job.world_path;
+  sim.trajectory_path = job.trajectory_path;
+  sim.sensor = job.sensor;
+  sim.config_path = job.sim_config_path;
+  sim.seed = job.seed;
+  sim.out_prefix = (work / "sim").string();
+  sim.camera_every_scans = 0;
+  SimulateApp(sim).run();
+
+  // The scanner's rotation frequency, for the rolling-shutter correction of lidarseg.
+  sim::SimulationParams params;
+  params.sensor = sim::sensorProfile(job.sensor);
+  if (!job.sim_config_path.empty()) mrpt_adapter::loadSimulationParamsFile(params, job.sim_config_path);
+
+  OdometryOptions o;
+  o.input = (work / "sim.rawlog").string();
+  o.config_path = job.odometry_config_path;
+  o.baseline_icp = job.baseline_icp;
+  o.out_dir = work.string();
+  o.gt_path = (work / "sim.gt.tum").string();
+  o.scanner_rotation_hz = params.rolling_shutter ? params.sensor.frequency_hz : 0.0;
+  o.progress = false;
+  const OdometryReport report = OdometryApp(o).run();
+
+  std::ostringstream csv;
+  csv << "seed";
+  for (const auto& n : metricNames()) csv << ',' << n;
+  csv << '\n' << job.seed << std::setprecision(10);
+  for (double v : metricsOf(report)) csv << ',' << v;
+  csv << '\n';
+  writeFileAtomically((work / "metrics.csv").string(), csv.str());
+  if (!job.keep_data) {
+    for (const char* name : {"sim.rawlog", "sim.odom.tum", "sim.features.csv", "sim.rois.csv"}) {
+      fs::remove(work / name, ec);
+    }
+    fs::remove_all(work / "sim_Images", ec);
+  }
+  fs::remove_all(final_dir, ec);
+  fs::rename(work, final_dir);
+}
+
+std::vector<std::string> BatchApp::runMany(const BatchJob& base, const std::vector<std::uint64_t>& seeds,
+                                           std::size_t jobs, const std::string& self_exe, bool progress) {
+  std::vector<std::uint64_t> todo;
+  for (auto s : seeds) {
+    if (!finished(base.out_dir, s)) todo.push_back(s);
+  }
+  if (progress) {
+    std::cerr << "[lidarseg-batch] " << seeds.size() - todo.size() << " run(s) already finished, " << todo.size()
+              << " to do, " << jobs << " at a time\n";
+  }
+  fs::create_directories(base.out_dir);
+  std::vector<std::string> failed;
+  std::map<pid_t, std::uint64_t> running;
+  std::size_t next = 0, done = 0;
+  const auto logPath = [&](std::uint64_t seed) {
+    return (fs::path(base.out_dir) / ("run_" + std::to_string(seed) + ".log")).string();
+  };
+  while (next < todo.size() || !running.empty()) {
+    while (next < todo.size() && running.size() < std::max<std::size_t>(jobs, 1)) {
+      const std::uint64_t seed = todo[next++];
+      std::vector<std::string> args = {self_exe, "one", "--world", base.world_path, "--trajectory",
+                                       base.trajectory_path, "--sensor", base.sensor, "--seed",
+                                       std::to_string(seed), "--out", base.out_dir};
+      if (!base.sim_config_path.empty()) args.insert(args.end(), {"--sim-config", base.sim_config_path});
+      if (!base.odometry_config_path.empty()) args.insert(args.end(), {"--config", base.odometry_config_path});
+      if (!base.baseline_icp) args.push_back("--no-icp");
+      if (base.keep_data) args.push_back("--keep-data");
+      const std::string log = logPath(seed);
+      const pid_t pid = fork();
+      if (pid < 0) throw std::runtime_error("cannot start a job (fork failed)");
+      if (pid == 0) {
+        FILE* f = std::freopen(log.c_str(), "w", stderr);
+        (void)f;
+        std::vector<char*> argv;
+        for (auto& a : args) argv.push_back(a.data());
+        argv.push_back(nullptr);
+        execv(self_exe.c_str(), argv.data());
+        _exit(127);
+      }
+      running[pid] = seed;
+    }
+    int status = 0;
+    const pid_t pid = wait(&status);
+    if (pid < 0) break;
+    const auto it = running.find(pid);
+    if (it == running.end()) continue;
+    const std::uint64_t seed = it->second;
+    running.erase(it);
+    ++done;
+    const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 && finished(base.out_dir, seed);
+    if (!ok) {
+      std::string why = WIFSIGNALED(status) ? "killed by signal " + std::to_string(WTERMSIG(status))
+                                            : "exit code " + std::to_string(WEXITSTATUS(status));
+      std::ifstream in(logPath(seed));
+      std::string line, last;
+      while (std::getline(in, line)) {
+        if (!line.empty()) last = line;
+      }
+      failed.push_back("seed " + std::to_string(seed) + ": " + why + (last.empty() ? "" : " (" + last + ")"));
+    } else {
+      std::error_code ec;
+      fs::remove(logPath(seed), ec);
+    }
+    if (progress) {
+      std::cerr << "[lidarseg-batch] " << done << "/" << todo.size() << " done (seed " << seed
+                << (ok ? " ok" : " FAILED") << ")\n";
+    }
+  }
+  return failed;
+}
+
+BatchSummary BatchApp::aggregate(const std::string& out_dir, const std::string& title) {
+  BatchSummary summary;
+  std::vector<std::vector<double>> rows;
+  if (!fs::is_directory(out_dir)) throw std::runtime_error("'" + out_dir + "' is not a folder");
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(out_dir)) {
+    const auto name = entry.path().filename().string();
+    if (entry.is_directory() && name.rfind("run_", 0) == 0 && name.find('.') == std::string::npos &&
+        fs::exists(entry.path() / "metrics.csv")) {
+      files.push_back(entry.path() / "metrics.csv");
+    }
+  }
+  const std::size_t columns = metricNames().size();
+  for (const auto& f : files) {
+    std::ifstream in(f);
+    std::string header, line;
+    std::getline(in, header);
+    if (!std::getline(in, line)) throw std::runtime_error(f.string() + ":2: missing the data line");
+    std::stringstream ss(line);
+    std::string cell;
+    std::vector<double> row;
+    while (std::getline(ss, cell, ',')) {
+      char* end = nullptr;
+      const double v = std::strtod(cell.c_str(), &end);
+      if (end == cell.c_str()) throw std::runtime_error(f.string() + ":2: '" + cell + "' is not a number");
+      row.push_back(v);
+    }
+    if (row.size() != columns + 1) {
+      throw std::runtime_error(f.string() + ":2: " + std::to_string(row.size()) + " values, expected " +
+                               std::to_string(columns + 1));
+    }
+    rows.push_back(std::move(row));
+  }
+  if (rows.empty()) throw std::runtime_error("no finished run (run_*/metrics.csv) in '" + out_dir + "'");
+  std::sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return a[0] < b[0]; });
+  summary.runs = rows.size();
+  for (const auto& r : rows) summary.seeds.push_back(static_cast<std::uint64_t>(r[0]));
+
+  // Mean (and spread) of each metric over runs.
+  std::map<std::string, Summary> stats;
+  for (std::size_t c = 0; c < columns; ++c) {
+    std::vector<double> v;
+    for (const auto& r : rows) {
+      if (std::isfinite(r[c + 1])) v.push_back(r[c + 1]);
+    }
+    stats[metricNames()[c]] = summarize(v);
+  }
+  std::ostringstream md;
+  md << std::fixed;
+  md << "## " << title << "\n\n" << rows.size() << " runs (seeds " << summary.seeds.front() << "–"
+     << summary.seeds.back() << "), mean over runs of each run's figures (paper Table I).\n\n";
+  md << "| method | t (ms) | σt (ms) | edx (mm) | σedx (mm) | edy (mm) | σedy (mm) | edθ (mrad) | σedθ (mrad) | final error (m): mean | median | max | ATE RMSE (m) |\n";
+  md << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const std::string m : {"lidarseg", "icp"}) {
+    const auto g = [&](const std::string& k) { return stats[m + "_" + k]; };
+    if (g("final_error_m").count == 0) continue;
+    md << "| " << (m == "icp" ? "MRPT ICP" : m) << std::setprecision(4) << " | " << g("t_ms").mean << " | "
+       << g("sigma_t_ms").mean << std::setprecision(2) << " | " << g("edx_m").mean * 1e3 << " | "
+       << g("sigma_edx_m").mean * 1e3 << " | " << g("edy_m").mean * 1e3 << " | " << g("sigma_edy_m").mean * 1e3
+       << " | " << g("edtheta_rad").mean * 1e3 << " | " << g("sigma_edtheta_rad").mean * 1e3
+       << std::setprecision(3) << " | " << g("final_error_m").mean << " | " << g("final_error_m").median << " | "
+       << g("final_error_m").max << " | " << g("ate_rmse_m").mean << " |\n";
+  }
+  if (stats["speedup_median"].count > 0) {
+    md << "\nMedian time per scan: lidarseg " << std::setprecision(4) << stats["lidarseg_median_ms"].median * 1e3
+       << " µs, MRPT ICP " << stats["icp_median_ms"].median * 1e3 << " µs; speed-up (median over runs of each run's "
+       << "median ratio) " << std::setprecision(1) << stats["speedup_median"].median << "x. Path length "
+       << std::setprecision(1) << stats["path_length_m"].mean << " m.\n";
+  }
+  summary.table_markdown = md.str();
+
+  std::ostringstream csv;
+  csv << "seed";
+  for (const auto& n : metricNames()) csv << ',' << n;
+  csv << '\n' << std::setprecision(10);
+  for (const auto& r : rows) {
+    csv << static_cast<std::uint64_t>(r[0]);
+    for (std::size_t c = 1; c < r.size(); ++c) csv << ',' << r[c];
+    csv << '\n';
+  }
+  OutputSet out;
+  out.add((fs::path(out_dir) / "aggregate.csv").string(), csv.str());
+  out.add((fs::path(out_dir) / "table1.md").string(), summary.table_markdown);
+  std::vector<PlotSeries> series;
+  PlotSeries a{"lidarseg", 200, 80, 0, {}, {}, true}, b{"MRPT ICP", 0, 0, 220, {}, {}, true};
+  for (const auto& r : rows) {
+    a.x.push_back(r[0]);
+    a.y.push_back(r[2]);
+    b.x.push_back(r[0]);
+    b.y.push_back(r[14]);
+  }
+  series.push_back(a);
+  if (stats["icp_final_error_m"].count > 0) series.push_back(b);
+  out.add((fs::path(out_dir) / "final_errors.png").string(),
+          plotXYPng(series, "Final position error per run: " + title, "seed", "final error (m)"));
+  out.commit();
+  return summary;
+}
+
+}  // namespace lidarseg::apps
