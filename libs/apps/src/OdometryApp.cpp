@@ -16,6 +16,7 @@
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPosePDFGaussian.h>
 #include <mrpt/serialization/CArchive.h>
@@ -164,7 +165,7 @@ OdometryReport OdometryApp::run() {
   // State of the run.
   Progress progress(o.progress);
   bool have_previous = false;
-  double last_stamp = 0.0, last_dt = 0.1;
+  double last_stamp = 0.0, last_log_stamp = 0.0, last_model_stamp = 0.0, last_dt = 0.1;
   std::optional<Pose2D> last_odometry;
   Pose2D last_lidarseg_pose;
   // ICP: the previous scan's points, pose and last increment (constant velocity).
@@ -180,30 +181,35 @@ OdometryReport OdometryApp::run() {
     if (!record) break;
     const auto& obs = *record->observation;
 
-    // Time: a non-increasing stamp gets a synthetic step (the median step so far); a long
-    // gap restarts the motion prior from rest.
+    // Time. The motion model runs on its own clock: the log's steps, with the last good
+    // step standing in for a non-increasing one; a long gap restarts the prior from rest.
+    // The outputs keep the log's stamps, nudged by 1 ms where one does not increase.
+    double model_stamp = record->stamp_s;
     double stamp = record->stamp_s;
     bool restart_prior = false;
     bool synthetic_time = false;
     if (have_previous) {
-      double dt = stamp - last_stamp;
-      if (!(dt > 0.0)) {
+      const double dt_log = record->stamp_s - last_log_stamp;
+      double step_dt = dt_log;
+      if (!(dt_log > 0.0)) {
         ++report.non_increasing_stamps;
         synthetic_time = true;
-        dt = last_dt;
-        stamp = last_stamp + dt;
-      } else if (dt > o.max_time_gap_s) {
+        step_dt = last_dt;
+      } else if (dt_log > o.max_time_gap_s) {
         ++report.time_gaps;
         restart_prior = true;
         if (report.warnings.size() < 100) {
-          report.warnings.push_back(record->where + ": time gap of " + std::to_string(dt) +
+          report.warnings.push_back(record->where + ": time gap of " + std::to_string(dt_log) +
                                     " s; the motion prior restarts from rest");
         }
       } else {
-        last_dt = dt;
+        last_dt = dt_log;
       }
+      model_stamp = last_model_stamp + step_dt;
+      if (!(stamp > last_stamp)) stamp = last_stamp + 1e-3;
     }
-    const double dt = have_previous ? stamp - last_stamp : 0.0;
+    last_log_stamp = record->stamp_s;
+    const double dt = have_previous ? model_stamp - last_model_stamp : 0.0;
 
     // Wheel-odometry prior, when asked for and plausible.
     std::optional<mrpt::poses::CPose2D> odo_increment;
@@ -234,7 +240,7 @@ OdometryReport OdometryApp::run() {
     mrpt_adapter::LaserOdometryStep step;
     try {
       mrpt::obs::CObservation2DRangeScan timed = obs;  // the stamp used for the motion model
-      timed.timestamp = mrpt::Clock::fromDouble(stamp);
+      timed.timestamp = mrpt::Clock::fromDouble(model_stamp);
       step = odometry.process(timed, lidarseg_prior);
     } catch (const std::invalid_argument& e) {
       ++report.skipped_count;
@@ -310,13 +316,17 @@ OdometryReport OdometryApp::run() {
       actions.insert(move);
       archive << actions;
       mrpt::obs::CSensoryFrame frame;
-      for (const auto& other : record->companions) frame.insert(other);
+      // The log's own odometry observations are replaced by lidarseg's action.
+      for (const auto& other : record->companions) {
+        if (!std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(other)) frame.insert(other);
+      }
       frame.insert(record->observation);
       archive << frame;
     }
     last_lidarseg_pose = pose;
     if (have_previous) dts.push_back(dt);
     last_stamp = stamp;
+    last_model_stamp = model_stamp;
     have_previous = true;
     ++report.frames;
     progress.update(report.frames);

@@ -1,0 +1,70 @@
+// lidarseg-batch's jobs: one run, resuming, aggregation.
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include <gtest/gtest.h>
+
+#include "lidarseg/apps/BatchApp.h"
+
+namespace lidarseg::apps {
+namespace {
+namespace fs = std::filesystem;
+const std::string kWorlds = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/";
+const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/batch";
+
+TEST(BatchApp, ParseSeeds) {
+  EXPECT_EQ(parseSeeds("1-3"), (std::vector<std::uint64_t>{1, 2, 3}));
+  EXPECT_EQ(parseSeeds("7,2,4-5,2"), (std::vector<std::uint64_t>{2, 4, 5, 7}));
+  EXPECT_THROW(parseSeeds("3-1"), std::invalid_argument);
+  EXPECT_THROW(parseSeeds("a"), std::invalid_argument);
+  EXPECT_THROW(parseSeeds(""), std::invalid_argument);
+}
+
+TEST(BatchApp, RunsResumeAndAggregate) {
+  fs::remove_all(kTmp);
+  fs::create_directories(kTmp);
+  const std::string traj = kTmp + "/short.traj";
+  std::ofstream(traj) << "speed 1.0\nturn_radius 0.6\nwaypoint 24 0\nwaypoint 30 0\n";
+  BatchJob job;
+  job.world_path = kWorlds + "maze.world";
+  job.trajectory_path = traj;
+  job.out_dir = kTmp + "/out";
+  for (std::uint64_t seed : {1, 2}) {
+    job.seed = seed;
+    BatchApp::runOne(job);
+    EXPECT_TRUE(BatchApp::finished(job.out_dir, seed));
+    EXPECT_FALSE(fs::exists(BatchApp::runDir(job.out_dir, seed) + ".partial"));
+    EXPECT_FALSE(fs::exists(BatchApp::runDir(job.out_dir, seed) + "/sim.rawlog"));  // data not kept
+  }
+  // Resuming: a finished run is not redone.
+  const auto metrics = BatchApp::runDir(job.out_dir, 1) + "/metrics.csv";
+  const auto before = fs::last_write_time(metrics);
+  job.seed = 1;
+  BatchApp::runOne(job);
+  EXPECT_EQ(fs::last_write_time(metrics), before);
+  // A killed run (left as .partial) is not counted.
+  fs::create_directories(BatchApp::runDir(job.out_dir, 3) + ".partial");
+  const BatchSummary s = BatchApp::aggregate(job.out_dir, "test");
+  EXPECT_EQ(s.runs, 2u);
+  EXPECT_EQ(s.seeds, (std::vector<std::uint64_t>{1, 2}));
+  EXPECT_NE(s.table_markdown.find("| lidarseg |"), std::string::npos);
+  EXPECT_NE(s.table_markdown.find("| MRPT ICP |"), std::string::npos);
+  EXPECT_TRUE(fs::exists(job.out_dir + "/table1.md"));
+  EXPECT_TRUE(fs::exists(job.out_dir + "/aggregate.csv"));
+  EXPECT_TRUE(fs::exists(job.out_dir + "/final_errors.png"));
+  EXPECT_THROW(BatchApp::aggregate(kTmp + "/nothing-here", "x"), std::runtime_error);
+}
+
+TEST(BatchApp, AFailingJobLeavesNothingThatLooksFinished) {
+  BatchJob job;
+  job.world_path = kWorlds + "no-such.world";
+  job.trajectory_path = kWorlds + "maze.traj";
+  job.out_dir = kTmp + "/failing";
+  job.seed = 4;
+  EXPECT_THROW(BatchApp::runOne(job), std::exception);
+  EXPECT_FALSE(BatchApp::finished(job.out_dir, 4));
+}
+
+}  // namespace
+}  // namespace lidarseg::apps

@@ -1,0 +1,232 @@
+// lidarseg-odometry run as a class: outputs, errors against ground truth, both log
+// formats, and what bad input gets.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "lidarseg/apps/OdometryApp.h"
+#include "lidarseg/apps/SimulateApp.h"
+#include "lidarseg/mrpt/RawlogScanReader.h"
+
+namespace lidarseg::apps {
+namespace {
+namespace fs = std::filesystem;
+const std::string kWorlds = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/";
+const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/odometry";
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// A 16 m stretch of the maze with a corner, simulated once per test process (each test
+// has its own files: CTest runs them in parallel).
+const std::string& simulatedPrefix() {
+  static const std::string prefix = [] {
+    const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::create_directories(kTmp);
+    const std::string traj = kTmp + "/corner.traj";
+    std::ofstream(traj) << "speed 1.0\nturn_radius 0.6\nwaypoint 24 0\nwaypoint 34 0\nwaypoint 34 6\n";
+    SimulateOptions o;
+    o.world_path = kWorlds + "maze.world";
+    o.trajectory_path = traj;
+    o.seed = 11;
+    o.out_prefix = kTmp + "/corner_" + name;
+    o.camera_every_scans = 0;
+    o.write_carmen = true;
+    SimulateApp(o).run();
+    return o.out_prefix;
+  }();
+  return prefix;
+}
+
+OdometryOptions optionsFor(const std::string& input, const std::string& out) {
+  OdometryOptions o;
+  o.input = input;
+  o.out_dir = out.empty() ? std::string() : kTmp + "/" + out;
+  o.progress = false;
+  o.scanner_rotation_hz = 50.0;
+  return o;
+}
+
+TEST(OdometryApp, SimulatedRunBothMethodsEveryOutput) {
+  const std::string prefix = simulatedPrefix();
+  OdometryOptions o = optionsFor(prefix + ".rawlog", "out_rawlog");
+  o.baseline_icp = true;
+  fs::remove_all(o.out_dir);
+  const OdometryReport r = OdometryApp(o).run();
+  EXPECT_EQ(r.format, "rawlog");
+  EXPECT_GT(r.frames, 700u);
+  EXPECT_EQ(r.skipped_count, 0u);
+  EXPECT_EQ(r.gt_path, prefix + ".gt.tum");  // found beside the rawlog
+  ASSERT_TRUE(r.lidarseg.errors);
+  ASSERT_TRUE(r.icp && r.icp->errors);
+  EXPECT_GT(r.lidarseg.errors->path_length_m, 15.0);
+  EXPECT_LT(r.lidarseg.errors->final_position_error_m, 0.15);
+  EXPECT_LT(r.lidarseg.errors->motion.dtheta_rad.mean, 0.002);
+  EXPECT_EQ(r.lidarseg.trajectory.size(), r.frames);
+  EXPECT_EQ(r.icp->trajectory.size(), r.frames);
+  EXPECT_GT(r.speedup_median, 1.0);
+  for (const char* f : {"lidarseg.tum", "icp.tum", "timing.csv", "summary.json", "results.md",
+                        "trajectories.png", "timing.png"}) {
+    EXPECT_TRUE(fs::exists(o.out_dir + "/" + f)) << f;
+    EXPECT_FALSE(fs::exists(o.out_dir + "/" + f + ".tmp")) << f;
+  }
+  const std::string json = slurp(o.out_dir + "/summary.json");
+  for (const char* key : {"\"input\"", "\"frames\"", "\"methods\"", "\"lidarseg\"", "\"icp\"", "\"time_ms\"",
+                          "\"median\"", "\"p99\"", "\"trajectory\"", "\"table1\"", "\"edx_m\"",
+                          "\"sigma_edtheta_rad\"", "\"final_position_error_m\"", "\"ate_rmse_m\""}) {
+    EXPECT_NE(json.find(key), std::string::npos) << key;
+  }
+  EXPECT_EQ(slurp(o.out_dir + "/trajectories.png").substr(1, 3), "PNG");
+  // timing.csv: a header and one line per scan.
+  std::ifstream csv(o.out_dir + "/timing.csv");
+  std::string line;
+  std::size_t lines = 0;
+  while (std::getline(csv, line)) ++lines;
+  EXPECT_EQ(lines, r.frames + 1);
+  // The TUM output keeps the scans' own stamps.
+  std::ifstream tum(o.out_dir + "/lidarseg.tum");
+  std::getline(tum, line);  // header
+  std::getline(tum, line);
+  std::ifstream gt(prefix + ".gt.tum");
+  std::string gt_line;
+  std::getline(gt, gt_line);
+  std::getline(gt, gt_line);
+  EXPECT_EQ(line.substr(0, 15), gt_line.substr(0, 15));
+}
+
+TEST(OdometryApp, CarmenLogOfTheSameRunGivesTheSameAccuracy) {
+  const std::string prefix = simulatedPrefix();
+  OdometryOptions o = optionsFor(prefix + ".carmen.log", "");
+  o.gt_path = prefix + ".gt.tum";
+  o.log_reference = true;
+  const OdometryReport r = OdometryApp(o).run();
+  EXPECT_EQ(r.format, "carmen");
+  EXPECT_GT(r.frames, 700u);
+  ASSERT_TRUE(r.lidarseg.errors);
+  EXPECT_LT(r.lidarseg.errors->final_position_error_m, 0.2);
+  ASSERT_TRUE(r.lidarseg.log_relations);
+  EXPECT_EQ(r.lidarseg.log_relations->evaluated, r.frames - 1);
+}
+
+TEST(OdometryApp, WrittenRawlogCarriesLidarsegOdometry) {
+  const std::string prefix = simulatedPrefix();
+  OdometryOptions o = optionsFor(prefix + ".rawlog", "");
+  o.max_scans = 200;
+  o.write_rawlog = kTmp + "/with_lidarseg.rawlog";
+  const OdometryReport r = OdometryApp(o).run();
+  mrpt_adapter::RawlogScanReader reader(o.write_rawlog);
+  std::size_t n = 0;
+  std::optional<mrpt::poses::CPose2D> last;
+  while (auto s = reader.next()) {
+    ++n;
+    ASSERT_TRUE(s->odometry);
+    last = s->odometry;
+  }
+  EXPECT_EQ(n, 200u);
+  // The odometry in the file is lidarseg's trajectory.
+  const Pose2D end = r.lidarseg.trajectory.back().pose;
+  EXPECT_NEAR(last->x(), end.x, 1e-6);
+  EXPECT_NEAR(last->y(), end.y, 1e-6);
+}
+
+TEST(OdometryApp, TruncatedRawlogStopsWithFileAndEntryAndWritesNothing) {
+  const std::string prefix = simulatedPrefix();
+  const std::string bytes = slurp(prefix + ".rawlog");
+  const std::string cut = kTmp + "/truncated.rawlog";
+  std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 3 + 17);
+  OdometryOptions o = optionsFor(cut, "out_truncated");
+  fs::remove_all(o.out_dir);
+  o.auto_gt = false;
+  try {
+    OdometryApp(o).run();
+    FAIL() << "a truncated rawlog was read without error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("truncated.rawlog"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("entry"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(o.out_dir + "/summary.json"));
+  EXPECT_FALSE(fs::exists(o.out_dir + "/lidarseg.tum"));
+}
+
+// A small CARMEN log of a robot in a square room, with the defects to test.
+std::string carmenRoom(const std::string& name, const std::vector<std::string>& extra_lines, bool jumps) {
+  std::ostringstream os;
+  double t = 100.0;
+  for (int k = 0; k < 40; ++k) {
+    if (k == 10) {
+      for (const auto& l : extra_lines) os << l << "\n";
+    }
+    const double x = 0.02 * k;
+    os << "FLASER 181";
+    for (int i = 0; i <= 180; ++i) {
+      const double a = (-90.0 + i) * M_PI / 180.0;
+      // Room [-3, 5] x [-4, 4] seen from (x, 0) heading +x.
+      double r = 1e9;
+      if (std::cos(a) > 1e-9) r = std::min(r, (5.0 - x) / std::cos(a));
+      if (std::cos(a) < -1e-9) r = std::min(r, (-3.0 - x) / std::cos(a));
+      if (std::sin(a) > 1e-9) r = std::min(r, 4.0 / std::sin(a));
+      if (std::sin(a) < -1e-9) r = std::min(r, -4.0 / std::sin(a));
+      os << " " << (k == 20 ? 81.91 : r);  // scan 20: no return at all
+    }
+    const double odo_x = (jumps && k == 30) ? x + 50.0 : x;
+    os << " " << x << " 0 0 " << odo_x << " 0 0 " << t << " host " << t << "\n";
+    t += (k == 25) ? 30.0 : (k == 5 ? 0.0 : 0.1);  // a time gap after scan 25, a repeated stamp at 6
+  }
+  const std::string path = kTmp + "/" + name;
+  fs::create_directories(kTmp);
+  std::ofstream(path) << os.str();
+  return path;
+}
+
+TEST(OdometryApp, BadLinesGapsJumpsAndEmptyScansAreCountedNotFatal) {
+  const std::string path = carmenRoom("room.clf", {"FLASER 3 1 2", "GARBAGE 1 2 3"}, true);
+  OdometryOptions o = optionsFor(path, "out_room");
+  o.use_odometry = true;
+  o.baseline_icp = true;
+  o.scanner_rotation_hz = 0.0;
+  const OdometryReport r = OdometryApp(o).run();
+  EXPECT_EQ(r.frames, 40u);
+  EXPECT_EQ(r.skipped_count, 1u);
+  ASSERT_FALSE(r.skipped.empty());
+  EXPECT_NE(r.skipped[0].find("room.clf:11"), std::string::npos) << r.skipped[0];
+  EXPECT_EQ(r.non_increasing_stamps, 1u);
+  EXPECT_EQ(r.time_gaps, 1u);
+  EXPECT_GE(r.odometry_jumps, 1u);
+  bool unknown_reported = false;
+  for (const auto& w : r.warnings) unknown_reported |= w.find("GARBAGE") != std::string::npos;
+  EXPECT_TRUE(unknown_reported);
+  EXPECT_GE(r.lidarseg.status_counts.at("too_few_matches"), 1u);  // the empty scan
+  // Despite all that, the straight 0.78 m drive is recovered.
+  EXPECT_NEAR(r.lidarseg.trajectory.back().pose.x, 0.78, 0.05);
+  EXPECT_NEAR(r.lidarseg.trajectory.back().pose.y, 0.0, 0.05);
+  EXPECT_TRUE(fs::exists(o.out_dir + "/summary.json"));
+}
+
+TEST(OdometryApp, MissingInputOrBadConfigIsAClearError) {
+  OdometryOptions o = optionsFor(kTmp + "/does-not-exist.rawlog", "");
+  EXPECT_THROW(OdometryApp(o).run(), std::runtime_error);
+  const std::string cfg = kTmp + "/bad.ini";
+  fs::create_directories(kTmp);
+  std::ofstream(cfg) << "[matcher]\nmax_weight = -2\n";
+  OdometryOptions p = optionsFor(simulatedPrefix() + ".rawlog", "");
+  p.config_path = cfg;
+  try {
+    OdometryApp(p).run();
+    FAIL() << "bad config accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("max_weight"), std::string::npos) << e.what();
+  }
+  // A log without any laser line.
+  const std::string empty = kTmp + "/empty.log";
+  std::ofstream(empty) << "# nothing\nODOM 0 0 0 0 0 0 1 h 1\n";
+  EXPECT_THROW(OdometryApp(optionsFor(empty, "")).run(), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace lidarseg::apps

@@ -1,0 +1,189 @@
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "lidarseg/eval/Relations.h"
+#include "lidarseg/eval/StampedTrajectory.h"
+#include "lidarseg/eval/TrajectoryMetrics.h"
+
+using namespace lidarseg;
+using namespace lidarseg::eval;
+
+namespace {
+
+// A square loop driven at 1 m per step with a 90-degree turn every 10 steps.
+StampedTrajectory squareLoop() {
+  StampedTrajectory t;
+  Pose2D p;
+  for (int k = 0; k <= 40; ++k) {
+    t.push_back({100.0 + 0.1 * k, p});
+    const bool turn = (k + 1) % 10 == 0;
+    p = compose(p, Pose2D{1.0, 0.0, turn ? M_PI / 2 : 0.0});
+  }
+  return t;
+}
+
+std::string writeTemp(const std::string& name, const std::string& text) {
+  const std::string path = std::string(LIDARSEG_TEST_TMP_DIR) + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+}  // namespace
+
+TEST(StampedTrajectory, TumRoundTripKeepsStampsPositionsAndYaw) {
+  const StampedTrajectory t = squareLoop();
+  std::ostringstream os;
+  writeTum(os, t, "test");
+  const StampedTrajectory back = readTum(writeTemp("roundtrip.tum", os.str()));
+  ASSERT_EQ(back.size(), t.size());
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    EXPECT_NEAR(back[k].stamp_s, t[k].stamp_s, 1e-9);
+    EXPECT_NEAR(back[k].pose.x, t[k].pose.x, 1e-9);
+    EXPECT_NEAR(back[k].pose.y, t[k].pose.y, 1e-9);
+    EXPECT_NEAR(wrapAngle(back[k].pose.yaw - t[k].pose.yaw), 0.0, 1e-9);
+  }
+}
+
+TEST(StampedTrajectory, BadLinesAreNamedWithFileAndLine) {
+  const std::string p1 = writeTemp("bad1.tum", "# header\n1 0 0 0 0 0 0 1\n2 0 0 0 0 0 1\n");
+  try {
+    readTum(p1);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad1.tum:3"), std::string::npos) << e.what();
+  }
+  const std::string p2 = writeTemp("bad2.tum", "1 0 0 0 0 0 0 1\n2 0 nan 0 0 0 0 1\n");
+  EXPECT_THROW(readTum(p2), std::runtime_error);
+  const std::string p3 = writeTemp("bad3.tum", "2 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n");
+  try {
+    readTum(p3);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("back in time"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(readTum(std::string(LIDARSEG_TEST_TMP_DIR) + "/missing.tum"), std::runtime_error);
+}
+
+TEST(StampedTrajectory, NearestIndexRespectsTolerance) {
+  const StampedTrajectory t = squareLoop();
+  EXPECT_EQ(nearestIndex(t, 100.31, 0.02).value(), 3u);
+  EXPECT_EQ(nearestIndex(t, 100.0, 0.0).value(), 0u);
+  EXPECT_FALSE(nearestIndex(t, 100.35, 0.01).has_value());
+  EXPECT_FALSE(nearestIndex(t, 50.0, 1.0).has_value());
+  EXPECT_NEAR(pathLength(t), 40.0, 1e-9);
+}
+
+TEST(TrajectoryMetrics, PerfectEstimateHasZeroErrorsEvenInAnotherFrame) {
+  const StampedTrajectory gt = squareLoop();
+  StampedTrajectory est = gt;
+  const Pose2D frame{3.0, -2.0, 0.7};  // an estimate expressed in its own odometry frame
+  for (auto& p : est) p.pose = compose(frame, p.pose);
+  const TrajectoryErrors e = evaluateTrajectory(est, gt);
+  EXPECT_EQ(e.associated, gt.size());
+  EXPECT_NEAR(e.path_length_m, 40.0, 1e-9);
+  EXPECT_NEAR(e.final_position_error_m, 0.0, 1e-9);
+  EXPECT_NEAR(e.ate_rmse_m, 0.0, 1e-9);
+  EXPECT_NEAR(e.motion.dx_m.mean, 0.0, 1e-9);
+  EXPECT_NEAR(e.motion.dtheta_rad.max, 0.0, 1e-9);
+}
+
+TEST(TrajectoryMetrics, ConstantMotionBiasGivesKnownTableIAndFinalError) {
+  const StampedTrajectory gt = squareLoop();
+  // Each step overestimated by 1 cm forward: edx = 0.01 exactly, edy = edtheta = 0.
+  StampedTrajectory est;
+  Pose2D p;
+  est.push_back({gt[0].stamp_s, p});
+  for (std::size_t k = 1; k < gt.size(); ++k) {
+    Pose2D d = relative(gt[k].pose, gt[k - 1].pose);
+    d.x += 0.01;
+    p = compose(p, d);
+    est.push_back({gt[k].stamp_s, p});
+  }
+  const TrajectoryErrors e = evaluateTrajectory(est, gt);
+  EXPECT_NEAR(e.motion.dx_m.mean, 0.01, 1e-9);
+  EXPECT_NEAR(e.motion.dx_m.stddev, 0.0, 1e-9);
+  EXPECT_NEAR(e.motion.dy_m.mean, 0.0, 1e-9);
+  // 40 steps of 1 cm around a closed square: the errors of opposite sides cancel.
+  EXPECT_NEAR(e.final_position_error_m, 0.0, 1e-9);
+  EXPECT_GT(e.ate_rmse_m, 0.01);
+  EXPECT_LT(e.ate_rmse_m, 0.2);
+}
+
+TEST(TrajectoryMetrics, FinalErrorOfAHeadingBiasIsTheChordOfTheDrift) {
+  StampedTrajectory gt, est;
+  Pose2D g, q;
+  for (int k = 0; k <= 100; ++k) {
+    gt.push_back({static_cast<double>(k), g});
+    est.push_back({static_cast<double>(k), q});
+    g = compose(g, Pose2D{1.0, 0.0, 0.0});
+    q = compose(q, Pose2D{1.0, 0.0, 0.001});
+  }
+  const TrajectoryErrors e = evaluateTrajectory(est, gt);
+  // Expected: the end of an arc of 100 steps with 1 mrad per step.
+  Pose2D expect;
+  for (int k = 0; k < 100; ++k) expect = compose(expect, Pose2D{1.0, 0.0, 0.001});
+  EXPECT_NEAR(e.final_position_error_m, std::hypot(expect.x - 100.0, expect.y), 1e-9);
+  EXPECT_NEAR(e.final_yaw_error_rad, 0.1, 1e-9);
+  EXPECT_NEAR(e.motion.dtheta_rad.mean, 0.001, 1e-12);
+}
+
+TEST(TrajectoryMetrics, TooFewAssociatedPosesIsAnError) {
+  const StampedTrajectory gt = squareLoop();
+  StampedTrajectory est = {{0.0, {}}, {1.0, {}}};
+  EXPECT_THROW(evaluateTrajectory(est, gt), std::invalid_argument);
+}
+
+TEST(TrajectoryMetrics, AlignPositionsRecoversARigidMotion) {
+  std::vector<Eigen::Vector2d> a = {{0, 0}, {1, 0}, {1, 2}, {-3, 1}};
+  const Pose2D T{2.0, -1.0, 0.4};
+  std::vector<Eigen::Vector2d> b;
+  for (const auto& p : a) b.push_back(T * p);
+  const Pose2D R = alignPositions(a, b);
+  EXPECT_NEAR(R.x, T.x, 1e-12);
+  EXPECT_NEAR(R.y, T.y, 1e-12);
+  EXPECT_NEAR(R.yaw, T.yaw, 1e-12);
+}
+
+TEST(Relations, GeneratedRelationsOfTheTruthHaveZeroErrorAndABiasShows) {
+  const StampedTrajectory gt = squareLoop();
+  const auto rel = relationsFrom(gt, 2.0, 0.5);
+  ASSERT_GT(rel.size(), 30u);
+  const RelationErrors perfect = evaluateRelations(gt, rel);
+  EXPECT_EQ(perfect.evaluated, rel.size());
+  EXPECT_NEAR(perfect.translation_m.max, 0.0, 1e-9);
+  StampedTrajectory scaled = gt;
+  for (auto& p : scaled) {
+    p.pose.x *= 1.1;
+    p.pose.y *= 1.1;
+  }
+  const RelationErrors biased = evaluateRelations(scaled, rel);
+  EXPECT_GT(biased.translation_m.mean, 0.15);  // 10 % of >= 2 m
+  EXPECT_LT(biased.translation_m.mean, 0.25);
+  EXPECT_NEAR(biased.rotation_rad.max, 0.0, 1e-9);
+}
+
+TEST(Relations, FileRoundTripAndUnmatchedStampsAreCounted) {
+  const StampedTrajectory gt = squareLoop();
+  const auto rel = relationsFrom(gt, 0.0, 0.0);
+  std::ostringstream os;
+  writeRelations(os, rel);
+  const auto back = readRelations(writeTemp("gt.relations", os.str() + "999 1000 0 0 0 0 0 0\n"));
+  ASSERT_EQ(back.size(), rel.size() + 1);
+  const RelationErrors e = evaluateRelations(gt, back);
+  EXPECT_EQ(e.relations, rel.size() + 1);
+  EXPECT_EQ(e.evaluated, rel.size());
+  EXPECT_THROW(readRelations(writeTemp("bad.relations", "1 2 3\n")), std::runtime_error);
+}
+
+TEST(Relations, ReadsTheFreiburgBenchmarkFiles) {
+  const std::string path = std::string(LIDARSEG_SHARED_DATASETS_DIR) + "/freiburg-relations/intel.relations";
+  if (!std::ifstream(path)) GTEST_SKIP() << "no " << path;
+  const auto rel = readRelations(path);
+  EXPECT_GT(rel.size(), 1000u);
+  // Real relations are not ordered in time (t2 may precede t1) but never relate a time to itself.
+  for (const auto& r : rel) ASSERT_NE(r.t1_s, r.t2_s);
+}

@@ -1,0 +1,164 @@
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include "lidarseg/logs/CarmenLogReader.h"
+
+using namespace lidarseg;
+using namespace lidarseg::logs;
+
+namespace {
+
+std::string tmp(const std::string& name) { return std::string(LIDARSEG_TEST_TMP_DIR) + "/" + name; }
+
+std::string writeText(const std::string& name, const std::string& text) {
+  std::ofstream(tmp(name), std::ios::binary) << text;
+  return tmp(name);
+}
+
+std::string writeGz(const std::string& name, const std::string& text) {
+  gzFile f = gzopen(tmp(name).c_str(), "wb");
+  gzwrite(f, text.data(), static_cast<unsigned>(text.size()));
+  gzclose(f);
+  return tmp(name);
+}
+
+std::string flaser(int n, double r, double x, double ts) {
+  std::string s = "FLASER " + std::to_string(n);
+  for (int i = 0; i < n; ++i) s += " " + std::to_string(r);
+  s += " " + std::to_string(x) + " 0.5 0.1 " + std::to_string(x + 1) + " 0 0 " + std::to_string(ts) + " host " +
+       std::to_string(ts) + "\n";
+  return s;
+}
+
+}  // namespace
+
+TEST(CarmenLogReader, ReadsFlaserFieldsAndGeometry) {
+  const std::string log = "# comment\nPARAM robot_front_laser_max 30 host 0\n" + flaser(181, 2.5, 1.0, 10.25) +
+                          flaser(180, 3.0, 2.0, 10.5);
+  const std::string path = writeText("a.log", log);
+  CarmenLogReader reader(path);
+  auto a = reader.next();
+  ASSERT_TRUE(a);
+  EXPECT_EQ(a->type, "FLASER");
+  EXPECT_EQ(a->line, 3u);
+  EXPECT_DOUBLE_EQ(a->stamp_s, 10.25);
+  ASSERT_EQ(a->ranges_m.size(), 181u);
+  EXPECT_DOUBLE_EQ(a->ranges_m[0], 2.5);
+  EXPECT_NEAR(a->start_angle_rad, -M_PI / 2, 1e-12);
+  EXPECT_NEAR(a->angular_resolution_rad, M_PI / 180, 1e-12);  // 181 beams: both ends
+  EXPECT_DOUBLE_EQ(a->max_range_m, 30.0);
+  EXPECT_DOUBLE_EQ(a->laser_pose.x, 1.0);
+  EXPECT_DOUBLE_EQ(a->laser_pose.y, 0.5);
+  EXPECT_DOUBLE_EQ(a->robot_pose.x, 2.0);
+  auto b = reader.next();
+  ASSERT_TRUE(b);
+  EXPECT_NEAR(b->angular_resolution_rad, M_PI / 180, 1e-12);  // 180 beams over 180 degrees
+  EXPECT_FALSE(reader.next());
+  EXPECT_EQ(reader.malformedLines(), 0u);
+}
+
+TEST(CarmenLogReader, GzipAndPlainGiveTheSameRecords) {
+  const std::string text = flaser(5, 1.0, 0.0, 1.0) + "ODOM 1 2 0.3 0 0 0 1.5 h 1.5\n" + flaser(5, 2.0, 1.0, 2.0);
+  CarmenLogReader plain(writeText("b.log", text)), gz(writeGz("b.log.gz", text));
+  for (int k = 0; k < 2; ++k) {
+    auto p = plain.next(), g = gz.next();
+    ASSERT_TRUE(p && g);
+    EXPECT_EQ(p->ranges_m, g->ranges_m);
+    EXPECT_EQ(p->line, g->line);
+  }
+  ASSERT_TRUE(gz.lastOdometry());
+  EXPECT_DOUBLE_EQ(gz.lastOdometry()->y, 2.0);
+  EXPECT_FALSE(gz.next());
+}
+
+TEST(CarmenLogReader, MalformedLinesAreSkippedWithTheirLineAndUnknownTypesCounted) {
+  const std::string text = flaser(5, 1.0, 0.0, 1.0) +      // line 1: good
+                           "FLASER 5 1 2 3\n" +              // line 2: too few fields
+                           "FLASER 3 1 x 3 0 0 0 0 0 0 3 h 3\n" +  // line 3: not a number
+                           "FLASER -2 0 0 0 0 0 0 0 0 h 0\n" +     // line 4: bad count
+                           "WEIRDTYPE 1 2 3\nWEIRDTYPE\nNEFF 1 2\n" + flaser(5, 1.0, 0.0, 4.0);
+  CarmenLogReader reader(writeText("c.log", text));
+  int good = 0;
+  while (reader.next()) ++good;
+  EXPECT_EQ(good, 2);
+  EXPECT_EQ(reader.malformedLines(), 3u);
+  ASSERT_EQ(reader.issues().size(), 3u);
+  EXPECT_NE(reader.issues()[0].find("c.log:2"), std::string::npos) << reader.issues()[0];
+  EXPECT_NE(reader.issues()[1].find("c.log:3"), std::string::npos) << reader.issues()[1];
+  EXPECT_NE(reader.issues()[1].find("'x'"), std::string::npos) << reader.issues()[1];
+  EXPECT_NE(reader.issues()[2].find("c.log:4"), std::string::npos) << reader.issues()[2];
+  ASSERT_EQ(reader.unknownTypes().count("WEIRDTYPE"), 1u);
+  EXPECT_EQ(reader.unknownTypes().at("WEIRDTYPE"), 2u);
+  EXPECT_EQ(reader.unknownTypes().count("NEFF"), 0u);
+}
+
+TEST(CarmenLogReader, SickErrorCodesAreNoReturn) {
+  std::string line = "FLASER 4 1.0 81.91 32.767 81.83 0 0 0 0 0 0 1 h 1\n";
+  CarmenLogReader reader(writeText("d.log", line));
+  auto a = reader.next();
+  ASSERT_TRUE(a);
+  EXPECT_DOUBLE_EQ(a->ranges_m[0], 1.0);
+  EXPECT_TRUE(std::isinf(a->ranges_m[1]));
+  EXPECT_TRUE(std::isinf(a->ranges_m[2]));
+  EXPECT_TRUE(std::isinf(a->ranges_m[3]));
+}
+
+TEST(CarmenLogReader, RobotLaser1AndTypeSelection) {
+  // ROBOTLASER1 type start fov res maxr acc rem n r.. nrem laser(3) robot(3) tv rv fs ss ta ts host lts
+  const std::string rl = "ROBOTLASER1 0 -1.5 3.0 0.5 20 0.01 0 7 1 1 1 1 1 1 1 0 1 2 0.5 0.9 2 0.5 0 0 0 0 0 5.5 h 5.5\n";
+  const std::string text = flaser(5, 1.0, 0.0, 1.0) + rl;
+  CarmenLogReader reader(writeText("e.log", text), {"ROBOTLASER1", 50.0});
+  auto a = reader.next();
+  ASSERT_TRUE(a);
+  EXPECT_EQ(a->type, "ROBOTLASER1");
+  EXPECT_EQ(a->ranges_m.size(), 7u);
+  EXPECT_DOUBLE_EQ(a->start_angle_rad, -1.5);
+  EXPECT_DOUBLE_EQ(a->angular_resolution_rad, 0.5);
+  EXPECT_DOUBLE_EQ(a->stamp_s, 5.5);
+  // Laser at (1, 2), robot at (0.9, 2), both heading 0.5 rad: the laser is 0.1 m ahead
+  // along the world x axis, i.e. rotated by -0.5 rad in the robot frame.
+  EXPECT_NEAR(a->laser_on_robot.x, 0.1 * std::cos(0.5), 1e-12);
+  EXPECT_NEAR(a->laser_on_robot.y, -0.1 * std::sin(0.5), 1e-12);
+  EXPECT_NEAR(a->laser_on_robot.yaw, 0.0, 1e-12);
+  EXPECT_FALSE(reader.next());
+}
+
+TEST(CarmenLogReader, CorruptGzipIsAnErrorNamingTheFile) {
+  std::string text;
+  for (int k = 0; k < 2000; ++k) text += flaser(50, 1.0 + k * 1e-3, k, k);
+  const std::string path = writeGz("f.log.gz", text);
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  std::ofstream(tmp("f_trunc.log.gz"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  CarmenLogReader reader(tmp("f_trunc.log.gz"));
+  try {
+    while (reader.next()) {
+    }
+    FAIL() << "a truncated gzip file read to the end without error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("f_trunc.log.gz:"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(CarmenLogReader(tmp("missing.log")), std::runtime_error);
+}
+
+TEST(CarmenLogReader, ReadsEveryRadishLogToTheEnd) {
+  const std::string dir = std::string(LIDARSEG_SHARED_DATASETS_DIR) + "/radish-corrected/";
+  if (!std::ifstream(dir + "aces-corrected.log.gz")) GTEST_SKIP() << "no " << dir;
+  for (const char* name : {"aces", "intel", "orebro", "seattle"}) {
+    CarmenLogReader reader(dir + name + "-corrected.log.gz");
+    std::size_t n = 0;
+    while (auto l = reader.next()) {
+      ++n;
+      ASSERT_GE(l->ranges_m.size(), 180u);
+    }
+    EXPECT_GT(n, 200u) << name;
+    EXPECT_EQ(reader.malformedLines(), 0u) << name;
+  }
+}

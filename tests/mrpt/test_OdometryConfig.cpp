@@ -1,0 +1,85 @@
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include "lidarseg/mrpt/OdometryConfig.h"
+
+namespace lidarseg::mrpt_adapter {
+namespace {
+
+std::string writeTemp(const std::string& name, const std::string& text) {
+  const std::string path = std::string(LIDARSEG_TEST_TMP_DIR) + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(OdometryConfig, TheShippedDefaultFileSetsEveryKeyToTheDefaults) {
+  const OdometryParams p = loadOdometryParamsFile(std::string(LIDARSEG_CONFIG_DIR) + "/default.ini");
+  const OdometryParams d;
+  EXPECT_DOUBLE_EQ(p.matcher.cog_gate_m, d.matcher.cog_gate_m);
+  EXPECT_EQ(p.matcher.band_half_width, d.matcher.band_half_width);
+  EXPECT_DOUBLE_EQ(p.keyframe_distance_m, d.keyframe_distance_m);
+  EXPECT_EQ(p.level, d.level);
+  // Every key is written in the file (a user sees them all).
+  std::ifstream in(std::string(LIDARSEG_CONFIG_DIR) + "/default.ini");
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  for (const auto& k : matcherKeys()) EXPECT_NE(text.find("\n" + k + " "), std::string::npos) << k;
+  for (const auto& k : odometryKeys()) EXPECT_NE(text.find("\n" + k + " "), std::string::npos) << k;
+}
+
+TEST(OdometryConfig, RoundTripKeepsEveryValue) {
+  OdometryParams p;
+  p.matcher.cog_gate_m = 1.7;
+  p.matcher.iterations = 5;
+  p.keyframe_angle_rad = 0.33;
+  p.level = CascadeLevel::kFused;
+  p.deskew = false;
+  p.scanner_rotation_hz = 75.0;
+  mrpt::config::CConfigFileMemory cfg;
+  saveOdometryParams(p, cfg);
+  OdometryParams q;
+  loadOdometryParams(q, cfg);
+  EXPECT_DOUBLE_EQ(q.matcher.cog_gate_m, 1.7);
+  EXPECT_EQ(q.matcher.iterations, 5u);
+  EXPECT_DOUBLE_EQ(q.keyframe_angle_rad, 0.33);
+  EXPECT_EQ(q.level, CascadeLevel::kFused);
+  EXPECT_FALSE(q.deskew);
+  EXPECT_DOUBLE_EQ(q.scanner_rotation_hz, 75.0);
+}
+
+TEST(OdometryConfig, ErrorsNameFileLineSectionAndKey) {
+  const std::string p1 = writeTemp("odo_bad1.ini", "[matcher]\ncog_gate_m = 1\nband_halfwidth = 3\n");
+  try {
+    loadOdometryParamsFile(p1);
+    FAIL() << "unknown key accepted";
+  } catch (const std::invalid_argument& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("odo_bad1.ini:3"), std::string::npos) << m;
+    EXPECT_NE(m.find("band_halfwidth"), std::string::npos) << m;
+  }
+  const std::string p2 = writeTemp("odo_bad2.ini", "[odometry]\n\nlevel = 9\n");
+  try {
+    loadOdometryParamsFile(p2);
+    FAIL() << "level 9 accepted";
+  } catch (const std::invalid_argument& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("odo_bad2.ini:3"), std::string::npos) << m;
+    EXPECT_NE(m.find("[odometry] level"), std::string::npos) << m;
+  }
+  const std::string p3 = writeTemp("odo_bad3.ini", "[matcher]\nmax_weight = -1\n");
+  EXPECT_THROW(loadOdometryParamsFile(p3), std::invalid_argument);
+  const std::string p4 = writeTemp("odo_bad4.ini", "[matcher]\nmax_weight = abc\n");
+  EXPECT_THROW(loadOdometryParamsFile(p4), std::invalid_argument);
+}
+
+TEST(OdometryConfig, YamlWorksToo) {
+  const std::string p = writeTemp("odo.yaml", "matcher:\n  cog_gate_m: 2.5\nodometry:\n  keyframe_distance_m: 0\n");
+  const OdometryParams q = loadOdometryParamsFile(p);
+  EXPECT_DOUBLE_EQ(q.matcher.cog_gate_m, 2.5);
+  EXPECT_DOUBLE_EQ(q.keyframe_distance_m, 0.0);
+}
+
+}  // namespace
+}  // namespace lidarseg::mrpt_adapter
