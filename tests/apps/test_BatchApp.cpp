@@ -1,4 +1,5 @@
 // lidarseg-batch's jobs: one run, resuming, aggregation.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -64,6 +65,35 @@ TEST(BatchApp, AFailingJobLeavesNothingThatLooksFinished) {
   job.seed = 4;
   EXPECT_THROW(BatchApp::runOne(job), std::exception);
   EXPECT_FALSE(BatchApp::finished(job.out_dir, 4));
+}
+
+TEST(BatchApp, RunManyReportsFailedAndCrashedJobsAndFinishesTheOthers) {
+  // A stand-in for the job program: seed 2 fails with a message, seed 3 is killed, the
+  // others finish (they write their metrics.csv as a real job does).
+  const std::string dir = kTmp + "/many";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string script = dir + "/job.sh";
+  std::ofstream(script) << "#!/bin/sh\n"
+                           "while [ $# -gt 0 ]; do case \"$1\" in --seed) seed=$2;; --out) out=$2;; esac; shift; done\n"
+                           "if [ \"$seed\" = 2 ]; then echo \"bad world file\" >&2; exit 1; fi\n"
+                           "if [ \"$seed\" = 3 ]; then kill -9 $$; fi\n"
+                           "mkdir -p \"$out/run_$seed\" && echo seed > \"$out/run_$seed/metrics.csv\"\n";
+  fs::permissions(script, fs::perms::owner_all);
+  BatchJob job;
+  job.world_path = "w";
+  job.trajectory_path = "t";
+  job.out_dir = dir + "/out";
+  std::vector<std::string> failed = BatchApp::runMany(job, {1, 2, 3, 4, 5}, 2, script, false);
+  std::sort(failed.begin(), failed.end());
+  ASSERT_EQ(failed.size(), 2u);
+  EXPECT_NE(failed[0].find("seed 2: exit code 1 (bad world file)"), std::string::npos) << failed[0];
+  EXPECT_NE(failed[1].find("seed 3: killed by signal 9"), std::string::npos) << failed[1];
+  for (std::uint64_t s : {1, 4, 5}) EXPECT_TRUE(BatchApp::finished(job.out_dir, s)) << s;
+  EXPECT_TRUE(fs::exists(job.out_dir + "/run_2.log"));  // the failed job's stderr is kept
+  // Resuming runs only the unfinished ones.
+  const auto again = BatchApp::runMany(job, {1, 2, 3, 4, 5}, 2, script, false);
+  EXPECT_EQ(again.size(), 2u);
 }
 
 }  // namespace
