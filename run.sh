@@ -6,6 +6,8 @@
 #                    first use, deterministically); print statistics per cascade level
 #   ./run.sh test    build with AddressSanitizer + UBSan and run the whole suite (CTest)
 #   ./run.sh bench   Release build, then the Google Benchmark timings (docs/performance.md)
+#   ./run.sh real    lidarseg-odometry with MRPT ICP on every real log (../shared/datasets and
+#                    MRPT's datasets): build/results/real/<log>/ and a table (docs/results.md)
 #   ./run.sh deps    only install the Debian packages
 set -euo pipefail
 
@@ -76,6 +78,30 @@ case "$cmd" in
     export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}"
     export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
     ctest --test-dir "$ROOT/build/test" --output-on-failure --parallel "$JOBS" --timeout 600
+    ;;
+  real)
+    install_deps
+    build_release
+    bin="$ROOT/build/release/apps"
+    out="$ROOT/build/results/real"
+    mkdir -p "$out"
+    shared="$ROOT/../shared/datasets"
+    logs=()
+    [ -d "$shared/radish-corrected" ] && logs+=("$shared"/radish-corrected/*.log.gz)
+    [ -f "$shared/intel-mrpt/intel.rawlog" ] && logs+=("$shared/intel-mrpt/intel.rawlog")
+    logs+=("$DEFAULT_RAWLOG" "/usr/share/mrpt/datasets/localization_demo.rawlog")
+    for f in "${logs[@]}"; do
+      name="$(basename "$f")"; name="${name%%.*}"; name="${name// /_}"
+      extra=()
+      case "$f" in *.log.gz) extra=(--log-reference) ;; esac
+      log "$name"
+      "$bin/lidarseg-odometry" -q --baseline icp --use-odometry "${extra[@]}" --out "$out/$name" "$f" \
+        > "$out/$name.txt" || { log "FAILED: $f"; exit 1; }
+    done
+    for f in "${logs[@]}"; do
+      name="$(basename "$f")"; name="${name%%.*}"; name="${name// /_}"
+      echo "### $name"; sed -n '/^| method/,$p' "$out/$name/results.md"; grep "^lidarseg status" "$out/$name.txt"; echo
+    done
     ;;
   bench)
     install_deps

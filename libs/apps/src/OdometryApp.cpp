@@ -453,6 +453,12 @@ std::string OdometryApp::markdownTable(const OdometryReport& r) {
     }
     os << " |\n";
   }
+  os << "\nlidarseg matches:";
+  for (const auto& [k, v] : r.lidarseg.status_counts) os << " " << k << " " << v << ";";
+  os << " scans with a translation 1-sigma above 0.1 m: " << r.lidarseg.weak_scans
+     << ". Final pose 1-sigma from the propagated covariance: " << std::setprecision(3)
+     << r.lidarseg.final_sigma_x_m << " m, " << r.lidarseg.final_sigma_y_m << " m, "
+     << r.lidarseg.final_sigma_yaw_rad * 180 / M_PI << " deg.\n";
   if (r.icp) os << "\nSpeed-up (median ICP time / median lidarseg time, same run): " << std::setprecision(1)
                 << r.speedup_median << "x\n";
   const auto relTable = [&](const char* title, auto get) {

@@ -28,6 +28,10 @@ void OdometryParams::validate() const {
   detail::requirePositive("angular_velocity_window_s", angular_velocity_window_s);
   detail::requirePositive("deskew_tolerance_rad", deskew_tolerance_rad);
   detail::requireNonNegative("scanner_rotation_hz", scanner_rotation_hz);
+  if (static_cast<std::size_t>(degenerate_fallback_level) >= kNumCascadeLevels) {
+    detail::failKey("degenerate_fallback_level", "a cascade level 0..3",
+                    static_cast<double>(static_cast<std::size_t>(degenerate_fallback_level)));
+  }
 }
 
 SegmentOdometry::SegmentOdometry(const OdometryParams& params)
@@ -54,6 +58,14 @@ MatchResult SegmentOdometry::matchWithKeyframe(int slot, const Pose2D& prior, Od
   const auto t0 = std::chrono::steady_clock::now();
   MatchResult m = matcher_.match(segmentation_[keyframe_].level(params_.level).segments,
                                  segmentation_[slot].level(params_.level).segments, prior);
+  // A degenerate match (a corridor: only its two walls matched) leaves the motion along
+  // the walls to the prediction. The finer fallback level keeps the short segments (door
+  // recesses, jambs, pillars) that the cascade removed; they may constrain it.
+  if (m.status == MatchStatus::kDegenerate && params_.degenerate_fallback_level < params_.level) {
+    MatchResult finer = matcher_.match(segmentation_[keyframe_].level(params_.degenerate_fallback_level).segments,
+                                       segmentation_[slot].level(params_.degenerate_fallback_level).segments, m.T_prev_curr);
+    if (finer.status == MatchStatus::kOk) m = std::move(finer);
+  }
   step.matching_us += microsecondsSince(t0);
   return m;
 }

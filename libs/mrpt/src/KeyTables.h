@@ -57,6 +57,7 @@ struct OdometryKeys {
   template <typename Params, typename Visitor>
   void operator()(Params& p, Visitor&& visit) const {
     visit("level", p.level);
+    visit("degenerate_fallback_level", p.degenerate_fallback_level);
     visit("keyframe_distance_m", p.keyframe_distance_m);
     visit("keyframe_angle_rad", p.keyframe_angle_rad);
     visit("deskew", p.deskew);

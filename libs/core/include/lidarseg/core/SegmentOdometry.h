@@ -20,6 +20,10 @@ struct OdometryParams {
   MatcherParams matcher;
   /// Cascade level whose segments are matched (paper: the high level).
   CascadeLevel level = CascadeLevel::kFusedAgain;
+  /// When the match at `level` is degenerate (a corridor), match again at this finer level
+  /// (more, shorter segments: door recesses, jambs) and keep that match if it constrains
+  /// every direction. Equal to `level` (or coarser) disables the fallback.
+  CascadeLevel degenerate_fallback_level = CascadeLevel::kFused;
   /// Keyframes (beyond the paper): each scan is matched against the last keyframe, which
   /// is renewed once the sensor has moved this far (m) or turned this much (rad) from it,
   /// or when a match fails. Matching against a keyframe instead of the previous scan adds
