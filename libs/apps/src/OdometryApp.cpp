@@ -64,7 +64,7 @@ class Progress {
     last_ = now;
     const double s = std::chrono::duration<double>(now - start_).count();
     std::cerr << "\r[lidarseg-odometry] " << scans << " scans, " << std::fixed << std::setprecision(1) << s
-              << " s (" << std::setprecision(0) << (s > 0 ? scans / s : 0.0) << " scans/s)   " << std::flush;
+              << " s (" << std::setprecision(0) << (s > 0 ? static_cast<double>(scans) / s : 0.0) << " scans/s)   " << std::flush;
   }
   void done(std::size_t scans) {
     if (!enabled_) return;
