@@ -28,6 +28,7 @@
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/mrpt/LaserOdometry.h"
 #include "lidarseg/mrpt/OdometryConfig.h"
+#include "lidarseg/mrpt/PoseConversion.h"
 
 namespace lidarseg::apps {
 
@@ -40,8 +41,8 @@ double microsecondsSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
 }
 
-mrpt::poses::CPose2D toMrpt(const Pose2D& p) { return {p.x, p.y, p.yaw}; }
-Pose2D fromMrpt(const mrpt::poses::CPose2D& p) { return {p.x(), p.y(), p.phi()}; }
+using mrpt_adapter::toMrpt;
+using mrpt_adapter::toPose2D;
 
 std::string stemOf(const std::string& path) {
   for (const char* ext : {".rawlog.gz", ".rawlog", ".clf.gz", ".log.gz", ".clf", ".log"}) {
@@ -247,7 +248,7 @@ OdometryReport OdometryApp::run() {
       if (report.skipped.size() < 100) report.skipped.push_back(record->where + " (scan " + std::to_string(record->index) + "): " + e.what());
       continue;
     }
-    const Pose2D pose = fromMrpt(step.robot_pose.mean);
+    const Pose2D pose = toPose2D(step.robot_pose.mean);
     report.lidarseg.trajectory.push_back({stamp, pose});
     report.lidarseg.segmentation_us.push_back(step.core.wall_danielsson_us);
     report.lidarseg.cascade_us.push_back(step.core.cascade_us);
@@ -276,7 +277,7 @@ OdometryReport OdometryApp::run() {
       if (icp_have_previous) {
         Pose2D prior;
         if (odo_increment) {
-          prior = fromMrpt(*odo_increment);
+          prior = toPose2D(*odo_increment);
         } else if (!restart_prior && icp_last_dt > 0.0) {
           const double k = dt / icp_last_dt;
           prior = {icp_last_increment.x * k, icp_last_increment.y * k, icp_last_increment.yaw * k};
@@ -286,7 +287,7 @@ OdometryReport OdometryApp::run() {
           mrpt::slam::CICP::TReturnInfo info;
           const auto pdf = icp.AlignPDF(&icp_previous, &current,
                                         mrpt::poses::CPosePDFGaussian(toMrpt(prior)), info);
-          increment = fromMrpt(pdf->getMeanVal());
+          increment = toPose2D(pdf->getMeanVal());
           ++icp_report.status_counts[info.nIterations < icp.options.maxIterations ? "converged"
                                                                                       : "not_converged"];
         } else {

@@ -1,46 +1,22 @@
 #include "lidarseg/eval/Relations.h"
 
+#include "NumberLines.h"
+
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <ostream>
 #include <sstream>
 #include <stdexcept>
 
 namespace lidarseg::eval {
 
 std::vector<Relation> readRelations(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot open relations '" + path + "'");
   std::vector<Relation> out;
-  std::string line;
-  std::size_t line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    const auto first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '#') continue;
-    std::istringstream fields(line);
-    std::string token;
-    double v[8];
-    std::size_t count = 0;
-    while (fields >> token) {
-      if (count == 8) {
-        throw std::runtime_error(path + ":" + std::to_string(line_no) +
-                                 ": more than 8 fields (expected 't1 t2 x y z roll pitch yaw')");
-      }
-      char* end = nullptr;
-      v[count] = std::strtod(token.c_str(), &end);
-      if (end == token.c_str() || *end != '\0' || !std::isfinite(v[count])) {
-        throw std::runtime_error(path + ":" + std::to_string(line_no) + ": field " +
-                                 std::to_string(count + 1) + " '" + token + "' is not a finite number");
-      }
-      ++count;
-    }
-    if (count != 8) {
-      throw std::runtime_error(path + ":" + std::to_string(line_no) + ": " + std::to_string(count) +
-                               " fields (expected 8: 't1 t2 x y z roll pitch yaw')");
-    }
-    out.push_back({v[0], v[1], {v[2], v[3], v[7]}});
-  }
+  detail::forEachLineOf8Numbers(path, "relations", "t1 t2 x y z roll pitch yaw",
+                                [&](std::size_t, const std::array<double, 8>& v) {
+                                  out.push_back({v[0], v[1], {v[2], v[3], v[7]}});
+                                });
   return out;
 }
 

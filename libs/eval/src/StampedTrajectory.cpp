@@ -1,5 +1,7 @@
 #include "lidarseg/eval/StampedTrajectory.h"
 
+#include "NumberLines.h"
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -10,44 +12,19 @@
 namespace lidarseg::eval {
 
 StampedTrajectory readTum(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot open trajectory '" + path + "'");
   StampedTrajectory out;
-  std::string line;
-  std::size_t line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    const auto first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '#') continue;
-    std::istringstream fields(line);
-    double v[8];
-    std::size_t count = 0;
-    std::string token;
-    while (fields >> token) {
-      if (count == 8) {
-        throw std::runtime_error(path + ":" + std::to_string(line_no) +
-                                 ": more than 8 fields (expected 'timestamp x y z qx qy qz qw')");
-      }
-      char* end = nullptr;
-      v[count] = std::strtod(token.c_str(), &end);
-      if (end == token.c_str() || *end != '\0' || !std::isfinite(v[count])) {
-        throw std::runtime_error(path + ":" + std::to_string(line_no) + ": field " +
-                                 std::to_string(count + 1) + " '" + token + "' is not a finite number");
-      }
-      ++count;
-    }
-    if (count != 8) {
-      throw std::runtime_error(path + ":" + std::to_string(line_no) + ": " + std::to_string(count) +
-                               " fields (expected 8: 'timestamp x y z qx qy qz qw')");
-    }
+  detail::forEachLineOf8Numbers(path, "trajectory", "timestamp x y z qx qy qz qw",
+                                [&](std::size_t line, const std::array<double, 8>& v) {
     if (!out.empty() && v[0] < out.back().stamp_s) {
-      throw std::runtime_error(path + ":" + std::to_string(line_no) + ": timestamp " + token +
+      std::ostringstream stamp;
+      stamp << std::setprecision(17) << v[0];
+      throw std::runtime_error(path + ":" + std::to_string(line) + ": timestamp " + stamp.str() +
                                " goes back in time");
     }
     const double qx = v[4], qy = v[5], qz = v[6], qw = v[7];
     const double yaw = std::atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz));
     out.push_back({v[0], {v[1], v[2], yaw}});
-  }
+  });
   return out;
 }
 

@@ -7,6 +7,7 @@
 #include <mrpt/system/datetime.h>
 
 #include "lidarseg/logs/CarmenLogReader.h"
+#include "lidarseg/mrpt/PoseConversion.h"
 #include "lidarseg/mrpt/RawlogScanReader.h"
 
 namespace lidarseg::mrpt_adapter {
@@ -16,8 +17,6 @@ namespace {
 bool endsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
-
-Pose2D toPose(const mrpt::poses::CPose2D& p) { return {p.x(), p.y(), p.phi()}; }
 
 // A CARMEN laser line as an MRPT observation: evenly spaced beams centred on the
 // sensor's x axis, the offset of the first beam carried by the sensor pose's yaw.
@@ -102,7 +101,7 @@ std::optional<LaserRecord> LaserLogReader::next() {
     r.where = path_ + ", entry " + std::to_string(scan->entry_index);
     r.stamp_s = mrpt::Clock::toDouble(scan->observation->timestamp);
     r.observation = scan->observation;
-    if (scan->odometry) r.odometry = toPose(*scan->odometry);
+    if (scan->odometry) r.odometry = toPose2D(*scan->odometry);
     r.companions = std::move(scan->companions);
     return r;
   }

@@ -1,5 +1,7 @@
 #include "lidarseg/mrpt/LaserOdometry.h"
 
+#include "lidarseg/mrpt/PoseConversion.h"
+
 #include <chrono>
 #include <cmath>
 
@@ -7,16 +9,6 @@
 
 namespace lidarseg::mrpt_adapter {
 
-namespace {
-mrpt::poses::CPose2D toMrpt(const Pose2D& p) { return {p.x, p.y, p.yaw}; }
-Pose2D fromMrpt(const mrpt::poses::CPose2D& p) { return {p.x(), p.y(), p.phi()}; }
-mrpt::math::CMatrixDouble33 toMrpt(const Eigen::Matrix3d& m) {
-  mrpt::math::CMatrixDouble33 out;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) out(r, c) = m(r, c);
-  return out;
-}
-}  // namespace
 
 Pose2D sensorOnRobot(const mrpt::obs::CObservation2DRangeScan& scan) {
   return {scan.sensorPose.x(), scan.sensorPose.y(), scan.sensorPose.yaw()};
@@ -55,7 +47,7 @@ LaserOdometryStep LaserOdometry::process(const mrpt::obs::CObservation2DRangeSca
   const Pose2D S = sensorOnRobot(obs);
   std::optional<Pose2D> prior;
   if (robot_odometry_increment) {
-    prior = compose(compose(inverse(S), fromMrpt(*robot_odometry_increment)), S);
+    prior = compose(compose(inverse(S), toPose2D(*robot_odometry_increment)), S);
   }
   out.core = odometry_.process(scan, prior);
   // Robot increment = S * sensor increment * S^-1.

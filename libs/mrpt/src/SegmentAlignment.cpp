@@ -10,6 +10,7 @@
 #include <mrpt/poses/CPosePDFGaussian.h>
 
 #include "ConfigKeys.h"
+#include "lidarseg/mrpt/PoseConversion.h"
 #include "KeyTables.h"
 
 namespace lidarseg::mrpt_adapter {
@@ -87,13 +88,9 @@ mrpt::poses::CPosePDF::Ptr SegmentAlignment::AlignPDF(
   segmenter.process(s1, g1);
   segmenter.process(s2, g2);
   const SegmentMatcher matcher(options.matcher);
-  const Pose2D prior{initial.mean.x(), initial.mean.y(), initial.mean.phi()};
+  const Pose2D prior = toPose2D(initial.mean);
   const MatchResult r = matcher.match(g1.level(options.level).segments, g2.level(options.level).segments, prior);
-  mrpt::math::CMatrixDouble33 cov;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) cov(i, j) = r.covariance(i, j);
-  auto out = std::make_shared<mrpt::poses::CPosePDFGaussian>(
-      mrpt::poses::CPose2D(r.T_prev_curr.x, r.T_prev_curr.y, r.T_prev_curr.yaw), cov);
+  auto out = std::make_shared<mrpt::poses::CPosePDFGaussian>(toMrpt(r.T_prev_curr), toMrpt(r.covariance));
   if (outInfo) {
     auto& base = outInfo.value().get();
     base.executionTime = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

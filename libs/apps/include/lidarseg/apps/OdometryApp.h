@@ -72,7 +72,7 @@ struct MethodReport {
   std::map<std::string, std::size_t> status_counts;
   /// Standard deviations (x, y: m; yaw: rad) of the final pose from the propagated covariance.
   double final_sigma_x_m = 0.0, final_sigma_y_m = 0.0, final_sigma_yaw_rad = 0.0;
-  /// Largest 1-sigma of a single scan's translation, and the scans where it exceeded 0.1 m.
+  /// Scans whose increment's translation 1-sigma exceeded 0.1 m (weakly constrained matches).
   std::size_t weak_scans = 0;
   std::optional<eval::TrajectoryErrors> errors;
   std::optional<eval::RelationErrors> relations;

@@ -1,0 +1,43 @@
+#include "NumberLines.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace lidarseg::eval::detail {
+
+void forEachLineOf8Numbers(const std::string& path, const std::string& kind, const std::string& format,
+                           const std::function<void(std::size_t, const std::array<double, 8>&)>& visit) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot open " + kind + " '" + path + "'");
+  std::string line;
+  std::size_t line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    const std::string where = path + ":" + std::to_string(line_no) + ": ";
+    std::istringstream fields(line);
+    std::array<double, 8> v{};
+    std::size_t count = 0;
+    std::string token;
+    while (fields >> token) {
+      if (count == v.size()) throw std::runtime_error(where + "more than 8 fields (expected '" + format + "')");
+      char* end = nullptr;
+      v[count] = std::strtod(token.c_str(), &end);
+      if (end == token.c_str() || *end != '\0' || !std::isfinite(v[count])) {
+        throw std::runtime_error(where + "field " + std::to_string(count + 1) + " '" + token +
+                                 "' is not a finite number");
+      }
+      ++count;
+    }
+    if (count != v.size()) {
+      throw std::runtime_error(where + std::to_string(count) + " fields (expected 8: '" + format + "')");
+    }
+    visit(line_no, v);
+  }
+}
+
+}  // namespace lidarseg::eval::detail
