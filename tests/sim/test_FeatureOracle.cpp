@@ -61,5 +61,60 @@ TEST(FeatureOracle, DoorsInViewRangeAndSight) {
   EXPECT_EQ(count(oracle.visible({0, 0, -kPi / 2}, *front.layout, 20.0), FeatureType::kDoorClosed), 0);
 }
 
+TEST(FeatureOracle, TJunctionsMakeTwoCornersAndDoorLeavesNone) {
+  World w;
+  w.addWall({-5, 0}, {5, 0});
+  w.addWall({0, 0}, {0, 3});  // a T: corners on both sides of the stem
+  w.addDoor({DoorKind::kAjar, {2, 0}, {2.9, 0}, 0.0, 60 * 3.14159265358979 / 180});
+  const FeatureOracle oracle(w);
+  ASSERT_EQ(oracle.corners().size(), 2u);
+  for (const Corner& c : oracle.corners()) EXPECT_TRUE(c.point.isZero(1e-12));
+  // From (1, 1) only the corner between the stem and the wall's right part can be
+  // resolved (both its walls in sight), from inside: concave. The other one's left wall is
+  // hidden behind the stem.
+  const auto sensor = lidarseg::testing::makeFullTurnSensor(720, 0.0, 30.0);
+  std::vector<Feature> resolvable;
+  for (const Feature& f : oracle.visible({1, 1, 0.0}, *sensor.layout, 30.0)) {
+    if (f.resolvable) resolvable.push_back(f);
+  }
+  ASSERT_EQ(resolvable.size(), 1u);
+  EXPECT_EQ(resolvable[0].type, FeatureType::kCornerConcave);
+}
+
+TEST(FeatureOracle, ResolvableNeedsBeamsOnTheWallsAndInTheGap) {
+  World w;
+  w.addWall({-30, 2}, {30, 2});
+  w.addDoor({DoorKind::kOpen, {0.5, 2}, {1.4, 2}, 0.0, 0.0});
+  const FeatureOracle oracle(w);
+  const auto lms = lidarseg::testing::makeSensor(541, 270, 0.0, 30.0);
+  // In front of the door: resolvable; 15 m along the wall (grazing): seen, not resolvable.
+  auto front = oracle.visible({1, 0, kPi / 2}, *lms.layout, 30.0);
+  ASSERT_EQ(front.size(), 1u);
+  EXPECT_TRUE(front[0].resolvable);
+  EXPECT_EQ(front[0].seen_as, FeatureType::kDoorOpen);
+  // The wall's normal pointing away from the sensor: world +y = sensor +x here.
+  EXPECT_NEAR(front[0].theta_rad, 0.0, 1e-9);
+  auto grazing = oracle.visible({-14, 0, 0.0}, *lms.layout, 30.0);
+  ASSERT_EQ(grazing.size(), 1u);
+  EXPECT_FALSE(grazing[0].resolvable);
+}
+
+TEST(FeatureOracle, DoorAjarWithItsLeafOutOfSightIsSeenAsOpen) {
+  World w;
+  w.addWall({-10, 2}, {10, 2});
+  w.addWall({-10, 5}, {10, 5});
+  w.addDoor({DoorKind::kAjar, {-0.45, 2}, {0.45, 2}, 0.0, 45 * kPi / 180});
+  const FeatureOracle oracle(w);
+  const auto lms = lidarseg::testing::makeSensor(541, 270, 0.0, 30.0);
+  const auto in_front = oracle.visible({0, 0, kPi / 2}, *lms.layout, 30.0);
+  ASSERT_EQ(in_front.size(), 1u);
+  EXPECT_EQ(in_front[0].seen_as, FeatureType::kDoorAjar);
+  // From the left, the leaf (turned towards +x behind the wall) hides behind the wall.
+  const auto right = oracle.visible({-4, 0, kPi / 2}, *lms.layout, 30.0);
+  ASSERT_EQ(right.size(), 1u);
+  EXPECT_EQ(right[0].type, FeatureType::kDoorAjar);
+  EXPECT_EQ(right[0].seen_as, FeatureType::kDoorOpen);
+}
+
 }  // namespace
 }  // namespace lidarseg::sim

@@ -202,4 +202,46 @@ std::string plotXYPng(const std::vector<PlotSeries>& series, const std::string& 
   return encode(img);
 }
 
+std::string scanFeaturesPng(const ScanPicture& scan, const std::string& title) {
+  constexpr int kPanel = 560, kTop = 40;
+  cv::Mat img(kPanel + kTop, 2 * kPanel, CV_8UC3, cv::Scalar(255, 255, 255));
+  // One scale for both panels, fitting every point (and the robot) with a margin.
+  double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+  for (const auto& [x, y] : scan.points) {
+    x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+  }
+  const double span = std::max({x1 - x0, y1 - y0, 1.0}) * 1.08;
+  const double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
+  const double scale = kPanel / span;
+  auto px = [&](double x, double y, int panel) {
+    return cv::Point(static_cast<int>(std::lround(panel * kPanel + kPanel / 2 + (x - cx) * scale)),
+                     static_cast<int>(std::lround(kTop + kPanel / 2 - (y - cy) * scale)));
+  };
+  cv::line(img, cv::Point(kPanel, kTop), cv::Point(kPanel, kTop + kPanel), cv::Scalar(180, 180, 180), 1);
+  for (const auto& [x, y] : scan.points) cv::circle(img, px(x, y, 0), 1, cv::Scalar(60, 60, 60), cv::FILLED);
+  for (const auto& s : scan.segments) {
+    cv::line(img, px(s[0], s[1], 1), px(s[2], s[3], 1), cv::Scalar(160, 90, 0), 2, cv::LINE_AA);
+  }
+  for (const auto& j : scan.door_jambs) {
+    cv::line(img, px(j[0], j[1], 1), px(j[2], j[3], 1), cv::Scalar(0, 0, 220), 1, cv::LINE_AA);
+  }
+  for (const auto& [x, y] : scan.doors) cv::circle(img, px(x, y, 1), 9, cv::Scalar(0, 0, 230), 2, cv::LINE_AA);
+  for (const auto& [x, y] : scan.corners) cv::circle(img, px(x, y, 1), 9, cv::Scalar(0, 170, 0), 2, cv::LINE_AA);
+  for (int panel = 0; panel < 2; ++panel) {
+    const cv::Point r = px(0, 0, panel);
+    cv::line(img, r - cv::Point(7, 7), r + cv::Point(7, 7), cv::Scalar(0, 0, 255), 2);
+    cv::line(img, r - cv::Point(7, -7), r + cv::Point(7, -7), cv::Scalar(0, 0, 255), 2);
+  }
+  cv::putText(img, title, cv::Point(10, 26), cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  cv::putText(img, "raw scan", cv::Point(10, kTop + 20), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1,
+              cv::LINE_AA);
+  cv::putText(img, "segments, doors (red), corners (green)", cv::Point(kPanel + 10, kTop + 20),
+              cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  // Scale bar: 1 m.
+  const cv::Point b0(20, kTop + kPanel - 20);
+  cv::line(img, b0, b0 + cv::Point(static_cast<int>(scale), 0), cv::Scalar(0, 0, 0), 2);
+  cv::putText(img, "1 m", b0 + cv::Point(0, -8), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  return encode(img);
+}
+
 }  // namespace lidarseg::apps

@@ -2,7 +2,9 @@
 // Private to lidarseg::apps: the pictures of a run (trajectories, timing histograms,
 // per-run errors) as PNG images drawn with OpenCV.
 
+#include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace lidarseg::apps {
@@ -27,5 +29,17 @@ std::string plotHistogramsPng(const std::vector<PlotSeries>& series, const std::
 /// Draws y against x (independent scales), lines or markers. Returns the PNG bytes.
 std::string plotXYPng(const std::vector<PlotSeries>& series, const std::string& title,
                       const std::string& x_label, const std::string& y_label);
+
+/// One scan's features, sensor frame (m): what scanFeaturesPng() draws.
+struct ScanPicture {
+  std::vector<std::pair<double, double>> points;  ///< valid beams' points
+  std::vector<std::array<double, 4>> segments;    ///< x0, y0, x1, y1
+  std::vector<std::pair<double, double>> doors;   ///< door centres
+  std::vector<std::array<double, 4>> door_jambs;  ///< jamb_a x, y, jamb_b x, y
+  std::vector<std::pair<double, double>> corners;
+};
+/// The paper's Fig. 6: the raw scan (left) beside its segments with doors as red circles
+/// and corners as green circles (right); the robot is a red cross. Returns the PNG bytes.
+std::string scanFeaturesPng(const ScanPicture& scan, const std::string& title);
 
 }  // namespace lidarseg::apps

@@ -111,7 +111,7 @@ SimulateReport SimulateApp::runOrThrow() {
   if (options_.write_carmen) carmen = std::make_unique<PendingFile>(prefix + ".carmen.log");
   gt.out() << "# timestamp x y z qx qy qz qw (true robot pose, world frame)\n";
   odom.out() << "# timestamp x y z qx qy qz qw (wheel odometry, drifting)\n";
-  features.out() << "scan,t,type,x,y,theta,width,id\n";
+  features.out() << "scan,t,type,x,y,theta,width,id,resolvable,seen_as\n";
   rois.out() << "image,scan,t,file,door,kind,u_min,v_min,u_max,v_max\n";
   if (carmen) {
     carmen->out() << "# lidarseg-simulate: " << options_.world_path << ", seed " << options_.seed
@@ -147,13 +147,11 @@ SimulateReport SimulateApp::runOrThrow() {
       writeTum(gt.out(), t, f.T_world_robot, 0.0);
       writeTum(odom.out(), t, f.odometry, 0.0);
       for (const sim::Feature& ft : f.features) {
-        features.out() << std::setprecision(9) << i << ',' << t << ',' << sim::toString(ft.type)
+        features.out() << std::setprecision(9) << i << ',' << t << ',' << lidarseg::toString(ft.type)
                        << ',' << std::setprecision(4) << ft.position.x() << ',' << ft.position.y()
-                       << ',' << ft.theta_rad << ',' << ft.width_m << ',' << ft.id << '\n';
-        const bool is_door = ft.type == sim::FeatureType::kDoorOpen ||
-                             ft.type == sim::FeatureType::kDoorClosed ||
-                             ft.type == sim::FeatureType::kDoorAjar;
-        (is_door ? report.door_sightings : report.corner_sightings)++;
+                       << ',' << ft.theta_rad << ',' << ft.width_m << ',' << ft.id << ','
+                       << (ft.resolvable ? 1 : 0) << ',' << lidarseg::toString(ft.seen_as) << '\n';
+        (lidarseg::isDoor(ft.type) ? report.door_sightings : report.corner_sightings)++;
       }
       if (f.has_image) {
         char name[32];

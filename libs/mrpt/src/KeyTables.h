@@ -2,6 +2,7 @@
 // Private to lidarseg::mrpt: the key tables of the parameter structs (see ConfigKeys.h),
 // shared by the configuration loaders and the alignment algorithm's TConfigParams.
 
+#include "lidarseg/core/FeatureDetector.h"
 #include "lidarseg/core/SegmentOdometry.h"
 
 namespace lidarseg::mrpt_adapter::detail {
@@ -65,6 +66,37 @@ struct OdometryKeys {
     visit("angular_velocity_window_s", p.angular_velocity_window_s);
     visit("deskew_tolerance_rad", p.deskew_tolerance_rad);
     visit("scanner_rotation_hz", p.scanner_rotation_hz);
+  }
+};
+
+// Every key of the [features] section (door and corner detector).
+struct FeatureKeys {
+  template <typename Params, typename Visitor>
+  void operator()(Params& p, Visitor&& visit) const {
+    visit("level", p.level);
+    visit("corner_max_gap_m", p.corner_max_gap_m);
+    visit("corner_min_angle_deg", p.corner_min_angle_deg);
+    visit("corner_max_angle_deg", p.corner_max_angle_deg);
+    visit("corner_min_arm_m", p.corner_min_arm_m);
+    visit("corner_min_points", p.corner_min_points);
+    visit("door_min_width_m", p.door_min_width_m);
+    visit("door_max_width_m", p.door_max_width_m);
+    visit("door_collinear_angle_deg", p.door_collinear_angle_deg);
+    visit("door_collinear_offset_m", p.door_collinear_offset_m);
+    visit("door_min_wall_m", p.door_min_wall_m);
+    visit("door_min_wall_points", p.door_min_wall_points);
+    visit("door_min_gap_beams", p.door_min_gap_beams);
+    visit("door_front_tolerance_m", p.door_front_tolerance_m);
+    visit("door_max_occluded_fraction", p.door_max_occluded_fraction);
+    visit("door_min_beyond_fraction", p.door_min_beyond_fraction);
+    visit("door_min_recess_m", p.door_min_recess_m);
+    visit("door_max_recess_m", p.door_max_recess_m);
+    visit("door_leaf_parallel_deg", p.door_leaf_parallel_deg);
+    visit("door_min_leaf_fraction", p.door_min_leaf_fraction);
+    visit("door_min_ajar_leaf_m", p.door_min_ajar_leaf_m);
+    visit("door_hinge_tolerance_m", p.door_hinge_tolerance_m);
+    visit("corner_door_exclusion_m", p.corner_door_exclusion_m);
+    visit("door_max_segments_between", p.door_max_segments_between);
   }
 };
 

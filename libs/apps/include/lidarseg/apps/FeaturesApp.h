@@ -1,0 +1,77 @@
+#pragma once
+/// @file FeaturesApp.h
+/// The logic of `lidarseg-features`: doors and corners in every scan of a laser log
+/// (paper §III.B), written to a CSV file and, against a simulator's ground truth, scored.
+
+#include <array>
+#include <cstddef>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lidarseg/core/Feature.h"
+#include "lidarseg/core/Statistics.h"
+#include "lidarseg/eval/FeatureEvaluation.h"
+
+namespace lidarseg::apps {
+
+/// Command-line options of `lidarseg-features`.
+struct FeaturesOptions {
+  /// Laser log: MRPT .rawlog or CARMEN.
+  std::string input;
+  /// INI/YAML file with [segmentation] and [features] sections (each optional).
+  std::string config_path;
+  /// Laser to use when the log has several (rawlog label or CARMEN line type).
+  std::string sensor_label;
+  std::size_t max_scans = 0;  ///< 0: all
+  /// Per-scan features: `t,type,x,y,theta,width,confidence` (robot frame) then
+  /// `scan,var_x,var_y,cov_xy,var_theta,var_width`.
+  std::string out_csv;
+  /// Ground truth `<prefix>.features.csv` from lidarseg-simulate: score the detections.
+  std::string truth_path;
+  /// Match gate for the score (m).
+  double gate_m = 0.2;
+  /// Directory for features.md and features.json (the report).
+  std::string report_dir;
+  /// Picture of one scan (paper Fig. 6): raw points beside segments, doors (red) and
+  /// corners (green). Scan index and PNG path.
+  std::optional<std::size_t> figure_scan;
+  std::string figure_path;
+};
+
+/// Everything `lidarseg-features` measured.
+struct FeaturesReport {
+  std::string input;
+  std::size_t scans = 0;
+  std::size_t beams_per_scan = 0;
+  std::array<std::size_t, kNumFeatureTypes> detections{};
+  /// Time of FeatureDetector::detect() per scan (microseconds, wall clock).
+  Summary detect_us;
+  /// Time of segmentation (Wall-Danielsson + cascade) per scan (microseconds).
+  Summary segment_us;
+  /// Present when a ground truth was given.
+  std::optional<eval::FeatureEvaluation> evaluation;
+  Summary position_error_m;
+  /// Scans skipped (unreadable), with the reason.
+  std::vector<std::string> skipped;
+};
+
+/// Runs the door and corner detector over a whole log.
+class FeaturesApp {
+ public:
+  explicit FeaturesApp(FeaturesOptions options);
+
+  /// @throws std::runtime_error / std::invalid_argument naming the file and line or key
+  /// for an unreadable log, configuration or ground truth.
+  FeaturesReport run();
+
+  /// The report as Markdown (tables of recall and precision per type).
+  static std::string markdown(const FeaturesReport& report);
+  static void print(const FeaturesReport& report, std::ostream& os);
+
+ private:
+  FeaturesOptions options_;
+};
+
+}  // namespace lidarseg::apps

@@ -1,0 +1,227 @@
+#include "lidarseg/apps/FeaturesApp.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include "Json.h"
+#include "OutputFiles.h"
+#include "Plots.h"
+#include "lidarseg/core/FeatureDetector.h"
+#include "lidarseg/core/ScanSegmenter.h"
+#include "lidarseg/mrpt/FeatureConfig.h"
+#include "lidarseg/mrpt/LaserLogReader.h"
+#include "lidarseg/mrpt/ScanConverter.h"
+#include "lidarseg/mrpt/OdometryConfig.h"
+
+namespace lidarseg::apps {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double microsecondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+}
+
+std::string fixed(double v, int digits) {
+  if (!std::isfinite(v)) return "n/a";
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(digits) << v;
+  return os.str();
+}
+
+}  // namespace
+
+FeaturesApp::FeaturesApp(FeaturesOptions options) : options_(std::move(options)) {
+  if (options_.input.empty()) throw std::invalid_argument("no input log given");
+  if (options_.figure_scan && options_.figure_path.empty()) {
+    throw std::invalid_argument("--figure-scan needs --figure FILE.png");
+  }
+}
+
+FeaturesReport FeaturesApp::run() {
+  SegmentationParams seg_params;
+  FeatureDetectorParams det_params;
+  if (!options_.config_path.empty()) {
+    const std::string& path = options_.config_path;
+    // Absent sections keep their defaults (the odometry loader reads [segmentation] so).
+    seg_params = mrpt_adapter::loadOdometryParamsFile(path).segmentation;
+    det_params = mrpt_adapter::loadFeatureDetectorParamsFile(path);
+  }
+  const ScanSegmenter segmenter(seg_params);
+  const FeatureDetector detector(det_params);
+
+  FeaturesReport report;
+  report.input = options_.input;
+  std::map<std::size_t, std::vector<eval::TrueFeature>> truth;
+  if (!options_.truth_path.empty()) {
+    truth = eval::readTrueFeatures(options_.truth_path);
+    report.evaluation.emplace(options_.gate_m);
+  }
+
+  mrpt_adapter::LaserLogReader reader(options_.input, options_.sensor_label);
+  mrpt_adapter::ScanConverter converter;
+  Segmentation segmentation;
+  std::vector<Feature> features;
+  std::ostringstream csv;
+  csv << "t,type,x,y,theta,width,confidence,scan,var_x,var_y,cov_xy,var_theta,var_width\n";
+  std::vector<double> detect_us, segment_us, errors;
+  static const std::vector<eval::TrueFeature> kNone;
+  while (auto record = reader.next()) {
+    if (options_.max_scans > 0 && report.scans >= options_.max_scans) break;
+    Scan scan;
+    try {
+      scan = converter.convert(*record->observation);
+    } catch (const std::exception& e) {
+      report.skipped.push_back(record->where + ": " + e.what());
+      continue;
+    }
+    report.beams_per_scan = std::max(report.beams_per_scan, scan.size());
+    auto t0 = Clock::now();
+    segmenter.process(scan, segmentation);
+    segment_us.push_back(microsecondsSince(t0));
+    t0 = Clock::now();
+    detector.detect(segmentation, features);
+    detect_us.push_back(microsecondsSince(t0));
+    ++report.scans;
+
+    // Features are in the sensor frame; the CSV speaks of the robot frame.
+    const auto& sp = record->observation->sensorPose;
+    const Pose2D T_robot_sensor{sp.x(), sp.y(), sp.yaw()};
+    const double c = std::cos(T_robot_sensor.yaw), s = std::sin(T_robot_sensor.yaw);
+    Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+    R.topLeftCorner<2, 2>() << c, -s, s, c;
+    for (const Feature& f : features) {
+      ++report.detections[static_cast<std::size_t>(f.type)];
+      const Pose2D p = compose(T_robot_sensor, {f.position.x(), f.position.y(), f.theta_rad});
+      const Eigen::Matrix3d cov = R * f.covariance * R.transpose();
+      csv << std::setprecision(16) << record->stamp_s << ',' << toString(f.type) << std::setprecision(6) << ','
+          << p.x << ',' << p.y << ',' << p.yaw << ',' << f.width_m << ',' << f.confidence << ',' << record->index
+          << ',' << cov(0, 0) << ',' << cov(1, 1) << ',' << cov(0, 1) << ',' << cov(2, 2) << ','
+          << f.width_variance_m2 << '\n';
+    }
+    if (report.evaluation) {
+      // The simulator's truth is in the robot frame, which is its lidar's frame.
+      const auto it = truth.find(record->index);
+      const auto e = report.evaluation->add(it == truth.end() ? kNone : it->second, features);
+      errors.insert(errors.end(), e.begin(), e.end());
+    }
+    if (options_.figure_scan && *options_.figure_scan == record->index) {
+      ScanPicture pic;
+      for (const auto& q : segmentation.points) {
+        if (std::isfinite(q.x())) pic.points.emplace_back(q.x(), q.y());
+      }
+      for (const Segment& sg : segmentation.level(detector.params().level).segments) {
+        pic.segments.push_back({sg.start.x(), sg.start.y(), sg.end.x(), sg.end.y()});
+      }
+      for (const Feature& f : features) {
+        if (isDoor(f.type)) {
+          pic.doors.emplace_back(f.position.x(), f.position.y());
+          pic.door_jambs.push_back({f.jamb_a.x(), f.jamb_a.y(), f.jamb_b.x(), f.jamb_b.y()});
+        } else {
+          pic.corners.emplace_back(f.position.x(), f.position.y());
+        }
+      }
+      writeFileAtomically(options_.figure_path,
+                          scanFeaturesPng(pic, "scan " + std::to_string(record->index) + " of " +
+                                                   std::filesystem::path(options_.input).filename().string()));
+    }
+  }
+  if (report.scans == 0) throw std::runtime_error(options_.input + ": no laser scan read");
+  for (const std::string& issue : reader.issues()) report.skipped.push_back(issue);
+  report.detect_us = summarize(detect_us);
+  report.segment_us = summarize(segment_us);
+  report.position_error_m = summarize(errors);
+
+  OutputSet outputs;
+  if (!options_.out_csv.empty()) outputs.add(options_.out_csv, csv.str());
+  if (!options_.report_dir.empty()) {
+    std::filesystem::create_directories(options_.report_dir);
+    outputs.add(options_.report_dir + "/features.md", markdown(report));
+    JsonWriter json;
+    json.beginObject();
+    json.value("input", report.input).value("scans", report.scans);
+    json.value("detect_us_median", report.detect_us.median).value("segment_us_median", report.segment_us.median);
+    if (report.evaluation) {
+      const auto& ev = *report.evaluation;
+      json.value("gate_m", ev.gate());
+      auto counts = [&](const char* key, const eval::DetectionCounts& c) {
+        json.beginObject(key);
+        json.value("truths", c.truths).value("found", c.truths_found).value("recall", c.recall());
+        json.value("detections", c.detections).value("right", c.detections_right).value("precision", c.precision());
+        json.value("visible", c.visible).value("visible_recall", c.visibleRecall());
+        json.endObject();
+      };
+      counts("doors", ev.doors());
+      counts("corners", ev.corners());
+      for (std::size_t k = 0; k < kNumFeatureTypes; ++k) {
+        counts(toString(static_cast<FeatureType>(k)), ev.byType()[k]);
+      }
+      json.value("position_error_median_m", report.position_error_m.median);
+    }
+    json.endObject();
+    outputs.add(options_.report_dir + "/features.json", json.str());
+  }
+  outputs.commit();
+  return report;
+}
+
+std::string FeaturesApp::markdown(const FeaturesReport& r) {
+  std::ostringstream os;
+  os << "# Doors and corners: " << r.input << "\n\n";
+  os << r.scans << " scans (" << r.beams_per_scan << " beams). Per scan, median: segmentation "
+     << fixed(r.segment_us.median, 2) << " us, detection " << fixed(r.detect_us.median, 2) << " us (p99 "
+     << fixed(r.detect_us.p99, 2) << " us).\n\n";
+  os << "| type | detections |\n|---|---:|\n";
+  for (std::size_t k = 0; k < kNumFeatureTypes; ++k) {
+    os << "| " << toString(static_cast<FeatureType>(k)) << " | " << r.detections[k] << " |\n";
+  }
+  if (!r.evaluation) return os.str();
+  const auto& ev = *r.evaluation;
+  os << "\n## Against the ground truth (match within " << fixed(ev.gate(), 2) << " m)\n\n";
+  os << "Recall counts the resolvable true features (both walls of a corner, the walls beside a door and "
+        "the doorway seen with enough beams); precision counts a detection right when it matches any true "
+        "feature in view of its type. \"Recall, all in view\" also counts the unresolvable ones.\n\n";
+  os << "| kind | true (resolvable) | found | recall | detections | right | precision | in view | recall, all in view |\n";
+  os << "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  auto row = [&](const std::string& name, const eval::DetectionCounts& c) {
+    os << "| " << name << " | " << c.truths << " | " << c.truths_found << " | " << fixed(c.recall(), 3) << " | "
+       << c.detections << " | " << c.detections_right << " | " << fixed(c.precision(), 3) << " | " << c.visible
+       << " | " << fixed(c.visibleRecall(), 3) << " |\n";
+  };
+  row("**doors (any type)**", ev.doors());
+  for (std::size_t k = 0; k < 3; ++k) row(toString(static_cast<FeatureType>(k)), ev.byType()[k]);
+  row("**corners (either)**", ev.corners());
+  for (std::size_t k = 3; k < kNumFeatureTypes; ++k) row(toString(static_cast<FeatureType>(k)), ev.byType()[k]);
+  os << "\nPosition error of matched features: median " << fixed(r.position_error_m.median, 3) << " m, p99 "
+     << fixed(r.position_error_m.p99, 3) << " m.\n\n";
+  os << "Confusion (rows: true type as the scan can show it; columns: detected type):\n\n| |";
+  for (std::size_t k = 0; k < kNumFeatureTypes; ++k) os << ' ' << toString(static_cast<FeatureType>(k)) << " |";
+  os << "\n|---|";
+  for (std::size_t k = 0; k < kNumFeatureTypes; ++k) os << "---:|";
+  os << '\n';
+  for (std::size_t t = 0; t < kNumFeatureTypes; ++t) {
+    os << "| " << toString(static_cast<FeatureType>(t)) << " |";
+    for (std::size_t d = 0; d < kNumFeatureTypes; ++d) os << ' ' << ev.confusion()[t][d] << " |";
+    os << '\n';
+  }
+  return os.str();
+}
+
+void FeaturesApp::print(const FeaturesReport& report, std::ostream& os) {
+  os << markdown(report);
+  if (!report.skipped.empty()) {
+    os << "\nSkipped (" << report.skipped.size() << "):\n";
+    for (std::size_t i = 0; i < std::min<std::size_t>(report.skipped.size(), 20); ++i) {
+      os << "  " << report.skipped[i] << '\n';
+    }
+  }
+}
+
+}  // namespace lidarseg::apps

@@ -1,0 +1,109 @@
+#pragma once
+/// @file FeatureDetector.h
+/// Doors and corners from the low-level (Wall-Danielsson) segments of a scan (paper §III.B).
+
+#include <vector>
+
+#include "lidarseg/core/Feature.h"
+#include "lidarseg/core/Segmentation.h"
+
+namespace lidarseg {
+
+/// Every parameter of the door and corner detector. Keys in configuration files are the
+/// field names ([features] section). Angles in degrees, lengths in metres.
+struct FeatureDetectorParams {
+  /// The cascade level whose segments are searched. The default, the first fusion, keeps
+  /// every detail of the Wall-Danielsson segments (no erosion: door recesses and jambs
+  /// stay) but repairs the walls that noise cut into pieces; kWallDanielsson uses the raw
+  /// segments. The paper's "low-level segmentation" (§III.B).
+  CascadeLevel level = CascadeLevel::kFused;
+
+  // --- Corners: two segments, consecutive in scan order, whose facing endpoints are close
+  // and whose lines meet at an angle in [corner_min_angle_deg, corner_max_angle_deg].
+  /// Largest distance between the facing endpoints and from each to the lines'
+  /// intersection (m).
+  double corner_max_gap_m = 0.15;
+  /// Range of the angle between the two walls (deg); 90 is a right-angled corner.
+  double corner_min_angle_deg = 45.0;
+  double corner_max_angle_deg = 135.0;
+  /// Each wall of a corner at least this long (m) ...
+  double corner_min_arm_m = 0.2;
+  /// ... and made of at least this many points.
+  std::size_t corner_min_points = 4;
+
+  // --- Doors: a gap between two collinear wall segments.
+  /// Range of door widths, jamb to jamb (m).
+  double door_min_width_m = 0.7;
+  double door_max_width_m = 1.3;
+  /// The walls on both sides of the gap are parallel within this (deg) ...
+  double door_collinear_angle_deg = 5.0;
+  /// ... and each one's end lies within this of the other's line (m).
+  double door_collinear_offset_m = 0.06;
+  /// Each wall beside the door at least this long (m) with at least this many points.
+  double door_min_wall_m = 0.25;
+  std::size_t door_min_wall_points = 4;
+  /// Fewer beams than this in the gap: no door (too far, or seen at a grazing angle).
+  std::size_t door_min_gap_beams = 3;
+  /// A beam in the gap ending more than this in front of the wall line is an obstacle in
+  /// the doorway; beyond door_max_occluded_fraction of them, the gap is no door (m).
+  double door_front_tolerance_m = 0.1;
+  double door_max_occluded_fraction = 0.2;
+  /// Open door: at least this fraction of the gap's beams reach further than
+  /// door_max_recess_m beyond the wall line (beams without a return count as beyond).
+  double door_min_beyond_fraction = 0.7;
+  /// Closed door: leaf segments parallel to the wall within door_leaf_parallel_deg,
+  /// recessed behind the wall line by [door_min_recess_m, door_max_recess_m], together
+  /// covering at least door_min_leaf_fraction of the gap's beams.
+  double door_min_recess_m = 0.02;
+  double door_max_recess_m = 0.3;
+  double door_leaf_parallel_deg = 10.0;
+  double door_min_leaf_fraction = 0.4;
+  /// Door ajar: a leaf segment behind the wall, at more than door_leaf_parallel_deg to it,
+  /// at least door_min_ajar_leaf_m long, with one end within door_hinge_tolerance_m of a
+  /// jamb.
+  double door_min_ajar_leaf_m = 0.2;
+  double door_hinge_tolerance_m = 0.15;
+  /// Corners closer than this to a detected door's jamb are part of the door and not
+  /// reported (m).
+  double corner_door_exclusion_m = 0.2;
+  /// Collinear segments further apart in scan order than this are not paired as the two
+  /// sides of a door (bounds the work per scan).
+  std::size_t door_max_segments_between = 16;
+
+  /// @throws std::invalid_argument naming the first bad key and its value.
+  void validate() const;
+};
+
+/// Finds doors and corners in the detailed (low-level) segments of one scan.
+///
+/// Corners (convex or concave) come from consecutive segments, doors (open, closed in a
+/// recess, ajar) from pairs of collinear segments with a gap of door width, classified by
+/// the beams and segments inside the gap. Each feature carries a covariance propagated
+/// from its segments' (rho, theta) covariances and the beam spacing at the jambs.
+/// O(n * door_max_segments_between + beams) per scan, no allocation once `out` has grown.
+class FeatureDetector {
+ public:
+  /// @throws std::invalid_argument when a parameter is out of range.
+  explicit FeatureDetector(const FeatureDetectorParams& params = {});
+
+  /// Replaces `out` with the doors (first, in scan order) and corners of `segmentation`.
+  /// Uses the segments of params().level and the points.
+  void detect(const Segmentation& segmentation, std::vector<Feature>& out) const;
+  /// Convenience overload returning a new vector.
+  std::vector<Feature> detect(const Segmentation& segmentation) const;
+
+  const FeatureDetectorParams& params() const { return params_; }
+
+ private:
+  void detectDoors(const Segmentation& segmentation, std::vector<Feature>& out) const;
+  void detectCorners(const Segmentation& segmentation, std::vector<Feature>& out) const;
+
+  FeatureDetectorParams params_;
+  // Derived from the parameters (cosines and sines of the angle thresholds).
+  double cos_collinear_ = 0.0;
+  double sin_leaf_parallel_ = 0.0;
+  double cos_corner_min_ = 0.0;
+  double cos_corner_max_ = 0.0;
+};
+
+}  // namespace lidarseg

@@ -1,0 +1,360 @@
+#include "lidarseg/core/FeatureDetector.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/LU>
+
+#include "Validation.h"
+
+namespace lidarseg {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDegToRad = kPi / 180.0;
+
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// Tangent of a segment's line: d(normal)/d(theta), the normal turned by +90 degrees.
+Eigen::Vector2d tangentOf(const Segment& s) { return {-s.normal.y(), s.normal.x()}; }
+
+// A jamb: the end of a wall segment next to a gap. The true end of the wall lies between
+// the wall's last point and the point where the first beam of the gap crosses the wall's
+// line; the estimate is the middle, its along-line variance that of a uniform spread over
+// the interval plus the range noise.
+struct Jamb {
+  Eigen::Vector2d point;
+  double variance_m2;
+};
+
+Jamb jambOf(const Segment& wall, const Eigen::Vector2d& wall_end, const Eigen::Vector2d& gap_point) {
+  const double spacing_mean = wall.num_points > 1 ? wall.length_m / (wall.num_points - 1) : wall.length_m;
+  Jamb j{wall_end, spacing_mean * spacing_mean / 12.0 + wall.covariance(0, 0)};
+  const double r = gap_point.norm();
+  if (!std::isfinite(r) || r <= 0.0) return j;
+  const Eigen::Vector2d u = gap_point / r;
+  const double nu = wall.normal.dot(u);
+  if (nu <= 1e-6) return j;
+  const Eigen::Vector2d crossing = (wall.rho_m / nu) * u;
+  const double spacing = (crossing - wall_end).norm();
+  if (spacing > 4.0 * spacing_mean + 0.05) return j;  // the beam is too far off: keep the point
+  j.point = 0.5 * (wall_end + crossing);
+  j.variance_m2 = spacing * spacing / 12.0 + wall.covariance(0, 0);
+  return j;
+}
+
+std::size_t beamsBetween(std::uint32_t last_of_a, std::uint32_t first_of_b, std::size_t num_beams) {
+  // Beams strictly after last_of_a and strictly before first_of_b, in scan order (wrapping).
+  const std::size_t n = num_beams;
+  const std::size_t from = (last_of_a + 1) % n;
+  return (first_of_b + n - from) % n;
+}
+
+}  // namespace
+
+const char* toString(FeatureType type) {
+  switch (type) {
+    case FeatureType::kDoorOpen:
+      return "door_open";
+    case FeatureType::kDoorClosed:
+      return "door_closed";
+    case FeatureType::kDoorAjar:
+      return "door_ajar";
+    case FeatureType::kCornerConvex:
+      return "corner_convex";
+    case FeatureType::kCornerConcave:
+      return "corner_concave";
+  }
+  return "unknown";
+}
+
+std::optional<FeatureType> featureTypeFromString(const std::string& name) {
+  for (std::size_t i = 0; i < kNumFeatureTypes; ++i) {
+    const auto t = static_cast<FeatureType>(i);
+    if (name == toString(t)) return t;
+  }
+  return std::nullopt;
+}
+
+void FeatureDetectorParams::validate() const {
+  using detail::failKey;
+  using detail::requireInRange;
+  using detail::requireNonNegative;
+  using detail::requirePositive;
+  if (static_cast<std::size_t>(level) >= kNumCascadeLevels) {
+    failKey("level", "a cascade level 0..3", static_cast<double>(level));
+  }
+  requirePositive("corner_max_gap_m", corner_max_gap_m);
+  requireInRange("corner_min_angle_deg", corner_min_angle_deg, 1.0, 179.0);
+  requireInRange("corner_max_angle_deg", corner_max_angle_deg, 1.0, 179.0);
+  if (corner_max_angle_deg < corner_min_angle_deg) {
+    failKey("corner_max_angle_deg", ">= corner_min_angle_deg", corner_max_angle_deg);
+  }
+  requireNonNegative("corner_min_arm_m", corner_min_arm_m);
+  if (corner_min_points < 2) failKey("corner_min_points", ">= 2", static_cast<double>(corner_min_points));
+  requirePositive("door_min_width_m", door_min_width_m);
+  requirePositive("door_max_width_m", door_max_width_m);
+  if (door_max_width_m < door_min_width_m) failKey("door_max_width_m", ">= door_min_width_m", door_max_width_m);
+  requireInRange("door_collinear_angle_deg", door_collinear_angle_deg, 0.0, 45.0);
+  requirePositive("door_collinear_offset_m", door_collinear_offset_m);
+  requireNonNegative("door_min_wall_m", door_min_wall_m);
+  if (door_min_wall_points < 2) {
+    failKey("door_min_wall_points", ">= 2", static_cast<double>(door_min_wall_points));
+  }
+  if (door_min_gap_beams < 1) failKey("door_min_gap_beams", ">= 1", static_cast<double>(door_min_gap_beams));
+  requireNonNegative("door_front_tolerance_m", door_front_tolerance_m);
+  requireInRange("door_max_occluded_fraction", door_max_occluded_fraction, 0.0, 1.0);
+  requireInRange("door_min_beyond_fraction", door_min_beyond_fraction, 0.0, 1.0);
+  requireNonNegative("door_min_recess_m", door_min_recess_m);
+  requirePositive("door_max_recess_m", door_max_recess_m);
+  if (door_max_recess_m <= door_min_recess_m) {
+    failKey("door_max_recess_m", "> door_min_recess_m", door_max_recess_m);
+  }
+  requireInRange("door_leaf_parallel_deg", door_leaf_parallel_deg, 0.0, 45.0);
+  requireInRange("door_min_leaf_fraction", door_min_leaf_fraction, 0.0, 1.0);
+  requireNonNegative("door_min_ajar_leaf_m", door_min_ajar_leaf_m);
+  requirePositive("door_hinge_tolerance_m", door_hinge_tolerance_m);
+  requireNonNegative("corner_door_exclusion_m", corner_door_exclusion_m);
+  if (door_max_segments_between > 1000) {
+    failKey("door_max_segments_between", "<= 1000", static_cast<double>(door_max_segments_between));
+  }
+}
+
+FeatureDetector::FeatureDetector(const FeatureDetectorParams& params) : params_(params) {
+  params_.validate();
+  cos_collinear_ = std::cos(params_.door_collinear_angle_deg * kDegToRad);
+  sin_leaf_parallel_ = std::sin(params_.door_leaf_parallel_deg * kDegToRad);
+  cos_corner_min_ = std::cos(params_.corner_min_angle_deg * kDegToRad);
+  cos_corner_max_ = std::cos(params_.corner_max_angle_deg * kDegToRad);
+}
+
+std::vector<Feature> FeatureDetector::detect(const Segmentation& segmentation) const {
+  std::vector<Feature> out;
+  detect(segmentation, out);
+  return out;
+}
+
+void FeatureDetector::detect(const Segmentation& segmentation, std::vector<Feature>& out) const {
+  out.clear();
+  if (segmentation.points.empty()) return;
+  detectDoors(segmentation, out);
+  detectCorners(segmentation, out);
+}
+
+void FeatureDetector::detectDoors(const Segmentation& segmentation, std::vector<Feature>& out) const {
+  const FeatureDetectorParams& p = params_;
+  const std::vector<Segment>& segs = segmentation.level(params_.level).segments;
+  const std::size_t n = segs.size();
+  const std::size_t num_beams = segmentation.points.size();
+  const bool wraps = segmentation.wraps_around;
+  auto wallOk = [&](const Segment& s) {
+    return s.length_m >= p.door_min_wall_m && s.num_points >= p.door_min_wall_points;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    const Segment& a = segs[i];
+    if (!wallOk(a)) continue;
+    const Eigen::Vector2d t = a.direction();
+    for (std::size_t k = 1; k <= p.door_max_segments_between + 1; ++k) {
+      std::size_t j = i + k;
+      if (j >= n) {
+        if (!wraps) break;
+        j -= n;
+        if (j >= i) break;
+      }
+      const Segment& b = segs[j];
+      if (a.normal.dot(b.normal) < cos_collinear_) continue;
+      if (std::abs(a.signedDistance(b.start)) > p.door_collinear_offset_m ||
+          std::abs(b.signedDistance(a.end)) > p.door_collinear_offset_m) {
+        continue;
+      }
+      const Eigen::Vector2d gap0 = b.start - a.end;
+      if (gap0.dot(t) <= 0.0) continue;
+      // Jambs refined with the first and last beams of the gap.
+      Jamb jamb_a = jambOf(a, a.end, segmentation.points[(a.last_beam + 1) % num_beams]);
+      Jamb jamb_b = jambOf(b, b.start, segmentation.points[(b.first_beam + num_beams - 1) % num_beams]);
+      const double width = (jamb_b.point - jamb_a.point).norm();
+      if (width < p.door_min_width_m) continue;  // a recessed leaf or a broken wall: look further
+      if (width > p.door_max_width_m) break;     // further segments are only further away
+      if (!wallOk(b)) break;
+
+      // The beams of the gap: where do they end relative to the wall line?
+      const std::size_t count = beamsBetween(a.last_beam, b.first_beam, num_beams);
+      if (count < p.door_min_gap_beams) break;
+      std::size_t front = 0, beyond = 0;
+      std::size_t beam = (a.last_beam + 1) % num_beams;
+      for (std::size_t c = 0; c < count; ++c, beam = (beam + 1) % num_beams) {
+        const Eigen::Vector2d& q = segmentation.points[beam];
+        if (!std::isfinite(q.x())) {
+          ++beyond;  // no return: nothing stopped the beam in the doorway
+          continue;
+        }
+        const double d = a.signedDistance(q);
+        if (d < -p.door_front_tolerance_m) {
+          ++front;
+        } else if (d > p.door_max_recess_m) {
+          ++beyond;
+        }
+      }
+      const double total = static_cast<double>(count);
+      if (static_cast<double>(front) > p.door_max_occluded_fraction * total) break;
+
+      // Segments inside the gap: a recessed leaf (closed) or a turned leaf (ajar).
+      double closed_support = 0.0, ajar_support = 0.0;
+      Eigen::Vector2d hinge_point = Eigen::Vector2d::Zero();
+      for (std::size_t m = (i + 1) % n; m != j; m = (m + 1) % n) {
+        const Segment& s = segs[m];
+        const double sin_angle = std::abs(cross(s.direction(), t));
+        const double offset = a.signedDistance(s.centroid);
+        if (sin_angle <= sin_leaf_parallel_) {
+          if (offset >= p.door_min_recess_m && offset <= p.door_max_recess_m) {
+            closed_support += static_cast<double>(s.num_points) / total;
+          }
+        } else if (offset > 0.0 && s.length_m >= p.door_min_ajar_leaf_m) {
+          const double hinge =
+              std::min({(s.start - jamb_a.point).norm(), (s.end - jamb_a.point).norm(),
+                        (s.start - jamb_b.point).norm(), (s.end - jamb_b.point).norm()});
+          if (hinge <= p.door_hinge_tolerance_m && s.length_m / width > ajar_support) {
+            ajar_support = std::min(1.0, s.length_m / width);
+            // The leaf's end on the wall line is the hinge, hence a jamb.
+            hinge_point = std::abs(a.signedDistance(s.start)) < std::abs(a.signedDistance(s.end)) ? s.start : s.end;
+          }
+        }
+      }
+      const double beyond_fraction = static_cast<double>(beyond) / total;
+      FeatureType type;
+      double support;
+      if (closed_support >= p.door_min_leaf_fraction) {
+        type = FeatureType::kDoorClosed;
+        support = std::min(1.0, closed_support);
+      } else if (ajar_support > 0.0) {
+        type = FeatureType::kDoorAjar;
+        support = ajar_support;
+      } else if (beyond_fraction >= p.door_min_beyond_fraction) {
+        type = FeatureType::kDoorOpen;
+        support = beyond_fraction;
+      } else {
+        break;  // something else fills the gap
+      }
+
+      if (type == FeatureType::kDoorAjar) {
+        Jamb& hinge_jamb = (hinge_point - jamb_a.point).norm() < (hinge_point - jamb_b.point).norm() ? jamb_a : jamb_b;
+        hinge_jamb.point = hinge_point - a.signedDistance(hinge_point) * a.normal;
+      }
+      Feature f;
+      f.type = type;
+      f.jamb_a = jamb_a.point;
+      f.jamb_b = jamb_b.point;
+      f.position = 0.5 * (jamb_a.point + jamb_b.point);
+      f.theta_rad = a.theta_rad;
+      f.width_m = (jamb_b.point - jamb_a.point).norm();
+      const double wall_factor = std::min(1.0, std::min(a.length_m, b.length_m) / (2.0 * p.door_min_wall_m));
+      const double beam_factor = std::min(1.0, total / (2.0 * static_cast<double>(p.door_min_gap_beams)));
+      f.confidence = std::clamp(support * wall_factor * beam_factor, 0.0, 1.0);
+      // Covariance: the centre is rho n + s t on the wall's line, s (its coordinate along
+      // the line) the mean of the two jambs' coordinates.
+      const double var_a = jamb_a.variance_m2, var_b = jamb_b.variance_m2;
+      const Eigen::Vector2d tn = tangentOf(a);
+      const double s_along = f.position.dot(tn);
+      Eigen::Matrix3d J = Eigen::Matrix3d::Zero();  // (x, y, theta) wrt (rho, theta, s)
+      J.block<2, 1>(0, 0) = a.normal;
+      J.block<2, 1>(0, 1) = a.rho_m * tn - s_along * a.normal;
+      J.block<2, 1>(0, 2) = tn;
+      J(2, 1) = 1.0;
+      Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+      S.topLeftCorner<2, 2>() = a.covariance;
+      S(2, 2) = 0.25 * (var_a + var_b);
+      f.covariance = J * S * J.transpose();
+      f.width_variance_m2 = var_a + var_b;
+      f.segment_a = static_cast<std::uint32_t>(i);
+      f.segment_b = static_cast<std::uint32_t>(j);
+      out.push_back(f);
+      break;
+    }
+  }
+}
+
+void FeatureDetector::detectCorners(const Segmentation& segmentation, std::vector<Feature>& out) const {
+  const FeatureDetectorParams& p = params_;
+  const std::vector<Segment>& segs = segmentation.level(params_.level).segments;
+  const std::size_t n = segs.size();
+  if (n < 2) return;
+  const std::size_t num_doors = out.size();
+  const std::size_t pairs = segmentation.wraps_around ? n : n - 1;
+  auto armOk = [&](const Segment& s) {
+    return s.length_m >= p.corner_min_arm_m && s.num_points >= p.corner_min_points;
+  };
+  // Tries the corner between segments i and j; `slack` (m) is the length of a short piece
+  // of the corner itself between them (0 for neighbours).
+  auto tryCorner = [&](std::size_t i, std::size_t j, double slack) {
+    const Segment& a = segs[i];
+    const Segment& b = segs[j];
+    if (!armOk(a) || !armOk(b)) return false;
+    const double gap_limit = p.corner_max_gap_m + slack;
+    if ((b.start - a.end).norm() > gap_limit) return false;
+    const double det = cross(a.normal, b.normal);
+    if (std::abs(det) < 1e-9) return false;
+    // Intersection of the two lines: n_a . c = rho_a, n_b . c = rho_b.
+    Eigen::Matrix2d M;
+    M << a.normal.x(), a.normal.y(), b.normal.x(), b.normal.y();
+    const Eigen::Matrix2d Minv = M.inverse();
+    const Eigen::Vector2d c = Minv * Eigen::Vector2d(a.rho_m, b.rho_m);
+    if ((c - a.end).norm() > gap_limit || (c - b.start).norm() > gap_limit) return false;
+    const Eigen::Vector2d ua = (a.start - c).normalized();
+    const Eigen::Vector2d ub = (b.end - c).normalized();
+    const double cos_angle = ua.dot(ub);
+    if (cos_angle > cos_corner_min_ || cos_angle < cos_corner_max_) return false;
+    bool near_door = false;
+    for (std::size_t d = 0; d < num_doors && !near_door; ++d) {
+      near_door = (out[d].jamb_a - c).norm() <= p.corner_door_exclusion_m ||
+                  (out[d].jamb_b - c).norm() <= p.corner_door_exclusion_m;
+    }
+    if (near_door) return true;  // found, and part of a door
+    // Concave when the sensor (at the origin) lies inside the angle of the two walls.
+    const Eigen::Vector2d s = -c;
+    const double ab = cross(ua, ub);
+    const bool inside = ab > 0 ? (cross(ua, s) > 0 && cross(s, ub) > 0) : (cross(ua, s) < 0 && cross(s, ub) < 0);
+    Eigen::Vector2d bisector = ua + ub;
+    if (!inside) bisector = -bisector;
+
+    Feature f;
+    f.type = inside ? FeatureType::kCornerConcave : FeatureType::kCornerConvex;
+    f.position = c;
+    f.theta_rad = std::atan2(bisector.y(), bisector.x());
+    f.jamb_a = a.start;
+    f.jamb_b = b.end;
+    const double arm_factor = std::min(1.0, std::min(a.length_m, b.length_m) / (2.0 * p.corner_min_arm_m));
+    const double gap_factor = 1.0 - 0.5 * (b.start - a.end).norm() / p.corner_max_gap_m;
+    f.confidence = std::clamp(arm_factor * gap_factor, 0.0, 1.0);
+    // Covariance: n_k . dc + (t_k . c) dtheta_k = drho_k for both lines; the bisector turns
+    // by the mean of the two lines' turns.
+    Eigen::Matrix<double, 2, 4> rhs = Eigen::Matrix<double, 2, 4>::Zero();
+    rhs(0, 0) = 1.0;
+    rhs(0, 1) = -tangentOf(a).dot(c);
+    rhs(1, 2) = 1.0;
+    rhs(1, 3) = -tangentOf(b).dot(c);
+    Eigen::Matrix<double, 3, 4> J = Eigen::Matrix<double, 3, 4>::Zero();
+    J.topRows<2>() = Minv * rhs;
+    J(2, 1) = 0.5;
+    J(2, 3) = 0.5;
+    Eigen::Matrix4d S = Eigen::Matrix4d::Zero();
+    S.topLeftCorner<2, 2>() = a.covariance;
+    S.bottomRightCorner<2, 2>() = b.covariance;
+    f.covariance = J * S * J.transpose();
+    f.segment_a = static_cast<std::uint32_t>(i);
+    f.segment_b = static_cast<std::uint32_t>(j);
+    out.push_back(f);
+    return true;
+  };
+  for (std::size_t i = 0; i < pairs; ++i) {
+    if (tryCorner(i, (i + 1) % n, 0.0)) continue;
+    // Noise often leaves a short piece at the corner itself: step over one.
+    const std::size_t mid = (i + 1) % n;
+    const Segment& m = segs[mid];
+    if (m.length_m < p.corner_min_arm_m && (i + 2 < n || segmentation.wraps_around) && n >= 3) {
+      if (tryCorner(i, (i + 2) % n, m.length_m)) ++i;
+    }
+  }
+}
+
+}  // namespace lidarseg

@@ -1,0 +1,135 @@
+#include "lidarseg/eval/FeatureEvaluation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <tuple>
+
+namespace lidarseg::eval {
+
+namespace {
+double ratio(std::size_t num, std::size_t den) {
+  return den == 0 ? std::numeric_limits<double>::quiet_NaN() : static_cast<double>(num) / static_cast<double>(den);
+}
+
+[[noreturn]] void fail(const std::string& path, std::size_t line, const std::string& what) {
+  std::ostringstream os;
+  os << path << ":" << line << ": " << what;
+  throw std::runtime_error(os.str());
+}
+}  // namespace
+
+double DetectionCounts::recall() const { return ratio(truths_found, truths); }
+double DetectionCounts::precision() const { return ratio(detections_right, detections); }
+double DetectionCounts::visibleRecall() const { return ratio(visible_found, visible); }
+
+std::map<std::size_t, std::vector<TrueFeature>> readTrueFeatures(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open the feature file");
+  std::map<std::size_t, std::vector<TrueFeature>> out;
+  std::string line;
+  std::size_t number = 0;
+  static const char* kColumns[] = {"scan", "t", "type", "x", "y", "theta", "width", "id", "resolvable", "seen_as"};
+  while (std::getline(in, line)) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty() || line[0] == '#') continue;
+    if (number == 1 && line.rfind("scan,", 0) == 0) continue;  // header
+    std::vector<std::string> cols;
+    std::stringstream ss(line);
+    std::string c;
+    while (std::getline(ss, c, ',')) cols.push_back(c);
+    if (cols.size() < 8) fail(path, number, "expected at least 8 columns (scan,t,type,x,y,theta,width,id)");
+    auto number_at = [&](std::size_t k) {
+      try {
+        std::size_t used = 0;
+        const double v = std::stod(cols[k], &used);
+        if (used != cols[k].size() || !std::isfinite(v)) throw std::invalid_argument("");
+        return v;
+      } catch (const std::exception&) {
+        fail(path, number, std::string("column '") + kColumns[k] + "' is not a finite number: '" + cols[k] + "'");
+      }
+    };
+    TrueFeature f;
+    const auto type = featureTypeFromString(cols[2]);
+    if (!type) fail(path, number, "column 'type': unknown feature type '" + cols[2] + "'");
+    f.type = *type;
+    f.seen_as = *type;
+    const double scan = number_at(0);
+    if (scan < 0 || scan != std::floor(scan)) fail(path, number, "column 'scan' must be a non-negative integer");
+    f.position = {number_at(3), number_at(4)};
+    if (cols.size() > 8) f.resolvable = number_at(8) != 0.0;
+    if (cols.size() > 9) {
+      const auto seen = featureTypeFromString(cols[9]);
+      if (!seen) fail(path, number, "column 'seen_as': unknown feature type '" + cols[9] + "'");
+      f.seen_as = *seen;
+    }
+    out[static_cast<std::size_t>(scan)].push_back(f);
+  }
+  return out;
+}
+
+FeatureEvaluation::FeatureEvaluation(double gate_m) : gate_m_(gate_m) {
+  if (!(gate_m > 0.0 && std::isfinite(gate_m))) throw std::invalid_argument("feature match gate must be > 0");
+}
+
+std::vector<double> FeatureEvaluation::add(const std::vector<TrueFeature>& truth,
+                                           const std::vector<Feature>& detected) {
+  ++scans_;
+  auto right = [&](const TrueFeature& t, const Feature& d) { return d.type == t.seen_as || d.type == t.type; };
+  // Candidate pairs within the gate, same family; pairs of the right type first (two
+  // corners of a T share one point), then nearest first.
+  std::vector<std::tuple<bool, double, std::size_t, std::size_t>> pairs;
+  for (std::size_t t = 0; t < truth.size(); ++t) {
+    for (std::size_t d = 0; d < detected.size(); ++d) {
+      if (isDoor(truth[t].type) != isDoor(detected[d].type)) continue;
+      const double dist = (truth[t].position - detected[d].position).norm();
+      if (dist <= gate_m_) pairs.emplace_back(!right(truth[t], detected[d]), dist, t, d);
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  std::vector<int> truth_match(truth.size(), -1), det_match(detected.size(), -1);
+  std::vector<double> errors;
+  for (const auto& [wrong, dist, t, d] : pairs) {
+    if (truth_match[t] >= 0 || det_match[d] >= 0) continue;
+    truth_match[t] = static_cast<int>(d);
+    det_match[d] = static_cast<int>(t);
+    errors.push_back(dist);
+  }
+  for (std::size_t t = 0; t < truth.size(); ++t) {
+    const TrueFeature& tf = truth[t];
+    DetectionCounts& family = isDoor(tf.type) ? doors_ : corners_;
+    DetectionCounts& kind = by_type_[static_cast<std::size_t>(tf.seen_as)];
+    ++family.visible;
+    ++kind.visible;
+    if (truth_match[t] >= 0) {
+      const Feature& d = detected[static_cast<std::size_t>(truth_match[t])];
+      ++confusion_[static_cast<std::size_t>(tf.seen_as)][static_cast<std::size_t>(d.type)];
+      ++family.visible_found;
+      if (right(tf, d)) ++kind.visible_found;
+    }
+    if (!tf.resolvable) continue;
+    ++family.truths;
+    ++kind.truths;
+    if (truth_match[t] < 0) continue;
+    ++family.truths_found;
+    if (right(tf, detected[static_cast<std::size_t>(truth_match[t])])) ++kind.truths_found;
+  }
+  for (std::size_t d = 0; d < detected.size(); ++d) {
+    const Feature& df = detected[d];
+    DetectionCounts& family = isDoor(df.type) ? doors_ : corners_;
+    DetectionCounts& kind = by_type_[static_cast<std::size_t>(df.type)];
+    ++family.detections;
+    ++kind.detections;
+    if (det_match[d] < 0) continue;
+    ++family.detections_right;
+    if (right(truth[static_cast<std::size_t>(det_match[d])], df)) ++kind.detections_right;
+  }
+  errors_.insert(errors_.end(), errors.begin(), errors.end());
+  return errors;
+}
+
+}  // namespace lidarseg::eval

@@ -1,0 +1,193 @@
+#include <cmath>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "SyntheticScenes.h"
+#include "lidarseg/core/FeatureDetector.h"
+#include "lidarseg/core/ScanSegmenter.h"
+
+#include <Eigen/LU>
+
+namespace lidarseg {
+namespace {
+using testing::kDeg;
+using testing::kPi;
+
+// A wall y = 2 with an open door, a closed door in a 10 cm recess and a door ajar at 45
+// degrees in front of the sensor (its leaf in sight); rooms behind it (back wall y = 5).
+sim::World wallWithThreeDoors() {
+  sim::World w;
+  w.addWall({-10, 2}, {10, 2});
+  w.addWall({-10, 5}, {10, 5});
+  w.addDoor({sim::DoorKind::kOpen, {-4.0, 2}, {-3.1, 2}, 0.0, 0.0});
+  w.addDoor({sim::DoorKind::kClosed, {2.5, 2}, {3.4, 2}, 0.1, 0.0});
+  w.addDoor({sim::DoorKind::kAjar, {-0.45, 2}, {0.45, 2}, 0.0, 45 * kDeg});
+  return w;
+}
+
+Eigen::Vector2d toSensor(const sim::Pose2& pose, const Eigen::Vector2d& world) {
+  const Pose2D l = relative({world.x(), world.y(), 0.0}, pose);
+  return {l.x, l.y};
+}
+
+std::vector<Feature> detectIn(const sim::World& world, const sim::SensorModel& sensor, const sim::Pose2& pose,
+                              std::uint64_t seed = 1, const FeatureDetectorParams& params = {}) {
+  const Scan scan = testing::simulate(world, sensor, pose, seed);
+  SegmentationParams sp;
+  sp.noise.range_sigma_m = std::max(sensor.range_sigma_m, 0.001);
+  const Segmentation seg = ScanSegmenter(sp).process(scan);
+  return FeatureDetector(params).detect(seg);
+}
+
+const Feature* nearest(const std::vector<Feature>& fs, const Eigen::Vector2d& p, double gate) {
+  const Feature* best = nullptr;
+  double best_d = gate;
+  for (const Feature& f : fs) {
+    const double d = (f.position - p).norm();
+    if (d <= best_d) {
+      best_d = d;
+      best = &f;
+    }
+  }
+  return best;
+}
+
+TEST(FeatureDetector, FindsAndClassifiesOpenClosedAndAjarDoors) {
+  const sim::World w = wallWithThreeDoors();
+  const auto lms = testing::makeSensor(541, 270, 0.012);
+  const sim::Pose2 pose{0.0, 0.0, kPi / 2};
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    const auto fs = detectIn(w, lms, pose, seed);
+    int doors = 0;
+    for (const Feature& f : fs) doors += isDoor(f.type) ? 1 : 0;
+    EXPECT_EQ(doors, 3) << "seed " << seed;
+    for (const sim::Door& d : w.doors()) {
+      const Feature* f = nearest(fs, toSensor(pose, d.centre()), 0.1);
+      ASSERT_NE(f, nullptr) << sim::toString(d.kind) << " door, seed " << seed;
+      const FeatureType expected = d.kind == sim::DoorKind::kOpen     ? FeatureType::kDoorOpen
+                                   : d.kind == sim::DoorKind::kClosed ? FeatureType::kDoorClosed
+                                                                      : FeatureType::kDoorAjar;
+      EXPECT_EQ(f->type, expected) << toString(f->type) << " seed " << seed;
+      EXPECT_NEAR(f->width_m, 0.9, 0.1);
+      // The wall's normal pointing away from the sensor: world +y, i.e. sensor +x.
+      EXPECT_NEAR(f->theta_rad, 0.0, 2 * kDeg);
+      EXPECT_GT(f->confidence, 0.5);
+      EXPECT_LE(f->confidence, 1.0);
+      // Jambs on the wall line, one on each side of the centre.
+      EXPECT_NEAR((f->jamb_b - f->jamb_a).norm(), f->width_m, 1e-9);
+      EXPECT_TRUE(f->covariance.isApprox(f->covariance.transpose()));
+      EXPECT_GT(f->covariance.determinant(), 0.0);
+    }
+  }
+}
+
+TEST(FeatureDetector, GapsOfTheWrongWidthOrWithSomethingInThemAreNoDoors) {
+  sim::World w;
+  w.addWall({-10, 2}, {-3, 2});
+  w.addWall({-2.6, 2}, {0, 2});   // 0.4 m gap: too narrow
+  w.addWall({2, 2}, {4, 2});      // 2 m gap: too wide
+  w.addWall({5, 2}, {10, 2});     // 1 m gap, but a pillar stands in it
+  w.addPolygon({{4.3, 1.8}, {4.7, 1.8}, {4.7, 1.95}, {4.3, 1.95}}, sim::SurfaceKind::kClutter);
+  w.addWall({-10, 5}, {10, 5});
+  const auto lms = testing::makeSensor(541, 270, 0.012);
+  const auto fs = detectIn(w, lms, {0.0, 0.0, kPi / 2});
+  for (const Feature& f : fs) EXPECT_FALSE(isDoor(f.type)) << toString(f.type) << " at " << f.position.transpose();
+}
+
+TEST(FeatureDetector, ConcaveCornersOfARoomWithCovarianceMatchingTheirSpread) {
+  const sim::World room = testing::rectangleRoom(6.0, 4.0);
+  const auto sensor = testing::makeFullTurnSensor(720, 0.01);
+  const sim::Pose2 pose{2.0, 1.5, 0.3};
+  const std::vector<Eigen::Vector2d> truth = {{0, 0}, {6, 0}, {6, 4}, {0, 4}};
+  // Empirical spread of the detected corner (6, 4) over many noisy scans vs the predicted
+  // covariance.
+  std::vector<Eigen::Vector2d> samples;
+  Eigen::Matrix2d predicted = Eigen::Matrix2d::Zero();
+  for (std::uint64_t seed = 1; seed <= 200; ++seed) {
+    const auto fs = detectIn(room, sensor, pose, seed);
+    int concave = 0;
+    for (const Feature& f : fs) concave += f.type == FeatureType::kCornerConcave ? 1 : 0;
+    ASSERT_EQ(concave, 4) << "seed " << seed;
+    for (const auto& c : truth) ASSERT_NE(nearest(fs, toSensor(pose, c), 0.05), nullptr) << c.transpose();
+    const Feature* f = nearest(fs, toSensor(pose, {6, 4}), 0.05);
+    samples.push_back(f->position);
+    predicted += f->covariance.topLeftCorner<2, 2>() / 200.0;
+    // The bisector points into the room: from the corner towards the sensor's side.
+    const Eigen::Vector2d into_room = toSensor(pose, {5, 3}) - f->position;
+    EXPECT_GT(std::cos(std::atan2(into_room.y(), into_room.x()) - f->theta_rad), 0.99);
+  }
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& s : samples) mean += s / samples.size();
+  Eigen::Matrix2d empirical = Eigen::Matrix2d::Zero();
+  for (const auto& s : samples) empirical += (s - mean) * (s - mean).transpose() / (samples.size() - 1);
+  // Same size to within a factor of 2.5 (first-order model, endpoint-free intersection).
+  const double ratio = std::sqrt(empirical.trace() / predicted.trace());
+  EXPECT_GT(ratio, 0.4) << "empirical " << empirical << "\npredicted " << predicted;
+  EXPECT_LT(ratio, 2.5) << "empirical " << empirical << "\npredicted " << predicted;
+}
+
+TEST(FeatureDetector, ConvexCornerOfABoxAgainstAWall) {
+  // A 1 m box against the wall y = 2, seen from the front left: its front-left corner is
+  // convex, where its left side meets the wall is concave.
+  const sim::World w = testing::wallWithBox(2.0, 1.0);
+  const auto lms = testing::makeSensor(541, 270, 0.005);
+  const sim::Pose2 pose{-1.0, -2.0, kPi / 2};
+  const auto fs = detectIn(w, lms, pose);
+  const Feature* convex = nearest(fs, toSensor(pose, {1.5, 1.0}), 0.1);
+  ASSERT_NE(convex, nullptr);
+  EXPECT_EQ(convex->type, FeatureType::kCornerConvex);
+  const Feature* concave = nearest(fs, toSensor(pose, {1.5, 2.0}), 0.1);
+  ASSERT_NE(concave, nullptr);
+  EXPECT_EQ(concave->type, FeatureType::kCornerConcave);
+}
+
+TEST(FeatureDetector, CornersAtADoorsJambsAreNotReported) {
+  // The door ajar's leaf meets the wall at the hinge: that is the door, not a corner.
+  const sim::World w = wallWithThreeDoors();
+  const auto lms = testing::makeSensor(541, 270, 0.0);
+  const sim::Pose2 pose{0.0, 0.0, kPi / 2};
+  const auto fs = detectIn(w, lms, pose);
+  for (const Feature& f : fs) {
+    if (isDoor(f.type)) continue;
+    EXPECT_GT((f.position - toSensor(pose, {-0.45, 2})).norm(), 0.2) << toString(f.type);
+  }
+}
+
+TEST(FeatureDetector, EmptyAndDegenerateInputsGiveNothing) {
+  const FeatureDetector detector;
+  Segmentation empty;
+  EXPECT_TRUE(detector.detect(empty).empty());
+  // A single straight wall: no door, no corner.
+  sim::World w;
+  w.addWall({-10, 2}, {10, 2});
+  EXPECT_TRUE(detectIn(w, testing::makeSensor(541, 270, 0.012), {0, 0, kPi / 2}).empty());
+}
+
+TEST(FeatureDetector, ValidationNamesTheKey) {
+  FeatureDetectorParams p;
+  p.door_max_width_m = 0.5;  // below the minimum width
+  try {
+    FeatureDetector d(p);
+    FAIL() << "accepted door_max_width_m < door_min_width_m";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("door_max_width_m"), std::string::npos) << e.what();
+  }
+  p = {};
+  p.corner_min_angle_deg = 0.0;
+  EXPECT_THROW(FeatureDetector{p}, std::invalid_argument);
+  p = {};
+  p.door_min_recess_m = 0.5;
+  EXPECT_THROW(FeatureDetector{p}, std::invalid_argument);
+}
+
+TEST(FeatureType, NamesRoundTrip) {
+  for (std::size_t i = 0; i < kNumFeatureTypes; ++i) {
+    const auto t = static_cast<FeatureType>(i);
+    EXPECT_EQ(featureTypeFromString(toString(t)), t);
+  }
+  EXPECT_FALSE(featureTypeFromString("door").has_value());
+}
+
+}  // namespace
+}  // namespace lidarseg
