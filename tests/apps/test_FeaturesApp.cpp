@@ -1,0 +1,99 @@
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "lidarseg/apps/FeaturesApp.h"
+#include "lidarseg/apps/SimulateApp.h"
+
+namespace lidarseg::apps {
+namespace {
+namespace fs = std::filesystem;
+const std::string kWorlds = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/";
+const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/features";
+
+// 12 m of the hospital's bottom corridor (doors of every kind on both sides), simulated
+// once per test process under the test's own name.
+const std::string& simulatedPrefix() {
+  static const std::string prefix = [] {
+    const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::create_directories(kTmp);
+    const std::string traj = kTmp + "/corridor.traj";
+    std::ofstream(traj) << "speed 1.0\nturn_radius 0.6\nwaypoint 5 0\nwaypoint 17 0\n";
+    SimulateOptions o;
+    o.world_path = kWorlds + "hospital.world";
+    o.trajectory_path = traj;
+    o.seed = 5;
+    o.out_prefix = kTmp + "/corridor_" + name;
+    o.camera_every_scans = 0;
+    SimulateApp(o).run();
+    return o.out_prefix;
+  }();
+  return prefix;
+}
+
+TEST(FeaturesApp, FindsTheHospitalsDoorsAndCornersAndWritesTheFiles) {
+  const std::string prefix = simulatedPrefix();
+  FeaturesOptions o;
+  o.input = prefix + ".rawlog";
+  o.truth_path = prefix + ".features.csv";
+  o.out_csv = kTmp + "/found.csv";
+  o.report_dir = kTmp + "/report";
+  o.figure_scan = 100;
+  o.figure_path = kTmp + "/scan100.png";
+  const FeaturesReport r = FeaturesApp(o).run();
+  EXPECT_GT(r.scans, 500u);
+  ASSERT_TRUE(r.evaluation.has_value());
+  const auto& ev = *r.evaluation;
+  EXPECT_GT(ev.doors().truths, 100u);
+  EXPECT_GE(ev.doors().recall(), 0.85);
+  EXPECT_GE(ev.doors().precision(), 0.9);
+  EXPECT_GT(ev.corners().truths, 20u);
+  EXPECT_GE(ev.corners().recall(), 0.85);
+  EXPECT_GE(ev.corners().precision(), 0.9);
+  EXPECT_LT(r.position_error_m.median, 0.05);
+  // The CSV: the documented columns first, one line per detection.
+  std::ifstream csv(o.out_csv);
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("t,type,x,y,theta,width,confidence,", 0), 0u) << header;
+  std::size_t lines = 0;
+  while (std::getline(csv, line)) ++lines;
+  std::size_t detections = 0;
+  for (std::size_t n : r.detections) detections += n;
+  EXPECT_EQ(lines, detections);
+  EXPECT_TRUE(fs::exists(o.report_dir + "/features.md"));
+  EXPECT_TRUE(fs::exists(o.report_dir + "/features.json"));
+  EXPECT_GT(fs::file_size(o.figure_path), 1000u);
+}
+
+TEST(FeaturesApp, BadInputsAreNamed) {
+  const std::string prefix = simulatedPrefix();
+  FeaturesOptions o;
+  o.input = kTmp + "/no-such.rawlog";
+  EXPECT_THROW(FeaturesApp(o).run(), std::exception);
+  o.input = prefix + ".rawlog";
+  o.truth_path = kTmp + "/bad_truth.csv";
+  std::ofstream(o.truth_path) << "scan,t,type,x,y,theta,width,id\n0,1,door,1,2,0,1,0\n";
+  try {
+    FeaturesApp(o).run();
+    FAIL() << "accepted a bad truth file";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("bad_truth.csv:2"), std::string::npos) << e.what();
+  }
+  o.truth_path.clear();
+  o.config_path = kTmp + "/bad.ini";
+  std::ofstream(o.config_path) << "[features]\ndoor_min_width_m = -1\n";
+  try {
+    FeaturesApp(o).run();
+    FAIL() << "accepted a negative door width";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("door_min_width_m"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace lidarseg::apps
