@@ -106,7 +106,7 @@ case "$cmd" in
   bench)
     install_deps
     build_release
-    for b in bench_segmentation bench_matching bench_simulation; do
+    for b in bench_segmentation bench_matching bench_simulation bench_features; do
       "$ROOT/build/release/tests/benchmarks/$b" \
         --benchmark_repetitions=10 --benchmark_report_aggregates_only=true "${@:2}"
     done
