@@ -32,6 +32,8 @@ int main(int argc, char** argv) {
     TCLAP::SwitchArg log_reference("", "log-reference", "evaluate per-scan motion against the log's own poses (CARMEN corrected logs)", cmd);
     TCLAP::ValueArg<std::string> write_rawlog("", "write-rawlog", "write the input with lidarseg odometry as actions",
                                               false, "", "FILE", cmd);
+    TCLAP::ValueArg<std::string> features_out("", "features-out", "doors and corners of every scan (CSV, robot frame)",
+                                              false, "", "FILE.csv", cmd);
     TCLAP::ValueArg<double> scanner_hz("", "scanner-hz", "scanner rotation frequency for rolling-shutter correction (Hz)",
                                        false, -1.0, "HZ", cmd);
     TCLAP::SwitchArg quiet("q", "quiet", "no progress on stderr", cmd);
@@ -56,6 +58,7 @@ int main(int argc, char** argv) {
     o.relations_tolerance_s = rel_tol.getValue();
     o.log_reference = log_reference.getValue();
     o.write_rawlog = write_rawlog.getValue();
+    o.features_out = features_out.getValue();
     o.scanner_rotation_hz = scanner_hz.getValue();
     o.progress = !quiet.getValue();
     o.plots = !no_plots.getValue();

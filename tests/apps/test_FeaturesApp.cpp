@@ -6,7 +6,12 @@
 
 #include <gtest/gtest.h>
 
+#include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/obs/CRawlog.h>
+#include <mrpt/obs/CSensoryFrame.h>
+
 #include "lidarseg/apps/FeaturesApp.h"
+#include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/apps/SimulateApp.h"
 
 namespace lidarseg::apps {
@@ -93,6 +98,51 @@ TEST(FeaturesApp, BadInputsAreNamed) {
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("door_min_width_m"), std::string::npos) << e.what();
   }
+}
+
+TEST(FeaturesApp, OdometryWritesTheFeaturesAndLandmarksForMrptsSlam) {
+  const std::string prefix = simulatedPrefix();
+  OdometryOptions o;
+  o.input = prefix + ".rawlog";
+  o.progress = false;
+  o.features_out = kTmp + "/odometry_features.csv";
+  o.write_rawlog = kTmp + "/odometry_landmarks.rawlog";
+  OdometryApp(o).run();
+  // The same detections as lidarseg-features on the same log (same defaults), row for row
+  // in count.
+  std::ifstream csv(o.features_out);
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("t,type,x,y,theta,width,confidence,", 0), 0u) << header;
+  std::size_t rows = 0, doors = 0;
+  while (std::getline(csv, line)) {
+    ++rows;
+    doors += line.find(",door_") != std::string::npos ? 1 : 0;
+  }
+  EXPECT_GT(rows, 300u);
+  EXPECT_GT(doors, 100u);
+  // Every sensory frame of the written rawlog holds one range-bearing observation, whose
+  // landmarks have positive ranges and finite covariances.
+  mrpt::obs::CRawlog rawlog;
+  ASSERT_TRUE(rawlog.loadFromRawLogFile(o.write_rawlog));
+  std::size_t frames = 0, landmarks = 0;
+  for (std::size_t i = 0; i < rawlog.size(); ++i) {
+    if (rawlog.getType(i) != mrpt::obs::CRawlog::etSensoryFrame) continue;
+    ++frames;
+    const auto sf = rawlog.getAsObservations(i);
+    const auto br = sf->getObservationByClass<mrpt::obs::CObservationBearingRange>();
+    ASSERT_TRUE(br) << "frame " << i;
+    EXPECT_TRUE(br->validCovariances);
+    for (const auto& m : br->sensedData) {
+      ++landmarks;
+      EXPECT_GT(m.range, 0.0f);
+      EXPECT_EQ(m.landmarkID, -1);
+      EXPECT_GT(m.covariance(0, 0), 0.0);
+      EXPECT_GT(m.covariance(1, 1), 0.0);
+    }
+  }
+  EXPECT_GT(frames, 500u);
+  EXPECT_EQ(landmarks, rows);
 }
 
 }  // namespace

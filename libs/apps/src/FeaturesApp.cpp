@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "FeatureCsv.h"
 #include "Json.h"
 #include "OutputFiles.h"
 #include "Plots.h"
@@ -70,7 +71,7 @@ FeaturesReport FeaturesApp::run() {
   Segmentation segmentation;
   std::vector<Feature> features;
   std::ostringstream csv;
-  csv << "t,type,x,y,theta,width,confidence,scan,var_x,var_y,cov_xy,var_theta,var_width\n";
+  writeFeatureCsvHeader(csv);
   std::vector<double> detect_us, segment_us, errors;
   static const std::vector<eval::TrueFeature> kNone;
   while (auto record = reader.next()) {
@@ -93,19 +94,8 @@ FeaturesReport FeaturesApp::run() {
 
     // Features are in the sensor frame; the CSV speaks of the robot frame.
     const auto& sp = record->observation->sensorPose;
-    const Pose2D T_robot_sensor{sp.x(), sp.y(), sp.yaw()};
-    const double c = std::cos(T_robot_sensor.yaw), s = std::sin(T_robot_sensor.yaw);
-    Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-    R.topLeftCorner<2, 2>() << c, -s, s, c;
-    for (const Feature& f : features) {
-      ++report.detections[static_cast<std::size_t>(f.type)];
-      const Pose2D p = compose(T_robot_sensor, {f.position.x(), f.position.y(), f.theta_rad});
-      const Eigen::Matrix3d cov = R * f.covariance * R.transpose();
-      csv << std::setprecision(16) << record->stamp_s << ',' << toString(f.type) << std::setprecision(6) << ','
-          << p.x << ',' << p.y << ',' << p.yaw << ',' << f.width_m << ',' << f.confidence << ',' << record->index
-          << ',' << cov(0, 0) << ',' << cov(1, 1) << ',' << cov(0, 1) << ',' << cov(2, 2) << ','
-          << f.width_variance_m2 << '\n';
-    }
+    for (const Feature& f : features) ++report.detections[static_cast<std::size_t>(f.type)];
+    writeFeatureCsvRows(csv, record->stamp_s, record->index, {sp.x(), sp.y(), sp.yaw()}, features);
     if (report.evaluation) {
       // The simulator's truth is in the robot frame, which is its lidar's frame.
       const auto it = truth.find(record->index);

@@ -22,9 +22,13 @@
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/slam/CICP.h>
 
+#include "FeatureCsv.h"
 #include "Json.h"
 #include "OutputFiles.h"
 #include "Plots.h"
+#include "lidarseg/core/FeatureDetector.h"
+#include "lidarseg/mrpt/FeatureConfig.h"
+#include "lidarseg/mrpt/FeatureObservation.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/mrpt/LaserOdometry.h"
 #include "lidarseg/mrpt/OdometryConfig.h"
@@ -121,9 +125,11 @@ OdometryReport OdometryApp::run() {
 
   // Configuration: lidarseg's sections and MRPT's ICP section.
   OdometryParams params;
+  FeatureDetectorParams feature_params;
   mrpt::slam::CICP icp;
   if (!o.config_path.empty()) {
     params = mrpt_adapter::loadOdometryParamsFile(o.config_path);
+    feature_params = mrpt_adapter::loadFeatureDetectorParamsFile(o.config_path);
     mrpt::config::CConfigFile cfg(o.config_path);
     if (cfg.sectionExists("icp")) icp.options.loadFromConfigFile(cfg, "icp");
   }
@@ -146,6 +152,12 @@ OdometryReport OdometryApp::run() {
   mrpt_adapter::LaserLogReader reader(o.input, o.sensor);
   report.format = reader.format() == mrpt_adapter::LogFormat::kRawlog ? "rawlog" : "carmen";
   mrpt_adapter::LaserOdometry odometry(params);
+  // Doors and corners, when an output wants them.
+  const bool want_features = !o.features_out.empty() || !o.write_rawlog.empty();
+  const FeatureDetector detector(feature_params);
+  std::vector<Feature> features;
+  std::ostringstream features_csv;
+  writeFeatureCsvHeader(features_csv);
 
   report.lidarseg.name = "lidarseg";
   MethodReport icp_report;
@@ -267,6 +279,11 @@ OdometryReport OdometryApp::run() {
     report.lidarseg.final_sigma_y_m = std::sqrt(step.robot_pose.cov(1, 1));
     report.lidarseg.final_sigma_yaw_rad = std::sqrt(step.robot_pose.cov(2, 2));
     if (record->log_pose) log_poses.push_back({stamp, *record->log_pose});
+    if (want_features) {
+      detector.detect(odometry.core().lastSegmentation(), features);
+      const auto& sp = obs.sensorPose;
+      writeFeatureCsvRows(features_csv, stamp, record->index, {sp.x(), sp.y(), sp.yaw()}, features);
+    }
 
     // MRPT ICP, scan to scan, with the same kind of prior.
     if (o.baseline_icp) {
@@ -322,6 +339,9 @@ OdometryReport OdometryApp::run() {
         if (!std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(other)) frame.insert(other);
       }
       frame.insert(record->observation);
+      auto landmarks = mrpt_adapter::makeBearingRangeObservation(features, obs.sensorPose, obs.maxRange, obs.aperture);
+      landmarks->timestamp = obs.timestamp;
+      frame.insert(landmarks);
       archive << frame;
     }
     last_lidarseg_pose = pose;
@@ -421,6 +441,7 @@ OdometryReport OdometryApp::run() {
     report.outputs = {path("lidarseg.tum"), path("timing.csv"), path("summary.json"), path("results.md")};
     if (report.icp) report.outputs.push_back(path("icp.tum"));
   }
+  if (!o.features_out.empty()) outputs.add(o.features_out, features_csv.str());
   outputs.commit();
   if (!o.write_rawlog.empty()) report.outputs.push_back(o.write_rawlog);
   return report;

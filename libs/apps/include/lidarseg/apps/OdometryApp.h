@@ -42,8 +42,12 @@ struct OdometryOptions {
   /// Use the poses written in the log (CARMEN laser lines; the corrected poses of
   /// "corrected" logs) as the reference of a per-scan relative-motion evaluation.
   bool log_reference = false;
-  /// Write the input back with lidarseg's odometry as the robot's movement.
+  /// Write the input back with lidarseg's odometry as the robot's movement, and the doors
+  /// and corners of each scan as a CObservationBearingRange (landmarks for MRPT's EKF SLAM).
   std::string write_rawlog;
+  /// Doors and corners of every scan (the [features] section of the configuration), robot
+  /// frame: `t,type,x,y,theta,width,confidence,scan,var_x,var_y,cov_xy,var_theta,var_width`.
+  std::string features_out;
   /// Scanner rotation frequency for rolling-shutter correction (Hz); < 0 = the config's.
   double scanner_rotation_hz = -1.0;
   /// Progress on stderr (only shown when stderr is a terminal).
