@@ -21,6 +21,13 @@ namespace lidarseg::vision {
 namespace {
 namespace fs = std::filesystem;
 
+std::vector<std::string> splitCsv(const std::string& line) {
+  std::vector<std::string> c;
+  std::stringstream ss(line);
+  for (std::string s; std::getline(ss, s, ',');) c.push_back(s);
+  return c;
+}
+
 // The simulator's default camera (0.6 m above the floor) seen from its lidar (0.3 m).
 CameraParams simulatorCamera() {
   const sim::PinholeCamera c;
@@ -125,9 +132,7 @@ TEST(RoiProjector, DetectedDoorsMatchTheSimulatorsDoorBoxes) {
     std::string row;
     std::getline(f, row);
     while (std::getline(f, row)) {
-      std::vector<std::string> c;
-      std::stringstream ss(row);
-      for (std::string s; std::getline(ss, s, ',');) c.push_back(s);
+      const auto c = splitCsv(row);
       ASSERT_EQ(c.size(), 10u) << row;
       if (c[2].rfind("door_", 0) == 0 && c[8] == "1") resolvable.emplace(std::stoul(c[0]), std::stoul(c[7]));
     }
@@ -139,9 +144,7 @@ TEST(RoiProjector, DetectedDoorsMatchTheSimulatorsDoorBoxes) {
   std::string line;
   std::getline(in, line);
   while (std::getline(in, line)) {
-    std::vector<std::string> c;
-    std::stringstream ss(line);
-    for (std::string s; std::getline(ss, s, ',');) c.push_back(s);
+    const auto c = splitCsv(line);
     ASSERT_EQ(c.size(), 10u) << line;
     const int u0 = std::stoi(c[6]), v0 = std::stoi(c[7]), u1 = std::stoi(c[8]), v1 = std::stoi(c[9]);
     if (resolvable.count({std::stoul(c[1]), std::stoul(c[4])}) == 0) continue;

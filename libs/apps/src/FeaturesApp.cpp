@@ -13,6 +13,7 @@
 #include "Json.h"
 #include "OutputFiles.h"
 #include "Plots.h"
+#include "Timing.h"
 #include "lidarseg/core/FeatureDetector.h"
 #include "lidarseg/core/ScanSegmenter.h"
 #include "lidarseg/mrpt/FeatureConfig.h"
@@ -23,12 +24,6 @@
 namespace lidarseg::apps {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double microsecondsSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
-}
 
 std::string fixed(double v, int digits) {
   if (!std::isfinite(v)) return "n/a";

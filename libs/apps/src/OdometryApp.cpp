@@ -26,6 +26,7 @@
 #include "Json.h"
 #include "OutputFiles.h"
 #include "Plots.h"
+#include "Timing.h"
 #include "lidarseg/core/FeatureDetector.h"
 #include "lidarseg/mrpt/FeatureConfig.h"
 #include "lidarseg/mrpt/FeatureObservation.h"
@@ -39,11 +40,6 @@ namespace lidarseg::apps {
 namespace fs = std::filesystem;
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double microsecondsSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
-}
 
 using mrpt_adapter::toMrpt;
 using mrpt_adapter::toPose2D;
@@ -282,7 +278,9 @@ OdometryReport OdometryApp::run() {
     if (want_features) {
       detector.detect(odometry.core().lastSegmentation(), features);
       const auto& sp = obs.sensorPose;
-      writeFeatureCsvRows(features_csv, stamp, record->index, {sp.x(), sp.y(), sp.yaw()}, features);
+      if (!o.features_out.empty()) {
+        writeFeatureCsvRows(features_csv, stamp, record->index, {sp.x(), sp.y(), sp.yaw()}, features);
+      }
     }
 
     // MRPT ICP, scan to scan, with the same kind of prior.

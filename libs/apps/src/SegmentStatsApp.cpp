@@ -1,6 +1,7 @@
 #include "lidarseg/apps/SegmentStatsApp.h"
 
 #include "OutputFiles.h"
+#include "Timing.h"
 
 #include <chrono>
 #include <cmath>
@@ -21,10 +22,6 @@ namespace lidarseg::apps {
 namespace {
 
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
-
-double microsecondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
-}
 
 struct LevelAccumulator {
   std::vector<double> counts;
@@ -66,10 +63,10 @@ SegmentStatsReport SegmentStatsApp::run() {
     double wd_us = 0.0, cascade_us = 0.0;
     try {
       scan = converter.convert(obs);
-      const auto t0 = std::chrono::steady_clock::now();
+      const auto t0 = Clock::now();
       segmenter.wallDanielsson().segment(scan, seg);
       wd_us = microsecondsSince(t0);
-      const auto t1 = std::chrono::steady_clock::now();
+      const auto t1 = Clock::now();
       segmenter.cascade().apply(seg);
       cascade_us = microsecondsSince(t1);
     } catch (const std::exception& e) {

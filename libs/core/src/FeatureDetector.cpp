@@ -53,30 +53,6 @@ std::size_t beamsBetween(std::uint32_t last_of_a, std::uint32_t first_of_b, std:
 
 }  // namespace
 
-const char* toString(FeatureType type) {
-  switch (type) {
-    case FeatureType::kDoorOpen:
-      return "door_open";
-    case FeatureType::kDoorClosed:
-      return "door_closed";
-    case FeatureType::kDoorAjar:
-      return "door_ajar";
-    case FeatureType::kCornerConvex:
-      return "corner_convex";
-    case FeatureType::kCornerConcave:
-      return "corner_concave";
-  }
-  return "unknown";
-}
-
-std::optional<FeatureType> featureTypeFromString(const std::string& name) {
-  for (std::size_t i = 0; i < kNumFeatureTypes; ++i) {
-    const auto t = static_cast<FeatureType>(i);
-    if (name == toString(t)) return t;
-  }
-  return std::nullopt;
-}
-
 void FeatureDetectorParams::validate() const {
   using detail::failKey;
   using detail::requireInRange;

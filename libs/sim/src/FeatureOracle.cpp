@@ -14,6 +14,12 @@ constexpr double kSamePoint = 1e-3;        // m: endpoints this close are one co
 constexpr double kHiddenTolerance = 0.05;  // m
 
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// Angle under which the points a and b are seen from `from` (rad, in [0, pi]).
+double subtended(const Eigen::Vector2d& from, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d da = a - from, db = b - from;
+  return std::abs(std::remainder(std::atan2(db.y(), db.x()) - std::atan2(da.y(), da.x()), 2 * kPi));
+}
 }  // namespace
 
 FeatureOracle::FeatureOracle(const World& world, const FeatureOracleParams& params)
@@ -117,10 +123,7 @@ bool FeatureOracle::seenWithBeams(const Eigen::Vector2d& from, const Eigen::Vect
   for (double f : {0.05, 0.5, 0.95}) {
     if (!reachable(from, a + f * e)) return false;
   }
-  const double angle = std::abs(std::remainder(std::atan2((b - from).y(), (b - from).x()) -
-                                                   std::atan2((a - from).y(), (a - from).x()),
-                                               2 * kPi));
-  return angle >= static_cast<double>(min_beams) * step_rad;
+  return subtended(from, a, b) >= static_cast<double>(min_beams) * step_rad;
 }
 
 std::vector<Feature> FeatureOracle::visible(const Pose2& T, const BeamLayout& layout,
@@ -152,9 +155,7 @@ std::vector<Feature> FeatureOracle::visible(const Pose2& T, const BeamLayout& la
     f.theta_rad = std::remainder(std::atan2(normal.y(), normal.x()) - T.yaw, 2 * kPi);
     f.width_m = d.width();
     f.id = i;
-    const double gap = std::abs(std::remainder(std::atan2((d.jamb_b - origin).y(), (d.jamb_b - origin).x()) -
-                                                   std::atan2((d.jamb_a - origin).y(), (d.jamb_a - origin).x()),
-                                               2 * kPi));
+    const double gap = subtended(origin, d.jamb_a, d.jamb_b);
     const Eigen::Vector2d wall_a = d.jamb_a - p.wall_check_m * u, wall_b = d.jamb_b + p.wall_check_m * u;
     f.resolvable = inView(T, layout, max_range_m, wall_a, unused) &&
                    inView(T, layout, max_range_m, wall_b, unused) && gap >= static_cast<double>(p.min_gap_beams) * step &&
