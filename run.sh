@@ -15,7 +15,8 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 JOBS="$(nproc 2>/dev/null || echo 2)"
 DEFAULT_RAWLOG="/usr/share/mrpt/datasets/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog"
 PACKAGES=(cmake g++ make pkg-config libmrpt-dev mrpt-common mrpt-apps libeigen3-dev
-          libopencv-dev libnanoflann-dev googletest libgtest-dev libbenchmark-dev zlib1g-dev)
+          libopencv-dev libnanoflann-dev googletest libgtest-dev libbenchmark-dev zlib1g-dev
+          opencv-doc)
 
 log() { echo "[run.sh] $*" >&2; }
 
@@ -106,7 +107,7 @@ case "$cmd" in
   bench)
     install_deps
     build_release
-    for b in bench_segmentation bench_matching bench_simulation bench_features; do
+    for b in bench_segmentation bench_matching bench_simulation bench_features bench_people; do
       "$ROOT/build/release/tests/benchmarks/$b" \
         --benchmark_repetitions=10 --benchmark_report_aggregates_only=true "${@:2}"
     done

@@ -23,6 +23,12 @@ int main(int argc, char** argv) {
     TCLAP::ValueArg<std::size_t> figure_scan("", "figure-scan", "scan to draw (with --figure)", false, 0, "N", cmd);
     TCLAP::ValueArg<std::string> figure("", "figure", "PNG of that scan: raw points, segments, doors, corners", false,
                                         "", "FILE.png", cmd);
+    TCLAP::ValueArg<std::string> rois("", "rois-out",
+                                      "regions of interest of every camera image (CSV image,scan,t,file,feature,type,"
+                                      "u_min,v_min,u_max,v_max,clipped); camera from [camera] or the image's own",
+                                      false, "", "FILE.csv", cmd);
+    TCLAP::ValueArg<std::string> images("", "images-out", "camera images with the ROI boxes drawn (paper Fig. 7)",
+                                        false, "", "DIR", cmd);
     cmd.parse(argc, argv);
 
     lidarseg::apps::FeaturesOptions options;
@@ -38,6 +44,8 @@ int main(int argc, char** argv) {
       options.figure_scan = figure_scan.getValue();
       options.figure_path = figure.getValue();
     }
+    options.rois_out = rois.getValue();
+    options.images_out = images.getValue();
     lidarseg::apps::FeaturesApp app(options);
     lidarseg::apps::FeaturesApp::print(app.run(), std::cout);
     return 0;

@@ -6,9 +6,12 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+
+#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <stdexcept>
 
+#include "CameraRois.h"
 #include "FeatureCsv.h"
 #include "Json.h"
 #include "OutputFiles.h"
@@ -20,6 +23,7 @@
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/mrpt/ScanConverter.h"
 #include "lidarseg/mrpt/OdometryConfig.h"
+#include "lidarseg/mrpt/VisionConfig.h"
 
 namespace lidarseg::apps {
 
@@ -50,6 +54,9 @@ FeaturesReport FeaturesApp::run() {
     seg_params = mrpt_adapter::loadOdometryParamsFile(path).segmentation;
     det_params = mrpt_adapter::loadFeatureDetectorParamsFile(path);
   }
+  mrpt_adapter::VisionConfig vision_config;
+  if (!options_.config_path.empty()) vision_config = mrpt_adapter::loadVisionConfigFile(options_.config_path);
+  const CameraRois camera_rois(options_.input, vision_config.camera, vision_config.rois);
   const ScanSegmenter segmenter(seg_params);
   const FeatureDetector detector(det_params);
 
@@ -69,7 +76,54 @@ FeaturesReport FeaturesApp::run() {
   writeFeatureCsvHeader(csv);
   std::vector<double> detect_us, segment_us, errors;
   static const std::vector<eval::TrueFeature> kNone;
+  // The last scan processed: a camera image is given the features of the scan before it.
+  struct LastScan {
+    std::size_t index = 0;
+    mrpt::poses::CPose3D lidar_on_robot;
+    std::vector<Feature> features;
+  };
+  std::optional<LastScan> last;
+  std::ostringstream rois_csv;
+  writeRoiCsvHeader(rois_csv);
+  std::vector<double> coverage;
+  OutputSet outputs;
+  if (!options_.images_out.empty()) std::filesystem::create_directories(options_.images_out);
+  auto handleImages = [&](const mrpt_adapter::LaserRecord& record) {
+    for (const auto& obs : record.companions) {
+      const auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(obs);
+      if (!image) continue;
+      const std::size_t n = report.images++;
+      if (!last) continue;
+      std::vector<vision::Roi> rois;
+      try {
+        rois = camera_rois.project(*image, last->lidar_on_robot, last->features);
+      } catch (const std::invalid_argument& e) {
+        report.skipped.push_back(record.where + ": image " + std::to_string(n) + ": " + e.what());
+        continue;
+      }
+      const std::string file = CameraRois::fileOf(*image);
+      writeRoiCsvRows(rois_csv, n, last->index, mrpt::Clock::toDouble(image->timestamp), file, rois);
+      std::vector<cv::Rect> boxes;
+      for (const vision::Roi& r : rois) boxes.push_back(r.box);
+      const auto& cam = image->cameraParams;
+      const cv::Size size = vision_config.camera ? cv::Size(vision_config.camera->width, vision_config.camera->height)
+                                                 : cv::Size(static_cast<int>(cam.ncols), static_cast<int>(cam.nrows));
+      coverage.push_back(vision::coveredFraction(boxes, size));
+      report.rois += rois.size();
+      if (!rois.empty()) ++report.images_with_rois;
+      if (!options_.images_out.empty()) {
+        cv::Mat bgr = camera_rois.pixels(*image);
+        drawRois(bgr, rois);
+        char name[32];
+        std::snprintf(name, sizeof(name), "rois_%06zu.png", n);
+        std::vector<uchar> png;
+        cv::imencode(".png", bgr, png);
+        outputs.add(options_.images_out + "/" + name, std::string(png.begin(), png.end()));
+      }
+    }
+  };
   while (auto record = reader.next()) {
+    handleImages(*record);
     if (options_.max_scans > 0 && report.scans >= options_.max_scans) break;
     Scan scan;
     try {
@@ -89,6 +143,7 @@ FeaturesReport FeaturesApp::run() {
 
     // Features are in the sensor frame; the CSV speaks of the robot frame.
     const auto& sp = record->observation->sensorPose;
+    last = LastScan{record->index, sp, features};
     for (const Feature& f : features) ++report.detections[static_cast<std::size_t>(f.type)];
     writeFeatureCsvRows(csv, record->stamp_s, record->index, {sp.x(), sp.y(), sp.yaw()}, features);
     if (report.evaluation) {
@@ -123,9 +178,10 @@ FeaturesReport FeaturesApp::run() {
   report.detect_us = summarize(detect_us);
   report.segment_us = summarize(segment_us);
   report.position_error_m = summarize(errors);
+  report.roi_coverage = summarize(coverage);
 
-  OutputSet outputs;
   if (!options_.out_csv.empty()) outputs.add(options_.out_csv, csv.str());
+  if (!options_.rois_out.empty()) outputs.add(options_.rois_out, rois_csv.str());
   if (!options_.report_dir.empty()) {
     std::filesystem::create_directories(options_.report_dir);
     outputs.add(options_.report_dir + "/features.md", markdown(report));
@@ -133,6 +189,8 @@ FeaturesReport FeaturesApp::run() {
     json.beginObject();
     json.value("input", report.input).value("scans", report.scans);
     json.value("detect_us_median", report.detect_us.median).value("segment_us_median", report.segment_us.median);
+    json.value("images", report.images).value("images_with_rois", report.images_with_rois).value("rois", report.rois);
+    json.value("roi_coverage_median", report.roi_coverage.median).value("roi_coverage_mean", report.roi_coverage.mean);
     if (report.evaluation) {
       const auto& ev = *report.evaluation;
       json.value("gate_m", ev.gate());
@@ -166,6 +224,11 @@ std::string FeaturesApp::markdown(const FeaturesReport& r) {
   os << "| type | detections |\n|---|---:|\n";
   for (std::size_t k = 0; k < kNumFeatureTypes; ++k) {
     os << "| " << toString(static_cast<FeatureType>(k)) << " | " << r.detections[k] << " |\n";
+  }
+  if (r.images > 0) {
+    os << "\nCamera: " << r.images << " images, " << r.images_with_rois << " with regions of interest, " << r.rois
+       << " regions; share of the image they cover: median " << fixed(r.roi_coverage.median, 3) << ", mean "
+       << fixed(r.roi_coverage.mean, 3) << ", max " << fixed(r.roi_coverage.max, 3) << ".\n";
   }
   if (!r.evaluation) return os.str();
   const auto& ev = *r.evaluation;

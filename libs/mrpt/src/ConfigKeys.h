@@ -6,6 +6,7 @@
 // number parsing, unknown-key check, validate(), errors naming file:line [section] key),
 // save (full precision) and the list of keys.
 
+#include <limits>
 #include <map>
 #include <string>
 #include <type_traits>
@@ -91,7 +92,11 @@ void loadKeys(Params& params, const mrpt::config::CConfigFileBase& cfg, const st
     } else if constexpr (std::is_enum_v<Field>) {
       field = static_cast<Field>(parseCount(text, where(source, lines, section, key)));
     } else {
-      field = static_cast<Field>(parseCount(text, where(source, lines, section, key)));
+      const std::size_t v = parseCount(text, where(source, lines, section, key));
+      if (v > static_cast<std::size_t>(std::numeric_limits<Field>::max())) {
+        throw std::invalid_argument(where(source, lines, section, key) + ": '" + text + "' is too large");
+      }
+      field = static_cast<Field>(v);
     }
   });
   try {

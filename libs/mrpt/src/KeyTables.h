@@ -4,6 +4,9 @@
 
 #include "lidarseg/core/FeatureDetector.h"
 #include "lidarseg/core/SegmentOdometry.h"
+#include "lidarseg/vision/CameraModel.h"
+#include "lidarseg/vision/PeopleDetector.h"
+#include "lidarseg/vision/RegionsOfInterest.h"
 
 namespace lidarseg::mrpt_adapter::detail {
 
@@ -97,6 +100,55 @@ struct FeatureKeys {
     visit("door_hinge_tolerance_m", p.door_hinge_tolerance_m);
     visit("corner_door_exclusion_m", p.corner_door_exclusion_m);
     visit("door_max_segments_between", p.door_max_segments_between);
+  }
+};
+
+// Every key of the [camera] section: image size, K, distortion, pose in the lidar frame.
+struct CameraKeys {
+  template <typename Params, typename Visitor>
+  void operator()(Params& p, Visitor&& visit) const {
+    visit("width", p.width);
+    visit("height", p.height);
+    visit("fx", p.fx);
+    visit("fy", p.fy);
+    visit("cx", p.cx);
+    visit("cy", p.cy);
+    visit("k1", p.k1);
+    visit("k2", p.k2);
+    visit("p1", p.p1);
+    visit("p2", p.p2);
+    visit("k3", p.k3);
+    visit("x_m", p.x_m);
+    visit("y_m", p.y_m);
+    visit("z_m", p.z_m);
+    visit("yaw_rad", p.yaw_rad);
+    visit("pitch_rad", p.pitch_rad);
+    visit("roll_rad", p.roll_rad);
+  }
+};
+
+// Every key of the [rois] section: how a feature becomes a box.
+struct RoiKeys {
+  template <typename Params, typename Visitor>
+  void operator()(Params& p, Visitor&& visit) const {
+    visit("lidar_height_m", p.lidar_height_m);
+    visit("door_height_m", p.door_height_m);
+    visit("corner_strip_m", p.corner_strip_m);
+    visit("corner_height_m", p.corner_height_m);
+    visit("min_size_px", p.min_size_px);
+  }
+};
+
+// Every key of the [people] section: the HOG detector and its crops.
+struct PeopleKeys {
+  template <typename Params, typename Visitor>
+  void operator()(Params& p, Visitor&& visit) const {
+    visit("hit_threshold", p.hit_threshold);
+    visit("win_stride_px", p.win_stride_px);
+    visit("scale_step", p.scale_step);
+    visit("group_threshold", p.group_threshold);
+    visit("roi_margin", p.roi_margin);
+    visit("image_scale", p.image_scale);
   }
 };
 

@@ -50,6 +50,22 @@ CameraModel::CameraModel(const CameraParams& params) : params_(params) {
   T_camera_lidar_.topLeftCorner<3, 3>() = R_lidar_camera.transpose();
   T_camera_lidar_.topRightCorner<3, 1>() =
       -R_lidar_camera.transpose() * Eigen::Vector3d(params_.x_m, params_.y_m, params_.z_m);
+  setIntrinsics();
+}
+
+CameraModel::CameraModel(const CameraParams& intrinsics, const Eigen::Matrix4d& T_camera_lidar)
+    : params_(intrinsics), T_camera_lidar_(T_camera_lidar) {
+  params_.validate();
+  const Eigen::Matrix3d R = T_camera_lidar_.topLeftCorner<3, 3>();
+  const bool finite = T_camera_lidar_.allFinite();
+  if (!finite || (R.transpose() * R - Eigen::Matrix3d::Identity()).norm() > 1e-6 || std::abs(R.determinant() - 1) > 1e-6 ||
+      (T_camera_lidar_.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() > 1e-12) {
+    throw std::invalid_argument("T_camera_lidar must be a rigid transformation (rotation and translation)");
+  }
+  setIntrinsics();
+}
+
+void CameraModel::setIntrinsics() {
   K_ = cv::Matx33d(params_.fx, 0, params_.cx, 0, params_.fy, params_.cy, 0, 0, 1);
   distortion_ = (cv::Mat_<double>(1, 5) << params_.k1, params_.k2, params_.p1, params_.p2, params_.k3);
 }

@@ -38,6 +38,13 @@ struct FeaturesOptions {
   /// corners (green). Scan index and PNG path.
   std::optional<std::size_t> figure_scan;
   std::string figure_path;
+  /// Regions of interest of every camera image of the log (paper Fig. 7): the features of
+  /// the scan just before the image projected with the [camera] section of the
+  /// configuration, or with the image's own calibration when there is none. CSV
+  /// `image,scan,t,file,feature,type,u_min,v_min,u_max,v_max,clipped` (pixels, inclusive).
+  std::string rois_out;
+  /// Directory for the camera images with their ROI boxes drawn (doors red, corners green).
+  std::string images_out;
 };
 
 /// Everything `lidarseg-features` measured.
@@ -53,6 +60,12 @@ struct FeaturesReport {
   /// Present when a ground truth was given.
   std::optional<eval::FeatureEvaluation> evaluation;
   Summary position_error_m;
+  /// Camera images met, images given regions, regions in all, and the share of each
+  /// image the regions cover (0..1, per image).
+  std::size_t images = 0;
+  std::size_t images_with_rois = 0;
+  std::size_t rois = 0;
+  Summary roi_coverage;
   /// Scans skipped (unreadable), with the reason.
   std::vector<std::string> skipped;
 };

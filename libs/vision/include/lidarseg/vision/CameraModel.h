@@ -33,6 +33,12 @@ class CameraModel {
  public:
   /// @throws std::invalid_argument for invalid parameters.
   explicit CameraModel(const CameraParams& params = {});
+  /// A camera whose pose comes as a matrix (e.g. from a log's calibration): the intrinsics,
+  /// distortion and image size of `intrinsics` (its pose fields are ignored) and
+  /// T_camera_lidar, lidar-frame points to camera-frame points.
+  /// @throws std::invalid_argument for invalid intrinsics or a matrix that is not a rigid
+  /// transformation.
+  CameraModel(const CameraParams& intrinsics, const Eigen::Matrix4d& T_camera_lidar);
 
   const CameraParams& params() const { return params_; }
   /// T_camera_lidar (4 x 4): lidar-frame points to camera-frame points.
@@ -51,6 +57,8 @@ class CameraModel {
   Eigen::Matrix4d T_camera_lidar_;
   cv::Matx33d K_;
   cv::Mat distortion_;
+
+  void setIntrinsics();
 };
 
 }  // namespace lidarseg::vision

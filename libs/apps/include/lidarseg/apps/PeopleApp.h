@@ -1,0 +1,89 @@
+#pragma once
+/// @file PeopleApp.h
+/// The logic of `lidarseg-people`: OpenCV's HOG people detector on every frame of a video or
+/// image sequence, once on the whole frame and once only inside regions of interest, timed
+/// and compared (beyond the paper: its §V future work).
+
+#include <cstddef>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "lidarseg/core/Statistics.h"
+
+namespace lidarseg::apps {
+
+/// Command-line options of `lidarseg-people`.
+struct PeopleOptions {
+  /// A video file (anything OpenCV's VideoCapture reads), a directory of images (read in
+  /// name order), or one image.
+  std::string input;
+  /// Regions per frame: CSV with a header naming u_min,v_min,u_max,v_max (pixels,
+  /// inclusive) and the frame as `frame` or `image` (0-based index; -1 or * = every frame)
+  /// or `file` (image file name). lidarseg-features --rois-out writes such a file.
+  std::string rois_path;
+  /// Regions for every frame, "u_min,v_min,u_max,v_max" each.
+  std::vector<std::string> rois;
+  /// INI/YAML file with a [people] section (optional).
+  std::string config_path;
+  std::size_t max_frames = 0;  ///< 0: all
+  std::size_t every = 1;       ///< analyse every N-th frame
+  /// OpenCV worker threads (1 gives per-frame costs that compare across runs).
+  int threads = 1;
+  /// A detection found on the whole frame is "inside the regions" when its centre lies in
+  /// one (before the margin); it is "still found" when a detection inside the regions
+  /// overlaps it with at least this IoU.
+  double match_iou = 0.5;
+  /// Detections `frame,mode,u_min,v_min,u_max,v_max,score` (mode: full or rois).
+  std::string out_csv;
+  /// Directory for people.md and people.json.
+  std::string report_dir;
+  /// Directory for annotated frames (regions yellow, analysed crops grey, whole-frame
+  /// detections blue, detections inside the regions red), every `draw_every` analysed frame.
+  std::string draw_dir;
+  std::size_t draw_every = 50;
+};
+
+/// Everything `lidarseg-people` measured.
+struct PeopleReport {
+  std::string input;
+  std::size_t frames = 0;       ///< analysed
+  cv::Size frame_size;
+  /// Time per frame of the detector (ms): whole frame and inside the regions.
+  Summary full_ms;
+  Summary rois_ms;
+  /// Per frame: share of the image analysed inside the regions (0..1), and time inside the
+  /// regions over time on the whole frame.
+  Summary analysed_fraction;
+  Summary time_ratio;
+  std::size_t people_full = 0;         ///< detections on the whole frames
+  std::size_t people_in_regions = 0;   ///< of those, centred inside a region
+  std::size_t people_still_found = 0;  ///< of those, found by the detection inside the regions
+  std::size_t people_rois = 0;         ///< detections inside the regions
+  std::size_t people_rois_confirmed = 0;  ///< of those, overlapping a whole-frame detection
+
+  double recallInRegions() const;
+};
+
+class PeopleApp {
+ public:
+  /// @throws std::invalid_argument for bad options (naming the option and value).
+  explicit PeopleApp(PeopleOptions options);
+
+  /// @throws std::runtime_error naming the file (and line) for unreadable input or regions.
+  PeopleReport run();
+
+  static std::string markdown(const PeopleReport& report);
+  static void print(const PeopleReport& report, std::ostream& os);
+
+ private:
+  PeopleOptions options_;
+};
+
+/// Parses "u_min,v_min,u_max,v_max" (inclusive pixels).
+/// @throws std::invalid_argument naming `what` and the text.
+cv::Rect parseRegion(const std::string& text, const std::string& what);
+
+}  // namespace lidarseg::apps

@@ -1,0 +1,343 @@
+#include "lidarseg/apps/PeopleApp.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <optional>
+#include <ostream>
+#include <sstream>
+#include <stdexcept>
+
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "Json.h"
+#include "OutputFiles.h"
+#include "Timing.h"
+#include "lidarseg/mrpt/VisionConfig.h"
+#include "lidarseg/vision/PeopleDetector.h"
+#include "lidarseg/vision/RegionsOfInterest.h"
+
+namespace lidarseg::apps {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string fixed(double v, int digits) {
+  if (!std::isfinite(v)) return "n/a";
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(digits) << v;
+  return os.str();
+}
+
+std::vector<std::string> splitCsv(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream ss(line);
+  for (std::string c; std::getline(ss, c, ',');) {
+    const auto b = c.find_first_not_of(" \t\r"), e = c.find_last_not_of(" \t\r");
+    cells.push_back(b == std::string::npos ? std::string() : c.substr(b, e - b + 1));
+  }
+  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  return cells;
+}
+
+long parseInteger(const std::string& text, const std::string& where) {
+  std::size_t used = 0;
+  long v = 0;
+  try {
+    v = std::stol(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size()) throw std::runtime_error(where + ": '" + text + "' is not a whole number");
+  return v;
+}
+
+// Regions per frame, as read from a CSV file and the command line.
+class RegionTable {
+ public:
+  void addEveryFrame(const cv::Rect& r) { every_.push_back(r); }
+
+  void read(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw std::runtime_error("cannot read regions file '" + path + "'");
+    std::string line;
+    if (!std::getline(in, line)) throw std::runtime_error(path + ": empty (no header)");
+    const auto header = splitCsv(line);
+    auto column = [&](const std::string& name) -> std::optional<std::size_t> {
+      const auto it = std::find(header.begin(), header.end(), name);
+      if (it == header.end()) return std::nullopt;
+      return static_cast<std::size_t>(it - header.begin());
+    };
+    std::array<std::size_t, 4> box{};
+    const char* names[4] = {"u_min", "v_min", "u_max", "v_max"};
+    for (int k = 0; k < 4; ++k) {
+      const auto c = column(names[k]);
+      if (!c) throw std::runtime_error(path + ":1: no column '" + names[k] + "' in the header");
+      box[k] = *c;
+    }
+    const auto frame_col = column("frame") ? column("frame") : column("image");
+    const auto file_col = column("file");
+    if (!frame_col && !file_col) throw std::runtime_error(path + ":1: no column 'frame', 'image' or 'file' in the header");
+    for (std::size_t n = 2; std::getline(in, line); ++n) {
+      if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+      const auto cells = splitCsv(line);
+      const std::string at = path + ":" + std::to_string(n);
+      if (cells.size() != header.size()) {
+        throw std::runtime_error(at + ": " + std::to_string(cells.size()) + " fields, the header has " +
+                                 std::to_string(header.size()));
+      }
+      long v[4];
+      for (int k = 0; k < 4; ++k) v[k] = parseInteger(cells[box[k]], at + " " + names[k]);
+      if (v[2] < v[0] || v[3] < v[1]) throw std::runtime_error(at + ": u_max/v_max below u_min/v_min");
+      const cv::Rect r(static_cast<int>(v[0]), static_cast<int>(v[1]), static_cast<int>(v[2] - v[0] + 1),
+                       static_cast<int>(v[3] - v[1] + 1));
+      if (file_col && !cells[*file_col].empty()) {
+        by_file_[cells[*file_col]].push_back(r);
+      } else if (frame_col) {
+        const std::string& f = cells[*frame_col];
+        const long index = f == "*" ? -1 : parseInteger(f, at + " " + header[*frame_col]);
+        if (index < 0) {
+          every_.push_back(r);
+        } else {
+          by_index_[static_cast<std::size_t>(index)].push_back(r);
+        }
+      } else {
+        throw std::runtime_error(at + ": empty 'file' and no frame column");
+      }
+    }
+  }
+
+  std::vector<cv::Rect> of(std::size_t index, const std::string& file) const {
+    std::vector<cv::Rect> out = every_;
+    if (const auto it = by_index_.find(index); it != by_index_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+    if (const auto it = by_file_.find(file); it != by_file_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+    return out;
+  }
+
+  bool empty() const { return every_.empty() && by_index_.empty() && by_file_.empty(); }
+
+ private:
+  std::vector<cv::Rect> every_;
+  std::map<std::size_t, std::vector<cv::Rect>> by_index_;
+  std::map<std::string, std::vector<cv::Rect>> by_file_;
+};
+
+// Frames of a video, a directory of images or one image.
+class FrameSource {
+ public:
+  explicit FrameSource(const std::string& input) : input_(input) {
+    if (fs::is_directory(input)) {
+      for (const auto& e : fs::directory_iterator(input)) {
+        std::string ext = e.path().extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+        if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".ppm" || ext == ".pgm") {
+          files_.push_back(e.path().string());
+        }
+      }
+      std::sort(files_.begin(), files_.end());
+      if (files_.empty()) throw std::runtime_error("'" + input + "': no image files (png, jpg, bmp, ppm, pgm)");
+    } else if (!fs::exists(input)) {
+      throw std::runtime_error("'" + input + "': no such file or directory");
+    } else if (!cv::imread(input, cv::IMREAD_COLOR).empty()) {
+      files_.push_back(input);
+    } else {
+      video_.open(input);
+      if (!video_.isOpened()) throw std::runtime_error("'" + input + "': neither an image nor a video OpenCV can read");
+    }
+  }
+
+  // The next frame (BGR) and its file name; false at the end.
+  bool next(cv::Mat& frame, std::string& file) {
+    if (video_.isOpened()) {
+      file.clear();
+      return video_.read(frame) && !frame.empty();
+    }
+    if (next_file_ >= files_.size()) return false;
+    const std::string& path = files_[next_file_++];
+    frame = cv::imread(path, cv::IMREAD_COLOR);
+    if (frame.empty()) throw std::runtime_error("cannot read image '" + path + "'");
+    file = fs::path(path).filename().string();
+    return true;
+  }
+
+ private:
+  std::string input_;
+  cv::VideoCapture video_;
+  std::vector<std::string> files_;
+  std::size_t next_file_ = 0;
+};
+
+bool centredIn(const cv::Rect& box, const std::vector<cv::Rect>& regions) {
+  const cv::Point c(box.x + box.width / 2, box.y + box.height / 2);
+  return std::any_of(regions.begin(), regions.end(), [&](const cv::Rect& r) { return r.contains(c); });
+}
+
+bool overlapsAny(const cv::Rect& box, const std::vector<vision::Person>& people, double iou) {
+  return std::any_of(people.begin(), people.end(),
+                     [&](const vision::Person& p) { return vision::intersectionOverUnion(box, p.box) >= iou; });
+}
+
+void writeDetections(std::ostream& os, std::size_t frame, const char* mode, const std::vector<vision::Person>& people) {
+  for (const vision::Person& p : people) {
+    os << frame << ',' << mode << ',' << p.box.x << ',' << p.box.y << ',' << p.box.x + p.box.width - 1 << ','
+       << p.box.y + p.box.height - 1 << ',' << std::setprecision(4) << p.score << '\n';
+  }
+}
+
+}  // namespace
+
+cv::Rect parseRegion(const std::string& text, const std::string& what) {
+  const auto cells = splitCsv(text);
+  if (cells.size() != 4) throw std::invalid_argument(what + " '" + text + "': expected u_min,v_min,u_max,v_max");
+  long v[4];
+  try {
+    for (int k = 0; k < 4; ++k) v[k] = parseInteger(cells[k], what);
+  } catch (const std::runtime_error& e) {
+    throw std::invalid_argument(e.what());
+  }
+  if (v[2] < v[0] || v[3] < v[1] || v[0] < 0 || v[1] < 0) {
+    throw std::invalid_argument(what + " '" + text + "': need 0 <= u_min <= u_max and 0 <= v_min <= v_max");
+  }
+  return cv::Rect(static_cast<int>(v[0]), static_cast<int>(v[1]), static_cast<int>(v[2] - v[0] + 1),
+                  static_cast<int>(v[3] - v[1] + 1));
+}
+
+double PeopleReport::recallInRegions() const {
+  return people_in_regions == 0 ? std::nan("")
+                                : static_cast<double>(people_still_found) / static_cast<double>(people_in_regions);
+}
+
+PeopleApp::PeopleApp(PeopleOptions options) : options_(std::move(options)) {
+  if (options_.input.empty()) throw std::invalid_argument("no input video or images given");
+  if (options_.rois_path.empty() && options_.rois.empty()) {
+    throw std::invalid_argument("no regions of interest: give --rois FILE.csv or --roi u_min,v_min,u_max,v_max");
+  }
+  if (options_.every == 0) throw std::invalid_argument("--every must be >= 1");
+  if (options_.threads < 1) throw std::invalid_argument("--threads must be >= 1");
+  if (!(options_.match_iou > 0 && options_.match_iou <= 1)) throw std::invalid_argument("--match-iou must be in (0, 1]");
+  if (options_.draw_every == 0) throw std::invalid_argument("--draw-every must be >= 1");
+  for (const std::string& r : options_.rois) parseRegion(r, "--roi");
+}
+
+PeopleReport PeopleApp::run() {
+  vision::PeopleDetectorParams params;
+  if (!options_.config_path.empty()) params = mrpt_adapter::loadVisionConfigFile(options_.config_path).people;
+  const vision::PeopleDetector detector(params);
+  RegionTable regions;
+  for (const std::string& r : options_.rois) regions.addEveryFrame(parseRegion(r, "--roi"));
+  if (!options_.rois_path.empty()) regions.read(options_.rois_path);
+
+  const int threads_before = cv::getNumThreads();
+  cv::setNumThreads(options_.threads);
+  struct RestoreThreads {
+    int n;
+    ~RestoreThreads() { cv::setNumThreads(n); }
+  } restore{threads_before};
+
+  FrameSource source(options_.input);
+  PeopleReport report;
+  report.input = options_.input;
+  std::ostringstream csv;
+  csv << "frame,mode,u_min,v_min,u_max,v_max,score\n";
+  std::vector<double> full_ms, rois_ms, fraction, ratio;
+  OutputSet outputs;
+  if (!options_.draw_dir.empty()) fs::create_directories(options_.draw_dir);
+  cv::Mat frame;
+  std::string file;
+  for (std::size_t index = 0; source.next(frame, file); ++index) {
+    if (index % options_.every != 0) continue;
+    if (options_.max_frames > 0 && report.frames >= options_.max_frames) break;
+    report.frame_size = frame.size();
+    const std::vector<cv::Rect> rois = regions.of(index, file);
+
+    auto t0 = Clock::now();
+    const vision::PeopleDetection full = detector.detectFullFrame(frame);
+    full_ms.push_back(microsecondsSince(t0) * 1e-3);
+    t0 = Clock::now();
+    const vision::PeopleDetection inside = detector.detectInRegions(frame, rois);
+    rois_ms.push_back(microsecondsSince(t0) * 1e-3);
+    fraction.push_back(inside.analysed_fraction);
+    if (full_ms.back() > 0) ratio.push_back(rois_ms.back() / full_ms.back());
+    ++report.frames;
+
+    report.people_full += full.people.size();
+    report.people_rois += inside.people.size();
+    for (const vision::Person& p : full.people) {
+      if (!centredIn(p.box, rois)) continue;
+      ++report.people_in_regions;
+      if (overlapsAny(p.box, inside.people, options_.match_iou)) ++report.people_still_found;
+    }
+    for (const vision::Person& p : inside.people) {
+      if (overlapsAny(p.box, full.people, options_.match_iou)) ++report.people_rois_confirmed;
+    }
+    writeDetections(csv, index, "full", full.people);
+    writeDetections(csv, index, "rois", inside.people);
+
+    if (!options_.draw_dir.empty() && (report.frames - 1) % options_.draw_every == 0) {
+      cv::Mat pic = frame.clone();
+      for (const cv::Rect& a : inside.analysed) cv::rectangle(pic, a, cv::Scalar(160, 160, 160), 1);
+      for (const cv::Rect& r : rois) cv::rectangle(pic, r, cv::Scalar(0, 220, 255), 2);
+      for (const vision::Person& p : full.people) cv::rectangle(pic, p.box, cv::Scalar(255, 120, 0), 3);
+      for (const vision::Person& p : inside.people) cv::rectangle(pic, p.box, cv::Scalar(0, 0, 230), 1);
+      std::vector<uchar> png;
+      cv::imencode(".png", pic, png);
+      char name[32];
+      std::snprintf(name, sizeof(name), "people_%06zu.png", index);
+      outputs.add(options_.draw_dir + "/" + name, std::string(png.begin(), png.end()));
+    }
+  }
+  if (report.frames == 0) throw std::runtime_error("'" + options_.input + "': no frame read");
+  report.full_ms = summarize(full_ms);
+  report.rois_ms = summarize(rois_ms);
+  report.analysed_fraction = summarize(fraction);
+  report.time_ratio = summarize(ratio);
+
+  if (!options_.out_csv.empty()) outputs.add(options_.out_csv, csv.str());
+  if (!options_.report_dir.empty()) {
+    fs::create_directories(options_.report_dir);
+    outputs.add(options_.report_dir + "/people.md", markdown(report));
+    JsonWriter json;
+    json.beginObject();
+    json.value("input", report.input).value("frames", report.frames);
+    json.value("full_ms_median", report.full_ms.median).value("rois_ms_median", report.rois_ms.median);
+    json.value("analysed_fraction_median", report.analysed_fraction.median);
+    json.value("time_ratio_median", report.time_ratio.median);
+    json.value("people_full", report.people_full).value("people_in_regions", report.people_in_regions);
+    json.value("people_still_found", report.people_still_found).value("recall_in_regions", report.recallInRegions());
+    json.value("people_rois", report.people_rois).value("people_rois_confirmed", report.people_rois_confirmed);
+    json.endObject();
+    outputs.add(options_.report_dir + "/people.json", json.str());
+  }
+  outputs.commit();
+  return report;
+}
+
+std::string PeopleApp::markdown(const PeopleReport& r) {
+  std::ostringstream os;
+  os << "# People inside the regions of interest: " << r.input << "\n\n";
+  os << r.frames << " frames of " << r.frame_size.width << " x " << r.frame_size.height
+     << " pixels, OpenCV's HOG people detector (default coefficients).\n\n";
+  os << "| | whole frame | inside the regions |\n|---|---:|---:|\n";
+  os << "| time per frame, median (ms) | " << fixed(r.full_ms.median, 2) << " | " << fixed(r.rois_ms.median, 2) << " |\n";
+  os << "| time per frame, p99 (ms) | " << fixed(r.full_ms.p99, 2) << " | " << fixed(r.rois_ms.p99, 2) << " |\n";
+  os << "| share of the image analysed, median | 1.000 | " << fixed(r.analysed_fraction.median, 3) << " |\n";
+  os << "| people detected | " << r.people_full << " | " << r.people_rois << " |\n\n";
+  os << "Time inside the regions over time on the whole frame, per frame: median " << fixed(r.time_ratio.median, 3)
+     << " (share of the image analysed: median " << fixed(r.analysed_fraction.median, 3) << ").\n\n";
+  os << "People found on the whole frame and centred inside a region: " << r.people_in_regions
+     << "; still found by the detection inside the regions: " << r.people_still_found << " (recall "
+     << fixed(r.recallInRegions(), 3) << "). Detections inside the regions that the whole frame also has: "
+     << r.people_rois_confirmed << " of " << r.people_rois << ".\n";
+  return os.str();
+}
+
+void PeopleApp::print(const PeopleReport& report, std::ostream& os) { os << markdown(report); }
+
+}  // namespace lidarseg::apps

@@ -1,0 +1,156 @@
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "lidarseg/apps/FeaturesApp.h"
+#include "lidarseg/apps/PeopleApp.h"
+#include "lidarseg/apps/SimulateApp.h"
+
+namespace lidarseg::apps {
+namespace {
+namespace fs = std::filesystem;
+const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/people";
+const std::string kVideo = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
+
+template <typename F>
+std::string errorOf(F&& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+// The whole chain on a simulated hospital corridor: doors and corners of the lidar become
+// regions of each camera image (lidarseg-features --rois-out / --images-out), and the
+// people detector reads those regions back by file name.
+TEST(PeopleApp, RegionsFromTheLidarDriveTheDetectorOnTheCameraImages) {
+  fs::create_directories(kTmp);
+  const std::string traj = kTmp + "/corridor.traj";
+  std::ofstream(traj) << "speed 1.0\nturn_radius 0.6\nwaypoint 5 0\nwaypoint 15 0\n";
+  SimulateOptions s;
+  s.world_path = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/hospital.world";
+  s.trajectory_path = traj;
+  s.seed = 2;
+  s.out_prefix = kTmp + "/corridor";
+  s.camera_every_scans = 25;
+  const SimulateReport sim = SimulateApp(s).run();
+  ASSERT_GT(sim.images, 5u);
+
+  FeaturesOptions f;
+  f.input = s.out_prefix + ".rawlog";
+  f.rois_out = kTmp + "/rois.csv";
+  f.images_out = kTmp + "/rois_images";
+  const FeaturesReport fr = FeaturesApp(f).run();
+  // Every image but possibly the last (written after the last scan) is paired with a scan.
+  EXPECT_GE(fr.images + 1, sim.images);
+  EXPECT_GT(fr.images_with_rois, fr.images / 2);
+  EXPECT_GT(fr.roi_coverage.median, 0.0);
+  EXPECT_LT(fr.roi_coverage.median, 0.5);
+  std::ifstream rois(f.rois_out);
+  std::string line;
+  std::getline(rois, line);
+  EXPECT_EQ(line, "image,scan,t,file,feature,type,u_min,v_min,u_max,v_max,clipped");
+  std::size_t rows = 0;
+  while (std::getline(rois, line)) ++rows;
+  EXPECT_EQ(rows, fr.rois);
+  std::size_t drawn = 0;
+  for (const auto& e : fs::directory_iterator(f.images_out)) drawn += e.path().extension() == ".png";
+  EXPECT_GE(drawn, fr.images_with_rois);
+  EXPECT_LE(drawn, fr.images);
+
+  PeopleOptions p;
+  p.input = s.out_prefix + "_Images";
+  p.rois_path = f.rois_out;
+  p.report_dir = kTmp + "/report";
+  const PeopleReport pr = PeopleApp(p).run();
+  EXPECT_EQ(pr.frames, sim.images);
+  EXPECT_GT(pr.analysed_fraction.max, 0.0);
+  EXPECT_LT(pr.analysed_fraction.median, 0.5);
+  EXPECT_EQ(pr.people_full, 0u) << "the simulator draws no people";
+  EXPECT_TRUE(fs::exists(p.report_dir + "/people.md"));
+  EXPECT_TRUE(fs::exists(p.report_dir + "/people.json"));
+}
+
+// Real pedestrians (opencv-doc's vtest.avi) with regions given on the command line: the
+// people the whole-frame detector finds inside the regions are found again.
+TEST(PeopleApp, PeopleInsideCommandLineRegionsAreStillFoundOnARealVideo) {
+  ASSERT_TRUE(fs::exists(kVideo)) << kVideo << " missing: run ./run.sh deps (package opencv-doc)";
+  fs::create_directories(kTmp);
+  PeopleOptions p;
+  p.input = kVideo;
+  p.rois = {"560,60,767,420", "180,130,330,300"};
+  p.every = 20;
+  p.max_frames = 12;
+  p.out_csv = kTmp + "/vtest.csv";
+  p.draw_dir = kTmp + "/vtest_frames";
+  p.draw_every = 6;
+  const PeopleReport r = PeopleApp(p).run();
+  EXPECT_EQ(r.frames, 12u);
+  EXPECT_EQ(r.frame_size, cv::Size(768, 576));
+  EXPECT_GT(r.people_in_regions, 10u);
+  EXPECT_GE(r.recallInRegions(), 0.8) << r.people_still_found << " of " << r.people_in_regions;
+  EXPECT_GT(r.analysed_fraction.median, 0.2);
+  EXPECT_LT(r.analysed_fraction.median, 0.6);
+  EXPECT_LE(r.people_rois_confirmed, r.people_rois);
+  std::ifstream csv(p.out_csv);
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line, "frame,mode,u_min,v_min,u_max,v_max,score");
+  std::size_t rows = 0;
+  while (std::getline(csv, line)) ++rows;
+  EXPECT_EQ(rows, r.people_full + r.people_rois);
+  EXPECT_TRUE(fs::exists(p.draw_dir + "/people_000000.png"));
+  EXPECT_TRUE(fs::exists(p.draw_dir + "/people_000120.png"));
+}
+
+TEST(PeopleApp, BadRegionsAndInputsAreNamed) {
+  fs::create_directories(kTmp);
+  PeopleOptions p;
+  p.input = kTmp;
+  EXPECT_NE(errorOf([&] { PeopleApp{p}; }).find("no regions of interest"), std::string::npos);
+  p.rois = {"1,2,3"};
+  EXPECT_NE(errorOf([&] { PeopleApp{p}; }).find("--roi '1,2,3'"), std::string::npos);
+  p.rois = {"10,10,5,20"};
+  EXPECT_NE(errorOf([&] { PeopleApp{p}; }).find("u_min <= u_max"), std::string::npos);
+
+  const std::string no_column = kTmp + "/no_column.csv";
+  std::ofstream(no_column) << "frame,u_min,v_min,u_max\n0,1,2,3\n";
+  const std::string bad_line = kTmp + "/bad_line.csv";
+  std::ofstream(bad_line) << "frame,u_min,v_min,u_max,v_max\n0,1,2,30,40\n1,1,two,30,40\n";
+  const std::string short_line = kTmp + "/short_line.csv";
+  std::ofstream(short_line) << "frame,u_min,v_min,u_max,v_max\n0,1,2,30\n";
+  const std::string empty_dir = kTmp + "/empty_dir";
+  fs::create_directories(empty_dir);
+  {
+    // A one-image input for the region errors to be reached.
+    const std::string pgm = kTmp + "/one.pgm";
+    std::ofstream(pgm, std::ios::binary) << "P5\n64 128\n255\n" << std::string(64 * 128, '\x80');
+    p.input = pgm;
+  }
+  p.rois.clear();
+  p.rois_path = no_column;
+  EXPECT_NE(errorOf([&] { PeopleApp(p).run(); }).find("no_column.csv:1: no column 'v_max'"), std::string::npos)
+      << errorOf([&] { PeopleApp(p).run(); });
+  p.rois_path = bad_line;
+  EXPECT_NE(errorOf([&] { PeopleApp(p).run(); }).find("bad_line.csv:3 v_min: 'two'"), std::string::npos)
+      << errorOf([&] { PeopleApp(p).run(); });
+  p.rois_path = short_line;
+  EXPECT_NE(errorOf([&] { PeopleApp(p).run(); }).find("short_line.csv:2: 4 fields"), std::string::npos)
+      << errorOf([&] { PeopleApp(p).run(); });
+  p.rois_path = kTmp + "/absent.csv";
+  EXPECT_NE(errorOf([&] { PeopleApp(p).run(); }).find("absent.csv"), std::string::npos);
+  p.rois_path.clear();
+  p.rois = {"0,0,10,10"};
+  p.input = empty_dir;
+  EXPECT_NE(errorOf([&] { PeopleApp(p).run(); }).find("empty_dir': no image files"), std::string::npos);
+  p.input = kTmp + "/nothing_here.avi";
+  EXPECT_NE(errorOf([&] { PeopleApp(p).run(); }).find("nothing_here.avi': no such file"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace lidarseg::apps
