@@ -181,9 +181,9 @@ TEST(RoiProjector, DetectedDoorsMatchTheSimulatorsDoorBoxes) {
   const double mean_iou = iou_sum / static_cast<double>(found);
   std::cout << "door boxes of resolvable doors: " << boxes << ", found " << found << " (" << recall
             << "), mean IoU " << mean_iou << "\n";
-  // Measured 0.82 (seed 3); the lidar alone finds 0.98 of the resolvable doors
-  // (docs/results.md): the gap is an open question, guarded here against regressions.
-  EXPECT_GE(recall, 0.75) << found << " of " << boxes;
+  // Measured 0.94 (seed 3): the 4 boxes left are scans where the lidar misses the door
+  // (it finds 0.98 of the resolvable doors over whole logs, docs/results.md).
+  EXPECT_GE(recall, 0.9) << found << " of " << boxes;
   EXPECT_GE(mean_iou, 0.7) << "mean IoU over " << found << " boxes";
 }
 

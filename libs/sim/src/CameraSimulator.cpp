@@ -102,13 +102,18 @@ std::vector<DoorBox> CameraSimulator::visibleDoors(const Pose2& T_world_robot) c
   const Eigen::Vector2d axis(std::cos(cam.yaw), std::sin(cam.yaw));
   for (std::size_t i = 0; i < world_->doors().size(); ++i) {
     const Door& door = world_->doors()[i];
-    // Visible: some point of the doorway is reached by a ray from the camera.
+    // Visible: some point of the doorway lies inside the image's horizontal field of view
+    // and is reached by a ray from the camera.
     bool visible = false;
     for (double f : {0.1, 0.3, 0.5, 0.7, 0.9}) {
       const Eigen::Vector2d p = door.jamb_a + f * (door.jamb_b - door.jamb_a);
       const Eigen::Vector2d d = p - origin;
       const double dist = d.norm();
-      if (dist < 1e-6 || d.dot(axis) < kNear) continue;
+      const double forward = d.dot(axis);
+      if (dist < 1e-6 || forward < kNear) continue;
+      const double left = axis.x() * d.y() - axis.y() * d.x();
+      const double u = c.cx - c.fx * left / forward;
+      if (u < 0.0 || u > c.width - 1.0) continue;
       if (caster_.cast(origin, d / dist, dist + 1.0).range >= dist - 0.05) {
         visible = true;
         break;

@@ -53,7 +53,8 @@ class CameraSimulator {
 
   RgbImage render(const Pose2& T_world_robot) const;
 
-  /// Boxes of the doors at least partly visible (not hidden behind walls) from the camera:
+  /// Boxes of the doors at least partly visible from the camera (a point of the doorway, at
+  /// 10-90 % of its width, inside the horizontal field of view and not hidden by a wall):
   /// the doorway from the floor to the door height, projected (paper eq. 1) and clipped.
   std::vector<DoorBox> visibleDoors(const Pose2& T_world_robot) const;
 
