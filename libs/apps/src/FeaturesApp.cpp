@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "Format.h"
 #include "CameraRois.h"
 #include "FeatureCsv.h"
 #include "Json.h"
@@ -28,13 +29,6 @@
 namespace lidarseg::apps {
 
 namespace {
-
-std::string fixed(double v, int digits) {
-  if (!std::isfinite(v)) return "n/a";
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << v;
-  return os.str();
-}
 
 }  // namespace
 

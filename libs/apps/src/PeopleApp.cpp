@@ -16,6 +16,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "Format.h"
 #include "Json.h"
 #include "OutputFiles.h"
 #include "Timing.h"
@@ -28,13 +29,6 @@ namespace lidarseg::apps {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string fixed(double v, int digits) {
-  if (!std::isfinite(v)) return "n/a";
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << v;
-  return os.str();
-}
 
 std::vector<std::string> splitCsv(const std::string& line) {
   std::vector<std::string> cells;

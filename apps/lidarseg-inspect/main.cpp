@@ -1,0 +1,63 @@
+// lidarseg-inspect: a RawLogViewer-style inspector of lidarseg's pipeline, scan by scan.
+#include <iostream>
+
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+
+#include "lidarseg/apps/InspectApp.h"
+
+int main(int argc, char** argv) {
+  try {
+    TCLAP::CmdLine cmd("Inspect what lidarseg sees in each scan of a laser log: segments of every cascade level, the "
+                       "match, doors and corners, trajectories, the camera's regions of interest",
+                       ' ', "0.1.0");
+    TCLAP::UnlabeledValueArg<std::string> input("input", "laser log: MRPT .rawlog or CARMEN", true, "", "LOG", cmd);
+    TCLAP::ValueArg<std::string> config("c", "config", "INI/YAML parameters (config/default.ini lists every key)", false,
+                                        "", "FILE", cmd);
+    TCLAP::ValueArg<std::string> label("l", "sensor-label", "laser to use (default: first)", false, "", "LABEL", cmd);
+    TCLAP::MultiArg<std::string> trajectory("", "trajectory", "another trajectory to show (repeatable)", false,
+                                            "NAME=FILE.tum", cmd);
+    TCLAP::ValueArg<std::string> truth("", "truth", "ground truth TUM file (default: <log>.gt.tum when present)", false,
+                                       "", "FILE.tum", cmd);
+    TCLAP::ValueArg<std::size_t> frame("f", "frame", "scan to open at / to draw", false, 0, "N", cmd);
+    TCLAP::ValueArg<double> time("", "time", "open at the scan nearest this time (s from the first scan)", false, 0,
+                                 "S", cmd);
+    TCLAP::ValueArg<std::string> layers("", "layers",
+                                        "comma list: raw,l0,l1,l2,l3,indices,predicted,matches,features,trajectory,"
+                                        "camera,all (default: raw,l1,l3,predicted,matches,features,trajectory,camera)",
+                                        false, "", "LIST", cmd);
+    TCLAP::ValueArg<int> width("", "width", "picture width (pixels)", false, 1100, "PX", cmd);
+    TCLAP::ValueArg<int> height("", "height", "picture height (pixels)", false, 850, "PX", cmd);
+    TCLAP::ValueArg<std::string> render("", "out", "headless: draw --frame to FILE.png or FILE.svg and exit", false, "",
+                                        "FILE", cmd);
+    TCLAP::ValueArg<std::string> screenshot("", "screenshot", "open the window at --frame, save a screenshot, exit",
+                                            false, "", "FILE.png", cmd);
+    TCLAP::ValueArg<std::string> report("", "report", "static HTML report of the whole log in DIR", false, "", "DIR",
+                                        cmd);
+    TCLAP::ValueArg<std::size_t> gallery("", "gallery", "frames in the report's gallery", false, 12, "N", cmd);
+    TCLAP::ValueArg<std::string> save("", "save", "where the window's 's' key saves the parameters", false,
+                                      "lidarseg-inspect.ini", "FILE.ini", cmd);
+    TCLAP::ValueArg<std::size_t> render_frame("", "render", "same as --frame, for --out", false, 0, "N", cmd);
+    cmd.parse(argc, argv);
+
+    lidarseg::apps::InspectOptions o;
+    o.input = input.getValue();
+    o.config_path = config.getValue();
+    o.sensor_label = label.getValue();
+    o.references = trajectory.getValue();
+    o.truth_path = truth.getValue();
+    o.frame = render_frame.isSet() ? render_frame.getValue() : frame.getValue();
+    if (time.isSet()) o.time_s = time.getValue();
+    o.layers = layers.getValue();
+    o.width = width.getValue();
+    o.height = height.getValue();
+    o.render_out = render.getValue();
+    o.screenshot_out = screenshot.getValue();
+    o.report_dir = report.getValue();
+    o.gallery = gallery.getValue();
+    o.save_path = save.getValue();
+    return lidarseg::apps::InspectApp(o).run();
+  } catch (const std::exception& e) {
+    std::cerr << "lidarseg-inspect: error: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,78 @@
+#pragma once
+/// @file InspectApp.h
+/// The logic of `lidarseg-inspect`: a RawLogViewer-style inspector of what lidarseg's
+/// pipeline sees, scan by scan (segments of every cascade level, the match against the
+/// keyframe, doors and corners, trajectories, the camera with its regions of interest):
+/// an MRPT window, a headless renderer (PNG/SVG) and a static HTML report.
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lidarseg/apps/inspect/Session.h"
+
+namespace lidarseg::apps {
+
+/// Command-line options of `lidarseg-inspect`.
+struct InspectOptions {
+  std::string input;         ///< rawlog or CARMEN log
+  std::string config_path;   ///< INI/YAML: [segmentation] [matcher] [odometry] [features] [camera] [rois]
+  std::string sensor_label;
+  /// Trajectories to show beside lidarseg's: "NAME=FILE.tum" (e.g. icp=run/icp.tum).
+  std::vector<std::string> references;
+  /// Ground truth TUM file; by default `<log>.gt.tum` beside a simulated log when present.
+  std::string truth_path;
+  std::size_t frame = 0;                ///< scan to open at
+  std::optional<double> time_s;         ///< or the scan nearest this time (s from the first scan)
+  /// Layers: comma list of raw,l0,l1,l2,l3,indices,predicted,matches,features,trajectory,camera
+  /// (empty: the defaults).
+  std::string layers;
+  int width = 1100, height = 850;       ///< picture size (pixels)
+  /// Headless: draw `frame` to this file (.png or .svg) and exit.
+  std::string render_out;
+  /// Window: show `frame`, save a screenshot of the window to this PNG and exit.
+  std::string screenshot_out;
+  /// Static HTML report of the whole log (index.html and images) in this directory.
+  std::string report_dir;
+  std::size_t gallery = 12;             ///< frames in the report's gallery
+  /// Where the window's "save parameters" key writes the INI file.
+  std::string save_path = "lidarseg-inspect.ini";
+};
+
+/// What `--report` measured (also written into index.html).
+struct InspectReport {
+  std::size_t scans = 0;
+  std::size_t failed_matches = 0;
+  double length_m = 0.0;
+  std::optional<double> final_error_m;  ///< against the ground truth
+  std::vector<std::size_t> gallery;     ///< frames drawn, worst first
+};
+
+class InspectApp {
+ public:
+  /// @throws std::invalid_argument for bad options (naming the option).
+  explicit InspectApp(InspectOptions options);
+
+  /// Runs the mode the options ask for: render, report, screenshot or the interactive
+  /// window. Returns the process exit code.
+  /// @throws std::runtime_error naming the file (and line/scan) for unreadable input.
+  int run();
+
+  /// The layers named in a comma list. @throws std::invalid_argument naming an unknown one.
+  static inspect::Layers parseLayers(const std::string& list);
+  /// The keyboard shortcuts of the window, one per line.
+  static std::vector<std::string> keyHelp();
+
+  /// Writes the HTML report of the whole log; used by run().
+  InspectReport writeReport(inspect::Session& session);
+
+ private:
+  std::unique_ptr<inspect::Session> open();
+  int window(inspect::Session& session);
+
+  InspectOptions options_;
+};
+
+}  // namespace lidarseg::apps

@@ -1,0 +1,195 @@
+// lidarseg-inspect --report: a static HTML report of a whole log (no server, no script
+// needed to read it; one small script only checks that every image loaded).
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <numeric>
+#include <sstream>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "Format.h"
+#include "OutputFiles.h"
+#include "Plots.h"
+#include "lidarseg/apps/InspectApp.h"
+#include "lidarseg/core/Statistics.h"
+
+namespace lidarseg::apps {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string escapeHtml(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '<') out += "&lt;";
+    else if (c == '>') out += "&gt;";
+    else if (c == '&') out += "&amp;";
+    else out += c;
+  }
+  return out;
+}
+
+struct ScanRow {
+  std::size_t index = 0;
+  double t = 0.0;
+  std::string status;
+  bool failed = false;
+  std::size_t matches = 0;
+  double sd_xy_m = 0.0;      // sqrt of the position variances' sum
+  double total_us = 0.0;     // W-D + cascade + matching
+  std::size_t features = 0;
+  double error_m = std::nan("");  // |increment error| against the truth
+  double drift_m = std::nan("");  // position error against the truth (aligned at the start)
+};
+
+}  // namespace
+
+InspectReport InspectApp::writeReport(inspect::Session& session) {
+  const std::string& dir = options_.report_dir;
+  fs::create_directories(dir + "/frames");
+  InspectReport report;
+  const std::size_t n = session.countAll();
+  report.scans = n;
+  std::vector<ScanRow> rows;
+  rows.reserve(n);
+  const eval::StampedTrajectory* truth = nullptr;
+  for (const auto& r : session.references()) {
+    if (r.name == "ground truth") truth = &r.poses;
+  }
+  const auto traj = session.trajectory(n - 1);
+  std::optional<Pose2D> truth_origin;
+  std::optional<Pose2D> prev_truth;
+  for (std::size_t i = 0; i < n; ++i) {
+    const inspect::Frame& f = session.frame(i);
+    ScanRow row;
+    row.index = i;
+    row.t = f.stamp_s;
+    row.status = f.step.first ? "first" : toString(f.step.match.status);
+    row.failed = !f.step.first && f.step.match.status != MatchStatus::kOk;
+    row.matches = f.step.match.matches.size();
+    row.sd_xy_m = std::sqrt(std::max(0.0, f.step.increment_covariance(0, 0) + f.step.increment_covariance(1, 1)));
+    row.total_us = f.step.wall_danielsson_us + f.step.cascade_us + f.step.matching_us;
+    row.features = f.features.size();
+    if (truth) {
+      if (const auto k = eval::nearestIndex(*truth, f.stamp_s, 0.02)) {
+        const Pose2D g = (*truth)[*k].pose;
+        if (!truth_origin) truth_origin = g;
+        const Pose2D aligned = relative(g, *truth_origin);  // truth in lidarseg's odometry frame
+        row.drift_m = std::hypot(aligned.x - traj[i].x, aligned.y - traj[i].y);
+        if (prev_truth && i > 0) {
+          const Pose2D true_inc = relative(g, *prev_truth);
+          const Pose2D inc = relative(traj[i], traj[i - 1]);
+          row.error_m = std::hypot(true_inc.x - inc.x, true_inc.y - inc.y);
+        }
+        prev_truth = g;
+      } else {
+        prev_truth.reset();
+      }
+    }
+    report.failed_matches += row.failed;
+    if (i > 0) report.length_m += std::hypot(traj[i].x - traj[i - 1].x, traj[i].y - traj[i - 1].y);
+    rows.push_back(row);
+  }
+  if (truth && std::isfinite(rows.back().drift_m)) report.final_error_m = rows.back().drift_m;
+
+  // Worst first: failed matches, then the largest error against the truth (or, without a
+  // truth, the largest uncertainty).
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  const auto badness = [&](std::size_t i) {
+    const ScanRow& r = rows[i];
+    const double score = std::isfinite(r.error_m) ? r.error_m : r.sd_xy_m;
+    return std::make_pair(r.failed ? 1 : 0, score);
+  };
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return badness(a) > badness(b); });
+  order.resize(std::min(order.size(), options_.gallery));
+  report.gallery = order;
+
+  OutputSet outputs;
+  const inspect::Layers layers = parseLayers(options_.layers.empty() ? "raw,l1,l3,predicted,matches,features,trajectory,camera"
+                                                            : options_.layers);
+  for (std::size_t i : order) {
+    const cv::Mat img = inspect::renderPng(session.draw(i, layers), cv::Size(900, 700));
+    std::vector<uchar> png;
+    cv::imencode(".png", img, png);
+    outputs.add(dir + "/frames/scan_" + std::to_string(i) + ".png", std::string(png.begin(), png.end()));
+  }
+  // Plots.
+  std::vector<PlotSeries> traj_series;
+  PlotSeries mine{"lidarseg", 40, 40, 200, {}, {}, false};
+  for (const Pose2D& p : traj) mine.x.push_back(p.x), mine.y.push_back(p.y);
+  traj_series.push_back(mine);
+  for (const auto& ref : session.references()) {
+    PlotSeries s{ref.name, 30, 160, 30, {}, {}, false};
+    const auto first = eval::nearestIndex(ref.poses, rows.front().t, 1.0);
+    if (!first) continue;
+    for (std::size_t k = *first; k < ref.poses.size() && ref.poses[k].stamp_s <= rows.back().t + 1e-6; ++k) {
+      const Pose2D a = relative(ref.poses[k].pose, ref.poses[*first].pose);
+      s.x.push_back(a.x), s.y.push_back(a.y);
+    }
+    traj_series.push_back(s);
+  }
+  outputs.add(dir + "/trajectory.png", plotTrajectoriesPng(traj_series, "trajectories (odometry frame, m)"));
+  PlotSeries over_time{truth ? "position error vs ground truth (m)" : "match sd (m)", 200, 60, 40, {}, {}, false};
+  for (const ScanRow& r : rows) {
+    const double v = truth ? r.drift_m : r.sd_xy_m;
+    if (std::isfinite(v)) over_time.x.push_back(r.t - rows.front().t), over_time.y.push_back(v);
+  }
+  outputs.add(dir + "/error_over_time.png",
+              plotXYPng({over_time}, truth ? "position error over time" : "match uncertainty over time",
+                        "time (s)", truth ? "error (m)" : "sd (m)"));
+  PlotSeries times{"W-D + cascade + matching", 200, 100, 0, {}, {}, false};
+  for (const ScanRow& r : rows) {
+    if (r.total_us > 0) times.x.push_back(r.total_us);
+  }
+  outputs.add(dir + "/timing.png", plotHistogramsPng({times}, "time per scan", "microseconds"));
+
+  std::vector<double> us, sd;
+  for (const ScanRow& r : rows) us.push_back(r.total_us), sd.push_back(r.sd_xy_m);
+  const Summary t = summarize(us);
+  std::ostringstream html;
+  html << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>lidarseg-inspect: "
+       << escapeHtml(fs::path(options_.input).filename().string()) << "</title>\n"
+       << "<style>body{font-family:sans-serif;margin:2em;max-width:1200px}table{border-collapse:collapse}"
+          "td,th{border:1px solid #ccc;padding:4px 8px;text-align:right}th{background:#eee}"
+          "figure{display:inline-block;margin:6px}img{max-width:100%}figcaption{font-size:90%}</style>\n"
+       << "</head><body>\n<h1>lidarseg-inspect report</h1>\n<p>Log: <code>" << escapeHtml(options_.input)
+       << "</code></p>\n<h2>Results</h2>\n<table id=\"results\">\n<tr><th>scans</th><th>path length (m)</th>"
+       << "<th>failed matches</th><th>final error vs ground truth (m)</th><th>time per scan, median (&micro;s)</th>"
+       << "<th>p99 (&micro;s)</th><th>max (&micro;s)</th></tr>\n<tr><td>" << n << "</td><td>" << fixed(report.length_m, 2)
+       << "</td><td>" << report.failed_matches << "</td><td>"
+       << (report.final_error_m ? fixed(*report.final_error_m, 3) : std::string("no ground truth")) << "</td><td>"
+       << fixed(t.median, 1) << "</td><td>" << fixed(t.p99, 1) << "</td><td>" << fixed(t.max, 1) << "</td></tr>\n</table>\n"
+       << "<h2>Trajectory</h2>\n<img src=\"trajectory.png\" alt=\"trajectories\">\n"
+       << "<h2>" << (truth ? "Error over time" : "Match uncertainty over time") << "</h2>\n"
+       << "<img src=\"error_over_time.png\" alt=\"error over time\">\n"
+       << "<h2>Timing</h2>\n<img src=\"timing.png\" alt=\"timing histogram\">\n"
+       << "<h2>Worst-matched scans first</h2>\n<table id=\"worst\">\n<tr><th>scan</th><th>t (s)</th><th>status</th>"
+       << "<th>pairs</th><th>sd (m)</th><th>increment error (m)</th><th>features</th></tr>\n";
+  for (std::size_t i : order) {
+    const ScanRow& r = rows[i];
+    html << "<tr><td><a href=\"#scan" << i << "\">" << i << "</a></td><td>" << fixed(r.t - rows.front().t, 2)
+         << "</td><td>" << r.status << "</td><td>" << r.matches << "</td><td>" << fixed(r.sd_xy_m, 4) << "</td><td>"
+         << fixed(r.error_m, 4) << "</td><td>" << r.features << "</td></tr>\n";
+  }
+  html << "</table>\n<h2>Gallery</h2>\n";
+  for (std::size_t i : order) {
+    html << "<figure id=\"scan" << i << "\"><img src=\"frames/scan_" << i << ".png\" alt=\"scan " << i
+         << "\"><figcaption>scan " << i << ": " << rows[i].status << ", " << rows[i].matches << " pairs"
+         << (std::isfinite(rows[i].error_m) ? ", increment error " + fixed(rows[i].error_m, 3) + " m" : std::string())
+         << "</figcaption></figure>\n";
+  }
+  html << "<p id=\"image-check\">images not checked</p>\n"
+       << "<script>window.addEventListener('load',function(){var ok=0,bad=0;"
+          "document.querySelectorAll('img').forEach(function(i){if(i.complete&&i.naturalWidth>0)ok++;else bad++;});"
+          "document.getElementById('image-check').textContent='images loaded='+ok+' broken='+bad;});</script>\n"
+       << "</body></html>\n";
+  outputs.add(dir + "/index.html", html.str());
+  outputs.commit();
+  return report;
+}
+
+}  // namespace lidarseg::apps

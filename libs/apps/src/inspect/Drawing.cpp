@@ -1,0 +1,175 @@
+#include "lidarseg/apps/inspect/Drawing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace lidarseg::apps::inspect {
+
+namespace {
+
+// Metres (sensor frame) to pixels: the sensor at the centre, x right, y up.
+struct View {
+  double cx, cy, scale;
+  View(const Drawing& d, const cv::Size& size)
+      : cx(0.5 * size.width), cy(0.5 * size.height),
+        scale(0.5 * std::min(size.width, size.height) / std::max(d.view_half_width_m, 0.1)) {}
+  cv::Point2d operator()(const Eigen::Vector2d& p) const { return {cx + scale * p.x(), cy - scale * p.y()}; }
+};
+
+cv::Scalar bgr(const Rgb& c) { return cv::Scalar(c.b, c.g, c.r); }
+constexpr int kStatusLineHeight = 18;
+const cv::Scalar kBackground(250, 250, 250);
+
+// Where the camera inset goes: bottom right, a third of the width.
+cv::Rect insetRect(const cv::Mat& camera, const cv::Size& size) {
+  if (camera.empty()) return {};
+  const int w = size.width / 3;
+  const int h = static_cast<int>(std::lround(static_cast<double>(w) * camera.rows / std::max(camera.cols, 1)));
+  return cv::Rect(size.width - w - 8, size.height - h - 8, w, h);
+}
+
+std::string base64(const std::vector<uchar>& bytes) {
+  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (std::size_t i = 0; i < bytes.size(); i += 3) {
+    const unsigned n = (bytes[i] << 16) | ((i + 1 < bytes.size() ? bytes[i + 1] : 0) << 8) |
+                       (i + 2 < bytes.size() ? bytes[i + 2] : 0);
+    out += k[(n >> 18) & 63];
+    out += k[(n >> 12) & 63];
+    out += i + 1 < bytes.size() ? k[(n >> 6) & 63] : '=';
+    out += i + 2 < bytes.size() ? k[n & 63] : '=';
+  }
+  return out;
+}
+
+std::string escapeXml(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string hex(const Rgb& c) {
+  char buf[8];
+  std::snprintf(buf, sizeof(buf), "#%02x%02x%02x", c.r, c.g, c.b);
+  return buf;
+}
+
+}  // namespace
+
+cv::Mat renderPng(const Drawing& d, const cv::Size& size) {
+  cv::Mat img(size, CV_8UC3, kBackground);
+  const View v(d, size);
+  // A 1 m grid.
+  const int n = static_cast<int>(std::ceil(d.view_half_width_m * std::max(size.width, size.height) /
+                                           std::min(size.width, size.height)));
+  for (int k = -n; k <= n; ++k) {
+    const cv::Scalar grid = k == 0 ? cv::Scalar(200, 200, 200) : cv::Scalar(232, 232, 232);
+    cv::line(img, v({double(k), -n - 1.0}), v({double(k), n + 1.0}), grid, 1);
+    cv::line(img, v({-n - 1.0, double(k)}), v({n + 1.0, double(k)}), grid, 1);
+  }
+  for (const LineLayer& layer : d.lines) {
+    for (const auto& [a, b] : layer.lines) cv::line(img, v(a), v(b), bgr(layer.colour), layer.width_px, cv::LINE_AA);
+  }
+  for (const PointLayer& layer : d.points) {
+    for (const Eigen::Vector2d& p : layer.points) {
+      cv::circle(img, v(p), std::max(layer.size_px / 2, 1), bgr(layer.colour), cv::FILLED);
+    }
+  }
+  for (const Circle& c : d.circles) {
+    cv::circle(img, v(c.centre), std::max(3, static_cast<int>(std::lround(c.radius_m * v.scale))), bgr(c.colour), 2,
+               cv::LINE_AA);
+  }
+  for (const Label& l : d.labels) {
+    cv::putText(img, l.text, v(l.at) + cv::Point2d(3, -3), cv::FONT_HERSHEY_SIMPLEX, 0.35, bgr(l.colour), 1,
+                cv::LINE_AA);
+  }
+  // The sensor: a small triangle pointing along x.
+  std::vector<cv::Point> robot = {v({0.35, 0}), v({-0.15, 0.15}), v({-0.15, -0.15})};
+  cv::fillConvexPoly(img, robot, cv::Scalar(40, 40, 200), cv::LINE_AA);
+  if (!d.camera.empty()) {
+    const cv::Rect r = insetRect(d.camera, size);
+    if ((r & cv::Rect(cv::Point(0, 0), size)) == r && r.area() > 0) {
+      cv::resize(d.camera, img(r), r.size(), 0, 0, cv::INTER_AREA);
+      cv::rectangle(img, r, cv::Scalar(60, 60, 60), 1);
+    }
+  }
+  const int band = kStatusLineHeight * static_cast<int>(d.status.size()) + (d.status.empty() ? 0 : 6);
+  if (band > 0) {
+    img(cv::Rect(0, 0, size.width, std::min(band, size.height))).setTo(cv::Scalar(45, 45, 45));
+    for (std::size_t i = 0; i < d.status.size(); ++i) {
+      cv::putText(img, d.status[i], cv::Point(6, kStatusLineHeight * static_cast<int>(i + 1)), cv::FONT_HERSHEY_SIMPLEX,
+                  0.45, cv::Scalar(240, 240, 240), 1, cv::LINE_AA);
+    }
+  }
+  return img;
+}
+
+std::string renderSvg(const Drawing& d, const cv::Size& size) {
+  const View v(d, size);
+  std::ostringstream os;
+  os.precision(5);
+  os << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << size.width << "\" height=\"" << size.height
+     << "\" viewBox=\"0 0 " << size.width << ' ' << size.height << "\">\n";
+  os << "<rect width=\"100%\" height=\"100%\" fill=\"#fafafa\"/>\n";
+  for (const LineLayer& layer : d.lines) {
+    os << "<g stroke=\"" << hex(layer.colour) << "\" stroke-width=\"" << layer.width_px << "\">\n";
+    for (const auto& [a, b] : layer.lines) {
+      const auto p = v(a), q = v(b);
+      os << "<line x1=\"" << p.x << "\" y1=\"" << p.y << "\" x2=\"" << q.x << "\" y2=\"" << q.y << "\"/>\n";
+    }
+    os << "</g>\n";
+  }
+  for (const PointLayer& layer : d.points) {
+    os << "<g fill=\"" << hex(layer.colour) << "\">\n";
+    for (const Eigen::Vector2d& pt : layer.points) {
+      const auto p = v(pt);
+      os << "<circle cx=\"" << p.x << "\" cy=\"" << p.y << "\" r=\"" << std::max(layer.size_px / 2, 1) << "\"/>\n";
+    }
+    os << "</g>\n";
+  }
+  for (const Circle& c : d.circles) {
+    const auto p = v(c.centre);
+    os << "<circle cx=\"" << p.x << "\" cy=\"" << p.y << "\" r=\"" << std::max(3.0, c.radius_m * v.scale)
+       << "\" fill=\"none\" stroke=\"" << hex(c.colour) << "\" stroke-width=\"2\"/>\n";
+  }
+  for (const Label& l : d.labels) {
+    const auto p = v(l.at);
+    os << "<text x=\"" << p.x + 3 << "\" y=\"" << p.y - 3 << "\" font-size=\"10\" fill=\"" << hex(l.colour) << "\">"
+       << escapeXml(l.text) << "</text>\n";
+  }
+  const auto a = v({0.35, 0}), b = v({-0.15, 0.15}), c = v({-0.15, -0.15});
+  os << "<polygon points=\"" << a.x << ',' << a.y << ' ' << b.x << ',' << b.y << ' ' << c.x << ',' << c.y
+     << "\" fill=\"#c82828\"/>\n";
+  if (!d.camera.empty()) {
+    const cv::Rect r = insetRect(d.camera, size);
+    std::vector<uchar> png;
+    cv::imencode(".png", d.camera, png);
+    os << "<image x=\"" << r.x << "\" y=\"" << r.y << "\" width=\"" << r.width << "\" height=\"" << r.height
+       << "\" href=\"data:image/png;base64," << base64(png) << "\"/>\n";
+  }
+  if (!d.status.empty()) {
+    os << "<rect x=\"0\" y=\"0\" width=\"" << size.width << "\" height=\""
+       << kStatusLineHeight * d.status.size() + 6 << "\" fill=\"#2d2d2d\"/>\n";
+    for (std::size_t i = 0; i < d.status.size(); ++i) {
+      os << "<text x=\"6\" y=\"" << kStatusLineHeight * (i + 1) - 4
+         << "\" font-family=\"monospace\" font-size=\"12\" fill=\"#f0f0f0\">" << escapeXml(d.status[i]) << "</text>\n";
+    }
+  }
+  os << "</svg>\n";
+  return os.str();
+}
+
+}  // namespace lidarseg::apps::inspect

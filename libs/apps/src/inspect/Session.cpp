@@ -1,0 +1,312 @@
+#include "lidarseg/apps/inspect/Session.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/obs/CObservationImage.h>
+
+#include "../Format.h"
+#include "../CameraRois.h"
+#include "../OutputFiles.h"
+#include "../Timing.h"
+#include "lidarseg/core/ScanSegmenter.h"
+#include "lidarseg/mrpt/FeatureConfig.h"
+#include "lidarseg/mrpt/LaserLogReader.h"
+#include "lidarseg/mrpt/OdometryConfig.h"
+#include "lidarseg/mrpt/ScanConverter.h"
+#include "lidarseg/mrpt/VisionConfig.h"
+
+namespace lidarseg::apps::inspect {
+
+InspectorParams InspectorParams::fromFile(const std::string& path) {
+  InspectorParams p;
+  p.odometry = mrpt_adapter::loadOdometryParamsFile(path);
+  p.features = mrpt_adapter::loadFeatureDetectorParamsFile(path);
+  const mrpt_adapter::VisionConfig v = mrpt_adapter::loadVisionConfigFile(path);
+  p.rois = v.rois;
+  p.camera = v.camera;
+  return p;
+}
+
+void InspectorParams::saveIni(const std::string& path) const {
+  mrpt::config::CConfigFileMemory cfg;
+  mrpt_adapter::saveOdometryParams(odometry, cfg);
+  mrpt_adapter::saveFeatureDetectorParams(features, cfg);
+  mrpt_adapter::VisionConfig v;
+  v.rois = rois;
+  v.camera = camera;
+  mrpt_adapter::saveVisionConfig(v, cfg);
+  writeFileAtomically(path, "; written by lidarseg-inspect: the parameters tuned by eye\n" + cfg.getContent());
+}
+
+Session::Session(const std::string& log, const std::string& sensor_label, InspectorParams params)
+    : path_(log), params_(std::move(params)) {
+  params_.odometry.validate();
+  params_.features.validate();
+  params_.rois.validate();
+  reader_ = std::make_unique<mrpt_adapter::LaserLogReader>(log, sensor_label);
+  odometry_ = std::make_unique<SegmentOdometry>(params_.odometry);
+  if (!readUpTo(0)) throw std::runtime_error(log + ": no laser scan read");
+}
+
+Session::~Session() = default;
+
+bool Session::readUpTo(std::size_t index) {
+  while (records_.size() <= index && !complete_) {
+    auto record = reader_->next();
+    if (!record) {
+      complete_ = true;
+      break;
+    }
+    records_.push_back(std::make_shared<mrpt_adapter::LaserRecord>(std::move(*record)));
+  }
+  return index < records_.size();
+}
+
+std::size_t Session::countAll() {
+  readUpTo(static_cast<std::size_t>(-2));
+  return records_.size();
+}
+
+std::size_t Session::indexAtTime(double stamp_s) {
+  while (!complete_ && records_.back()->stamp_s < stamp_s) readUpTo(records_.size());
+  const auto it = std::lower_bound(records_.begin(), records_.end(), stamp_s,
+                                   [](const auto& r, double t) { return r->stamp_s < t; });
+  if (it == records_.end()) return records_.size() - 1;
+  const std::size_t i = static_cast<std::size_t>(it - records_.begin());
+  if (i > 0 && std::abs(records_[i - 1]->stamp_s - stamp_s) < std::abs((*it)->stamp_s - stamp_s)) return i - 1;
+  return i;
+}
+
+void Session::setParams(const InspectorParams& params) {
+  params.odometry.validate();
+  params.features.validate();
+  params.rois.validate();
+  if (params.camera) params.camera->validate();
+  params_ = params;
+  odometry_ = std::make_unique<SegmentOdometry>(params_.odometry);
+  steps_.clear();
+  keyframe_segments_.reset();
+  cached_.reset();
+}
+
+void Session::matchUpTo(std::size_t index) {
+  mrpt_adapter::ScanConverter converter;
+  while (steps_.size() <= index) {
+    const auto& record = *records_[steps_.size()];
+    Step s;
+    try {
+      const Scan scan = converter.convert(*record.observation);
+      s.step = odometry_->process(scan);
+      if (s.step.keyframe || s.step.first || !keyframe_segments_) {
+        // This scan is the keyframe of the next ones; this step matched the previous one.
+        s.keyframe_index = keyframe_index_;
+        s.keyframe_segments = keyframe_segments_;
+        keyframe_index_ = steps_.size();
+        keyframe_segments_ = std::make_shared<const std::vector<Segment>>(
+            odometry_->lastSegmentation().level(params_.odometry.level).segments);
+      } else {
+        s.keyframe_index = keyframe_index_;
+        s.keyframe_segments = keyframe_segments_;
+      }
+    } catch (const std::exception& e) {
+      s.error = e.what();
+      s.step.index = steps_.size();
+      s.step.T_odom_sensor = steps_.empty() ? Pose2D{} : steps_.back().step.T_odom_sensor;
+    }
+    steps_.push_back(std::move(s));
+  }
+}
+
+std::vector<Pose2D> Session::trajectory(std::size_t index) {
+  if (!readUpTo(index)) throw std::out_of_range("scan " + std::to_string(index) + " is past the end of " + path_);
+  matchUpTo(index);
+  std::vector<Pose2D> out;
+  out.reserve(index + 1);
+  for (std::size_t i = 0; i <= index; ++i) out.push_back(steps_[i].step.T_odom_sensor);
+  return out;
+}
+
+const Frame& Session::frame(std::size_t index) {
+  if (cached_ && cached_->index == index) return *cached_;
+  if (!readUpTo(index)) {
+    throw std::out_of_range("scan " + std::to_string(index) + " is past the end of " + path_ + " (" +
+                            std::to_string(records_.size()) + " scans)");
+  }
+  matchUpTo(index);
+  const auto& record = *records_[index];
+  Frame f;
+  f.index = index;
+  f.stamp_s = record.stamp_s;
+  f.where = record.where;
+  const Step& s = steps_[index];
+  f.step = s.step;
+  f.keyframe_index = s.keyframe_index;
+  f.keyframe_segments = s.keyframe_segments;
+  f.error = s.error;
+  if (f.error.empty()) {
+    mrpt_adapter::ScanConverter converter;
+    const ScanSegmenter segmenter(params_.odometry.segmentation);
+    segmenter.process(converter.convert(*record.observation), f.segmentation);
+    const FeatureDetector detector(params_.features);
+    const auto t0 = Clock::now();
+    detector.detect(f.segmentation, f.features);
+    f.detect_us = microsecondsSince(t0);
+  }
+  // The camera image that came with this scan (rawlogs: the observations read after the
+  // previous scan; the simulator writes a scan's image right after it, so look one ahead).
+  std::vector<const mrpt::obs::CObservation::Ptr*> candidates;
+  for (const auto& o : record.companions) candidates.push_back(&o);
+  if (readUpTo(index + 1)) {
+    for (const auto& o : records_[index + 1]->companions) candidates.push_back(&o);
+  }
+  for (const auto* o : candidates) {
+    const auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(*o);
+    if (!image || std::abs(mrpt::Clock::toDouble(image->timestamp) - f.stamp_s) > 0.05) continue;
+    try {
+      const CameraRois rois(path_, params_.camera, params_.rois);
+      const auto boxes = rois.project(*image, record.observation->sensorPose, f.features);
+      f.camera = rois.pixels(*image);
+      drawRois(f.camera, boxes);
+      f.rois = boxes.size();
+    } catch (const std::exception& e) {
+      f.error += (f.error.empty() ? "" : "; ") + std::string("camera: ") + e.what();
+    }
+    break;
+  }
+  cached_ = std::move(f);
+  return *cached_;
+}
+
+namespace {
+
+const Rgb kLevelColours[kNumCascadeLevels] = {{230, 120, 0}, {0, 110, 220}, {150, 60, 190}, {0, 150, 120}};
+
+// A reference trajectory in the frame of the current sensor: aligned on lidarseg's first
+// pose at the time of the first scan, up to the current time.
+std::vector<Eigen::Vector2d> referencePath(const eval::StampedTrajectory& ref, double t0, double t1,
+                                           const Pose2D& T_sensor_odom) {
+  std::vector<Eigen::Vector2d> out;
+  const auto first = eval::nearestIndex(ref, t0, 1.0);
+  if (!first) return out;
+  const Pose2D origin_inv = inverse(ref[*first].pose);
+  for (std::size_t i = *first; i < ref.size() && ref[i].stamp_s <= t1 + 1e-6; ++i) {
+    const Pose2D p = compose(T_sensor_odom, compose(origin_inv, ref[i].pose));
+    out.emplace_back(p.x, p.y);
+  }
+  return out;
+}
+
+}  // namespace
+
+Drawing Session::draw(std::size_t index, const Layers& layers) {
+  const Frame& f = frame(index);
+  Drawing d;
+  const auto level_name = [](std::size_t l) { return "L" + std::to_string(l); };
+  // Status line: where, time, segments per level, match, times.
+  std::ostringstream s1, s2;
+  s1 << "scan " << f.index << (complete_ ? " / " + std::to_string(records_.size() - 1) : std::string(" / ?"))
+     << "  t=" << fixed(f.stamp_s, 3) << " s  segments";
+  for (std::size_t l = 0; l < kNumCascadeLevels; ++l) {
+    s1 << ' ' << level_name(l) << '=' << f.segmentation.levels[l].segments.size();
+  }
+  s1 << "  features " << f.features.size();
+  if (!f.camera.empty()) s1 << "  ROIs " << f.rois;
+  const MatchResult& m = f.step.match;
+  if (f.step.first) {
+    s2 << "first scan";
+  } else {
+    s2 << "match vs " << f.keyframe_index << ": " << toString(m.status) << ", " << m.matches.size() << " pairs, sd x "
+       << fixed(std::sqrt(std::max(m.covariance(0, 0), 0.0)) * 100, 1) << " cm y "
+       << fixed(std::sqrt(std::max(m.covariance(1, 1), 0.0)) * 100, 1) << " cm yaw "
+       << fixed(std::sqrt(std::max(m.covariance(2, 2), 0.0)) * 180 / M_PI, 2) << " deg";
+  }
+  s2 << "  |  W-D " << fixed(f.step.wall_danielsson_us, 0) << " us, cascade " << fixed(f.step.cascade_us, 0)
+     << " us, match " << fixed(f.step.matching_us, 0) << " us, features " << fixed(f.detect_us, 1) << " us";
+  d.status = {s1.str(), s2.str()};
+  if (!f.error.empty()) d.status.push_back("error: " + f.error);
+
+  // View: enough to hold 95 % of the points.
+  std::vector<double> r;
+  for (const auto& p : f.segmentation.points) {
+    if (std::isfinite(p.x())) r.push_back(std::max(std::abs(p.x()), std::abs(p.y())));
+  }
+  if (!r.empty()) {
+    std::nth_element(r.begin(), r.begin() + static_cast<long>(r.size() * 95 / 100), r.end());
+    d.view_half_width_m = std::clamp(r[r.size() * 95 / 100] * 1.1, 2.0, 40.0);
+  }
+
+  const Pose2D T_sensor_odom = inverse(f.step.T_odom_sensor);
+  if (layers.trajectory) {
+    LineLayer mine{{}, {200, 40, 40}, 2};
+    const auto traj = trajectory(index);
+    for (std::size_t i = 1; i < traj.size(); ++i) {
+      const Pose2D a = compose(T_sensor_odom, traj[i - 1]), b = compose(T_sensor_odom, traj[i]);
+      mine.lines.push_back({{a.x, a.y}, {b.x, b.y}});
+    }
+    d.lines.push_back(std::move(mine));
+    const Rgb ref_colours[] = {{30, 160, 30}, {120, 120, 120}, {200, 140, 0}};
+    for (std::size_t k = 0; k < references_.size(); ++k) {
+      const auto path = referencePath(references_[k].poses, records_.front()->stamp_s, f.stamp_s, T_sensor_odom);
+      LineLayer ref{{}, ref_colours[k % 3], 1};
+      for (std::size_t i = 1; i < path.size(); ++i) ref.lines.push_back({path[i - 1], path[i]});
+      d.lines.push_back(std::move(ref));
+    }
+  }
+  if (layers.raw_points) {
+    PointLayer pts{{}, {90, 90, 90}, 2};
+    for (const auto& p : f.segmentation.points) {
+      if (std::isfinite(p.x())) pts.points.push_back(p);
+    }
+    d.points.push_back(std::move(pts));
+  }
+  for (std::size_t l = 0; l < kNumCascadeLevels; ++l) {
+    if (!layers.levels[l]) continue;
+    LineLayer segs{{}, kLevelColours[l], l == 0 ? 1 : 2};
+    const auto& level = f.segmentation.levels[l].segments;
+    for (std::size_t i = 0; i < level.size(); ++i) {
+      segs.lines.push_back({level[i].start, level[i].end});
+      if (layers.indices) d.labels.push_back({level[i].cog, level_name(l) + ":" + std::to_string(i), kLevelColours[l]});
+    }
+    d.lines.push_back(std::move(segs));
+  }
+  if (f.keyframe_segments && !f.step.first) {
+    // The keyframe's segments moved into this scan's frame by the prior (the prediction)
+    // and by the match result.
+    const Pose2D to_prior = inverse(f.step.prior);
+    const Pose2D to_match = inverse(m.T_prev_curr);
+    if (layers.predicted) {
+      LineLayer pred{{}, {240, 170, 0}, 1};
+      for (const Segment& sg : *f.keyframe_segments) pred.lines.push_back({to_prior * sg.start, to_prior * sg.end});
+      d.lines.push_back(std::move(pred));
+    }
+    if (layers.matches) {
+      const auto& current = f.segmentation.level(params_.odometry.level).segments;
+      LineLayer pairs{{}, {220, 0, 160}, 1};
+      for (const auto& [a, b] : m.matches) {
+        if (a < 0 || b < 0 || static_cast<std::size_t>(a) >= f.keyframe_segments->size() ||
+            static_cast<std::size_t>(b) >= current.size()) {
+          continue;
+        }
+        pairs.lines.push_back({to_match * (*f.keyframe_segments)[static_cast<std::size_t>(a)].cog,
+                               current[static_cast<std::size_t>(b)].cog});
+      }
+      d.lines.push_back(std::move(pairs));
+    }
+  }
+  if (layers.features) {
+    for (const Feature& ft : f.features) {
+      const Rgb colour = isDoor(ft.type) ? Rgb{220, 20, 20} : Rgb{20, 170, 20};
+      d.circles.push_back({ft.position, isDoor(ft.type) ? 0.35 : 0.25, colour});
+      d.labels.push_back({ft.position, toString(ft.type), colour});
+    }
+  }
+  if (layers.camera) d.camera = f.camera;
+  return d;
+}
+
+}  // namespace lidarseg::apps::inspect

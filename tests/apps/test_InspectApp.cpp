@@ -1,0 +1,171 @@
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "lidarseg/apps/InspectApp.h"
+#include "lidarseg/apps/SimulateApp.h"
+#include "lidarseg/apps/inspect/Session.h"
+
+namespace lidarseg::apps {
+namespace {
+namespace fs = std::filesystem;
+const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/inspect";
+
+// 10 m of the hospital's corridor with a camera image every 10 scans, simulated once.
+const std::string& simulatedLog() {
+  static const std::string log = [] {
+    fs::create_directories(kTmp);
+    const std::string traj = kTmp + "/corridor.traj";
+    std::ofstream(traj) << "speed 1.0\nturn_radius 0.6\nwaypoint 5 0\nwaypoint 15 0\n";
+    SimulateOptions o;
+    o.world_path = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/hospital.world";
+    o.trajectory_path = traj;
+    o.seed = 4;
+    o.out_prefix = kTmp + "/corridor";
+    o.camera_every_scans = 10;
+    SimulateApp(o).run();
+    return o.out_prefix + ".rawlog";
+  }();
+  return log;
+}
+
+std::size_t pixelsOfColour(const cv::Mat& img, const cv::Vec3b& bgr, int tolerance) {
+  std::size_t n = 0;
+  for (int v = 0; v < img.rows; ++v) {
+    for (int u = 0; u < img.cols; ++u) {
+      const cv::Vec3b p = img.at<cv::Vec3b>(v, u);
+      n += std::abs(p[0] - bgr[0]) <= tolerance && std::abs(p[1] - bgr[1]) <= tolerance &&
+           std::abs(p[2] - bgr[2]) <= tolerance;
+    }
+  }
+  return n;
+}
+
+TEST(InspectSession, ReadsOnDemandStepsBothWaysAndReprocessesOnNewParameters) {
+  inspect::Session s(simulatedLog(), "", {});
+  EXPECT_EQ(s.scansRead(), 1u) << "opening must not read the log";
+  const inspect::Frame& f20 = s.frame(20);
+  EXPECT_EQ(f20.index, 20u);
+  EXPECT_LE(s.scansRead(), 22u) << "frame 20 read " << s.scansRead() << " scans";
+  EXPECT_FALSE(s.complete());
+  EXPECT_FALSE(f20.step.first);
+  EXPECT_GT(f20.segmentation.levels[0].segments.size(), f20.segmentation.levels[3].segments.size());
+  ASSERT_TRUE(f20.keyframe_segments);
+  EXPECT_FALSE(f20.camera.empty()) << "scan 20 has a camera image";
+  const std::size_t l0 = f20.segmentation.levels[0].segments.size();
+  EXPECT_EQ(s.frame(19).index, 19u);
+  EXPECT_EQ(s.frame(21).index, 21u);
+  EXPECT_THROW(s.frame(100000), std::out_of_range);
+  EXPECT_TRUE(s.complete());
+
+  // A much coarser Wall-Danielsson threshold: fewer level-0 segments on the same scan.
+  inspect::InspectorParams p = s.params();
+  p.odometry.segmentation.wall_danielsson.threshold_m *= 20;
+  s.setParams(p);
+  EXPECT_LT(s.frame(20).segmentation.levels[0].segments.size(), l0);
+  inspect::InspectorParams bad = s.params();
+  bad.odometry.segmentation.wall_danielsson.threshold_m = -1;
+  EXPECT_THROW(s.setParams(bad), std::invalid_argument);
+  EXPECT_DOUBLE_EQ(s.params().odometry.segmentation.wall_danielsson.threshold_m,
+                   p.odometry.segmentation.wall_danielsson.threshold_m);
+  // The tuned set saved as INI is what the other apps read.
+  const std::string ini = kTmp + "/tuned.ini";
+  s.params().saveIni(ini);
+  EXPECT_DOUBLE_EQ(inspect::InspectorParams::fromFile(ini).odometry.segmentation.wall_danielsson.threshold_m,
+                   p.odometry.segmentation.wall_danielsson.threshold_m);
+}
+
+TEST(InspectApp, RendersPngAndSvgWithTheLayersAsked) {
+  InspectOptions o;
+  o.input = simulatedLog();
+  o.frame = 150;
+  o.render_out = kTmp + "/frame150.png";
+  ASSERT_EQ(InspectApp(o).run(), 0);
+  const cv::Mat all = cv::imread(o.render_out);
+  ASSERT_FALSE(all.empty());
+  EXPECT_EQ(all.size(), cv::Size(1100, 850));
+  // Doors are drawn red (220, 20, 20), corners green; the trajectory dark red.
+  const std::size_t red = pixelsOfColour(all, {20, 20, 220}, 10);
+  EXPECT_GT(red, 50u);
+  o.layers = "raw";
+  o.render_out = kTmp + "/frame150_raw.png";
+  ASSERT_EQ(InspectApp(o).run(), 0);
+  EXPECT_EQ(pixelsOfColour(cv::imread(o.render_out), {20, 20, 220}, 10), 0u);
+
+  o.layers = "all";
+  o.render_out = kTmp + "/frame150.svg";
+  ASSERT_EQ(InspectApp(o).run(), 0);
+  std::ifstream in(o.render_out);
+  const std::string svg((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_EQ(svg.rfind("<svg ", 0), 0u);
+  EXPECT_NE(svg.find("<line "), std::string::npos);
+  EXPECT_NE(svg.find("stroke=\"#dc1414\""), std::string::npos) << "no door circle";
+  EXPECT_NE(svg.find("scan 150"), std::string::npos);
+  EXPECT_NE(svg.find("</svg>"), std::string::npos);
+
+  InspectOptions bad;
+  bad.input = simulatedLog();
+  bad.render_out = kTmp + "/x.jpg";
+  EXPECT_THROW(InspectApp{bad}, std::invalid_argument);
+  bad.render_out.clear();
+  bad.layers = "raw,segments";
+  try {
+    InspectApp{bad};
+    FAIL() << "unknown layer accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'segments'"), std::string::npos) << e.what();
+  }
+  o.layers.clear();
+  o.frame = 1000000;
+  o.render_out = kTmp + "/past.png";
+  EXPECT_THROW(InspectApp(o).run(), std::out_of_range);
+  EXPECT_FALSE(fs::exists(o.render_out));
+}
+
+TEST(InspectApp, ReportHasTheTablePlotsAndWorstFramesFirst) {
+  InspectOptions o;
+  o.input = simulatedLog();
+  o.report_dir = kTmp + "/report";
+  o.gallery = 5;
+  InspectApp app(o);
+  inspect::Session s(o.input, "", {});
+  const std::string stem = o.input.substr(0, o.input.size() - 7);
+  s.addReference({"ground truth", eval::readTum(stem + ".gt.tum")});
+  const InspectReport r = app.writeReport(s);
+  EXPECT_GT(r.scans, 400u);
+  ASSERT_TRUE(r.final_error_m.has_value());
+  EXPECT_LT(*r.final_error_m, 1.0);
+  EXPECT_GT(r.length_m, 5.0);
+  ASSERT_EQ(r.gallery.size(), 5u);
+  std::ifstream in(o.report_dir + "/index.html");
+  const std::string html((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(html.find("<table id=\"results\">"), std::string::npos);
+  for (const char* f : {"trajectory.png", "error_over_time.png", "timing.png"}) {
+    EXPECT_NE(html.find(f), std::string::npos) << f;
+    EXPECT_GT(fs::file_size(o.report_dir + "/" + f), 1000u) << f;
+  }
+  for (std::size_t i : r.gallery) {
+    const std::string png = "frames/scan_" + std::to_string(i) + ".png";
+    EXPECT_NE(html.find(png), std::string::npos) << png;
+    EXPECT_TRUE(fs::exists(o.report_dir + "/" + png)) << png;
+  }
+  // Worst first: the gallery's order follows the table's.
+  EXPECT_LT(html.find("scan_" + std::to_string(r.gallery[0]) + ".png"),
+            html.find("scan_" + std::to_string(r.gallery[1]) + ".png"));
+}
+
+TEST(InspectApp, KeysAreListed) {
+  const auto keys = InspectApp::keyHelp();
+  std::string all;
+  for (const auto& k : keys) all += k + "\n";
+  for (const char* needle : {"next scan", "go to scan", "play", "W-D threshold", "save parameters", "quit"}) {
+    EXPECT_NE(all.find(needle), std::string::npos) << needle;
+  }
+}
+
+}  // namespace
+}  // namespace lidarseg::apps
