@@ -16,7 +16,7 @@ JOBS="$(nproc 2>/dev/null || echo 2)"
 DEFAULT_RAWLOG="/usr/share/mrpt/datasets/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog"
 PACKAGES=(cmake g++ make pkg-config libmrpt-dev mrpt-common mrpt-apps libeigen3-dev
           libopencv-dev libnanoflann-dev googletest libgtest-dev libbenchmark-dev zlib1g-dev
-          opencv-doc xvfb xauth chromium)
+          opencv-doc xvfb xauth xdotool chromium)
 
 log() { echo "[run.sh] $*" >&2; }
 

@@ -297,7 +297,9 @@ int InspectApp::window(Session& session) {
           }
           dirty = true;
           break;
-        case 'Q': case mrpt::gui::MRPTK_ESCAPE: leave(0);
+        case 'Q': case mrpt::gui::MRPTK_ESCAPE:
+          std::cout << "quit at scan " << index << "\n";
+          leave(0);
         default: break;
       }
     }
