@@ -106,7 +106,13 @@ FeaturesReport FeaturesApp::run() {
       report.rois += rois.size();
       if (!rois.empty()) ++report.images_with_rois;
       if (!options_.images_out.empty()) {
-        cv::Mat bgr = camera_rois.pixels(*image);
+        cv::Mat bgr;
+        try {
+          bgr = camera_rois.pixels(*image);
+        } catch (const std::runtime_error& e) {
+          report.skipped.push_back(record.where + ": image " + std::to_string(n) + ": " + e.what());
+          continue;
+        }
         drawRois(bgr, rois);
         char name[32];
         std::snprintf(name, sizeof(name), "rois_%06zu.png", n);

@@ -180,6 +180,9 @@ int InspectApp::window(Session& session) {
     } catch (const std::out_of_range&) {
       index = session.scansRead() - 1;
       playing = false;
+    } catch (const std::exception& e) {  // an unreadable part of the log: say so, stay
+      message = e.what();
+      playing = false;
     }
     dirty = true;
   };
@@ -217,9 +220,8 @@ int InspectApp::window(Session& session) {
     win.forceRepaint();
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
     if (got) {
-      if (!grabbed.saveToFile(options_.screenshot_out)) {
-        throw std::runtime_error("cannot write '" + options_.screenshot_out + "'");
-      }
+      cv::Mat rgb = grabbed.asCvMat<cv::Mat>(mrpt::img::DEEP_COPY);
+      writeFileAtomically(options_.screenshot_out, pngBytes(rgb));
       std::cout << "screenshot of the window (scan " << index << ") written to " << options_.screenshot_out << "\n";
       leave(0);
     }
@@ -237,7 +239,7 @@ int InspectApp::window(Session& session) {
       const bool shift = (mod & mrpt::gui::MRPTKMOD_SHIFT) != 0;
       const long long step = shift ? 10 : 1;
       message.clear();
-      if (key >= '0' && key <= '9') {
+      if (key >= '0' && key <= '9' && number.size() < 12) {
         number += static_cast<char>(key);
         dirty = true;
         continue;

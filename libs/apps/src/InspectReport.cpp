@@ -60,7 +60,15 @@ InspectReport InspectApp::writeReport(inspect::Session& session) {
     if (r.name == "ground truth") truth = &r.poses;
   }
   const auto traj = session.trajectory(n - 1);
+  // The truth (robot poses) moved to the laser by its mounting, anchored at the first
+  // scan's time, is compared with lidarseg's laser poses (which start at the first scan).
+  Pose2D mount;
   std::optional<Pose2D> truth_origin;
+  if (truth) {
+    const double t0 = session.frame(0).stamp_s;
+    mount = session.mountOfFirstScan();
+    if (const auto k = eval::nearestIndex(*truth, t0, 1.0)) truth_origin = compose((*truth)[*k].pose, mount);
+  }
   std::optional<Pose2D> prev_truth;
   for (std::size_t i = 0; i < n; ++i) {
     const inspect::Frame& f = session.frame(i);
@@ -74,9 +82,9 @@ InspectReport InspectApp::writeReport(inspect::Session& session) {
     row.total_us = f.step.wall_danielsson_us + f.step.cascade_us + f.step.matching_us;
     row.features = f.features.size();
     if (truth) {
-      if (const auto k = eval::nearestIndex(*truth, f.stamp_s, 0.02)) {
-        const Pose2D g = (*truth)[*k].pose;
-        if (!truth_origin) truth_origin = g;
+      const auto k = eval::nearestIndex(*truth, f.stamp_s, 0.02);
+      if (k && truth_origin) {
+        const Pose2D g = compose((*truth)[*k].pose, mount);
         const Pose2D aligned = relative(g, *truth_origin);  // truth in lidarseg's odometry frame
         row.drift_m = std::hypot(aligned.x - traj[i].x, aligned.y - traj[i].y);
         if (prev_truth && i > 0) {

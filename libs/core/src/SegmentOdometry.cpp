@@ -58,13 +58,18 @@ MatchResult SegmentOdometry::matchWithKeyframe(int slot, const Pose2D& prior, Od
   const auto t0 = std::chrono::steady_clock::now();
   MatchResult m = matcher_.match(segmentation_[keyframe_].level(params_.level).segments,
                                  segmentation_[slot].level(params_.level).segments, prior);
+  step.matched_level = params_.level;
+  step.prior_from_keyframe = prior;
   // A degenerate match (a corridor: only its two walls matched) leaves the motion along
   // the walls to the prediction. The finer fallback level keeps the short segments (door
   // recesses, jambs, pillars) that the cascade removed; they may constrain it.
   if (m.status == MatchStatus::kDegenerate && params_.degenerate_fallback_level < params_.level) {
     MatchResult finer = matcher_.match(segmentation_[keyframe_].level(params_.degenerate_fallback_level).segments,
                                        segmentation_[slot].level(params_.degenerate_fallback_level).segments, m.T_prev_curr);
-    if (finer.status == MatchStatus::kOk) m = std::move(finer);
+    if (finer.status == MatchStatus::kOk) {
+      m = std::move(finer);
+      step.matched_level = params_.degenerate_fallback_level;
+    }
   }
   step.matching_us += microsecondsSince(t0);
   return m;

@@ -107,8 +107,7 @@ void Session::matchUpTo(std::size_t index) {
         s.keyframe_index = keyframe_index_;
         s.keyframe_segments = keyframe_segments_;
         keyframe_index_ = steps_.size();
-        keyframe_segments_ = std::make_shared<const std::vector<Segment>>(
-            odometry_->lastSegmentation().level(params_.odometry.level).segments);
+        keyframe_segments_ = std::make_shared<const Segmentation>(odometry_->lastSegmentation());
       } else {
         s.keyframe_index = keyframe_index_;
         s.keyframe_segments = keyframe_segments_;
@@ -120,6 +119,11 @@ void Session::matchUpTo(std::size_t index) {
     }
     steps_.push_back(std::move(s));
   }
+}
+
+Pose2D Session::mountOfFirstScan() const {
+  const auto& sp = records_.front()->observation->sensorPose;
+  return {sp.x(), sp.y(), sp.yaw()};
 }
 
 std::vector<Pose2D> Session::trajectory(std::size_t index) {
@@ -188,14 +192,16 @@ const Rgb kLevelColours[kNumCascadeLevels] = {{230, 120, 0}, {0, 110, 220}, {150
 
 // A reference trajectory in the frame of the current sensor: aligned on lidarseg's first
 // pose at the time of the first scan, up to the current time.
+// References are robot poses; lidarseg's are the laser's: each reference pose is moved to
+// the laser by its mounting pose on the robot.
 std::vector<Eigen::Vector2d> referencePath(const eval::StampedTrajectory& ref, double t0, double t1,
-                                           const Pose2D& T_sensor_odom) {
+                                           const Pose2D& T_sensor_odom, const Pose2D& mount) {
   std::vector<Eigen::Vector2d> out;
   const auto first = eval::nearestIndex(ref, t0, 1.0);
   if (!first) return out;
-  const Pose2D origin_inv = inverse(ref[*first].pose);
+  const Pose2D origin_inv = inverse(compose(ref[*first].pose, mount));
   for (std::size_t i = *first; i < ref.size() && ref[i].stamp_s <= t1 + 1e-6; ++i) {
-    const Pose2D p = compose(T_sensor_odom, compose(origin_inv, ref[i].pose));
+    const Pose2D p = compose(T_sensor_odom, compose(origin_inv, compose(ref[i].pose, mount)));
     out.emplace_back(p.x, p.y);
   }
   return out;
@@ -228,7 +234,7 @@ Drawing Session::draw(std::size_t index, const Layers& layers) {
   s2 << "  |  W-D " << fixed(f.step.wall_danielsson_us, 0) << " us, cascade " << fixed(f.step.cascade_us, 0)
      << " us, match " << fixed(f.step.matching_us, 0) << " us, features " << fixed(f.detect_us, 1) << " us";
   d.status = {s1.str(), s2.str()};
-  if (!f.error.empty()) d.status.push_back("error: " + f.error);
+  if (!f.error.empty()) d.status.push_back("error at " + f.where + ": " + f.error);
 
   // View: enough to hold 95 % of the points.
   std::vector<double> r;
@@ -251,7 +257,8 @@ Drawing Session::draw(std::size_t index, const Layers& layers) {
     d.lines.push_back(std::move(mine));
     const Rgb ref_colours[] = {{30, 160, 30}, {120, 120, 120}, {200, 140, 0}};
     for (std::size_t k = 0; k < references_.size(); ++k) {
-      const auto path = referencePath(references_[k].poses, records_.front()->stamp_s, f.stamp_s, T_sensor_odom);
+      const auto path = referencePath(references_[k].poses, records_.front()->stamp_s, f.stamp_s, T_sensor_odom,
+                                      mountOfFirstScan());
       LineLayer ref{{}, ref_colours[k % 3], 1};
       for (std::size_t i = 1; i < path.size(); ++i) ref.lines.push_back({path[i - 1], path[i]});
       d.lines.push_back(std::move(ref));
@@ -277,23 +284,27 @@ Drawing Session::draw(std::size_t index, const Layers& layers) {
   if (f.keyframe_segments && !f.step.first) {
     // The keyframe's segments moved into this scan's frame by the prior (the prediction)
     // and by the match result.
-    const Pose2D to_prior = inverse(f.step.prior);
+    // prior_from_keyframe and the match are T_keyframe_current.
+    const Pose2D to_prior = inverse(f.step.prior_from_keyframe);
     const Pose2D to_match = inverse(m.T_prev_curr);
+    const auto& key = f.keyframe_segments->level(f.step.matched_level).segments;
     if (layers.predicted) {
       LineLayer pred{{}, {240, 170, 0}, 1};
-      for (const Segment& sg : *f.keyframe_segments) pred.lines.push_back({to_prior * sg.start, to_prior * sg.end});
+      for (const Segment& sg : f.keyframe_segments->level(params_.odometry.level).segments) {
+        pred.lines.push_back({to_prior * sg.start, to_prior * sg.end});
+      }
       d.lines.push_back(std::move(pred));
     }
     if (layers.matches) {
-      const auto& current = f.segmentation.level(params_.odometry.level).segments;
+      // The pairs index the matched level's segments (the degenerate fallback's when kept).
+      const auto& current = f.segmentation.level(f.step.matched_level).segments;
       LineLayer pairs{{}, {220, 0, 160}, 1};
       for (const auto& [a, b] : m.matches) {
-        if (a < 0 || b < 0 || static_cast<std::size_t>(a) >= f.keyframe_segments->size() ||
+        if (a < 0 || b < 0 || static_cast<std::size_t>(a) >= key.size() ||
             static_cast<std::size_t>(b) >= current.size()) {
           continue;
         }
-        pairs.lines.push_back({to_match * (*f.keyframe_segments)[static_cast<std::size_t>(a)].cog,
-                               current[static_cast<std::size_t>(b)].cog});
+        pairs.lines.push_back({to_match * key[static_cast<std::size_t>(a)].cog, current[static_cast<std::size_t>(b)].cog});
       }
       d.lines.push_back(std::move(pairs));
     }

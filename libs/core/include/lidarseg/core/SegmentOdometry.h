@@ -61,8 +61,12 @@ struct OdometryStep {
   /// Motion since the previous scan, T_prev_curr, and its covariance (x, y, yaw).
   Pose2D increment;
   Eigen::Matrix3d increment_covariance = Eigen::Matrix3d::Zero();
-  /// The prediction the matcher started from.
+  /// The predicted motion since the previous scan (constant velocity or wheel odometry).
   Pose2D prior;
+  /// The prediction the matcher started from: T_keyframe_curr.
+  Pose2D prior_from_keyframe;
+  /// Cascade level of the segments `match` couples (the degenerate fallback's when kept).
+  CascadeLevel matched_level = CascadeLevel::kFusedAgain;
   /// Matching details (status, couples, weights) against the keyframe; empty for the
   /// first scan. match.T_prev_curr is T_keyframe_curr.
   MatchResult match;

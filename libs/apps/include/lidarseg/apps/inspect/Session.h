@@ -64,8 +64,8 @@ struct Frame {
   std::vector<Feature> features;
   OdometryStep step;           ///< match against the keyframe, timings
   std::size_t keyframe_index = 0;
-  /// The keyframe's segments (matched level) the match used, in the keyframe's frame.
-  std::shared_ptr<const std::vector<Segment>> keyframe_segments;
+  /// The keyframe's segmentation (every level) the match used, in the keyframe's frame.
+  std::shared_ptr<const Segmentation> keyframe_segments;
   double detect_us = 0.0;
   /// The camera image (with ROI boxes drawn) of the scan, when the log has one.
   cv::Mat camera;
@@ -110,6 +110,8 @@ class Session {
   Drawing draw(std::size_t index, const Layers& layers);
 
   const std::string& path() const { return path_; }
+  /// The laser's mounting pose on the robot at the first scan (x, y, yaw).
+  Pose2D mountOfFirstScan() const;
 
  private:
   bool readUpTo(std::size_t index);
@@ -125,12 +127,12 @@ class Session {
   struct Step {
     OdometryStep step;
     std::size_t keyframe_index = 0;
-    std::shared_ptr<const std::vector<Segment>> keyframe_segments;
+    std::shared_ptr<const Segmentation> keyframe_segments;
     std::string error;
   };
   std::vector<Step> steps_;
   std::size_t keyframe_index_ = 0;
-  std::shared_ptr<const std::vector<Segment>> keyframe_segments_;
+  std::shared_ptr<const Segmentation> keyframe_segments_;
   std::optional<Frame> cached_;
   std::vector<Reference> references_;
 };
