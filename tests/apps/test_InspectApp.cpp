@@ -15,17 +15,19 @@ namespace {
 namespace fs = std::filesystem;
 const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/inspect";
 
-// 10 m of the hospital's corridor with a camera image every 10 scans, simulated once.
+// 10 m of the hospital's corridor with a camera image every 10 scans, simulated once per
+// test process under the test's own name (CTest runs the tests of this file in parallel).
 const std::string& simulatedLog() {
   static const std::string log = [] {
+    const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
     fs::create_directories(kTmp);
-    const std::string traj = kTmp + "/corridor.traj";
+    const std::string traj = kTmp + "/corridor_" + name + ".traj";
     std::ofstream(traj) << "speed 1.0\nturn_radius 0.6\nwaypoint 5 0\nwaypoint 15 0\n";
     SimulateOptions o;
     o.world_path = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/hospital.world";
     o.trajectory_path = traj;
     o.seed = 4;
-    o.out_prefix = kTmp + "/corridor";
+    o.out_prefix = kTmp + "/corridor_" + name;
     o.camera_every_scans = 10;
     SimulateApp(o).run();
     return o.out_prefix + ".rawlog";

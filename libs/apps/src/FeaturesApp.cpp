@@ -11,8 +11,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "Format.h"
 #include "CameraRois.h"
+#include "Format.h"
+#include "Png.h"
 #include "FeatureCsv.h"
 #include "Json.h"
 #include "OutputFiles.h"
@@ -116,9 +117,7 @@ FeaturesReport FeaturesApp::run() {
         drawRois(bgr, rois);
         char name[32];
         std::snprintf(name, sizeof(name), "rois_%06zu.png", n);
-        std::vector<uchar> png;
-        cv::imencode(".png", bgr, png);
-        outputs.add(options_.images_out + "/" + name, std::string(png.begin(), png.end()));
+        outputs.add(options_.images_out + "/" + name, encodePng(bgr));
       }
     }
   };

@@ -16,4 +16,19 @@ inline std::string fixed(double v, int digits) {
   return os.str();
 }
 
+/// Text made safe inside XML/HTML elements and attribute values.
+inline std::string escapeXml(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
 }  // namespace lidarseg::apps

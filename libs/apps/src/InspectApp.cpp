@@ -15,6 +15,7 @@
 #include <mrpt/img/CImage.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include "Png.h"
 #include "OutputFiles.h"
 #include "lidarseg/apps/inspect/Drawing.h"
 #include "lidarseg/eval/StampedTrajectory.h"
@@ -26,12 +27,6 @@ using inspect::Layers;
 using inspect::Session;
 
 namespace {
-
-std::string pngBytes(const cv::Mat& img) {
-  std::vector<uchar> png;
-  cv::imencode(".png", img, png);
-  return std::string(png.begin(), png.end());
-}
 
 bool endsWith(const std::string& s, const std::string& e) {
   return s.size() >= e.size() && s.compare(s.size() - e.size(), e.size(), e) == 0;
@@ -124,7 +119,7 @@ int InspectApp::run() {
     const inspect::Drawing d = session->draw(frame, parseLayers(options_.layers));
     const cv::Size size(options_.width, options_.height);
     writeFileAtomically(options_.render_out, endsWith(options_.render_out, ".svg") ? inspect::renderSvg(d, size)
-                                                                                   : pngBytes(inspect::renderPng(d, size)));
+                                                                                   : encodePng(inspect::renderPng(d, size)));
     std::cout << "scan " << frame << " drawn to " << options_.render_out << "\n";
     if (options_.screenshot_out.empty()) return 0;
   }
@@ -221,12 +216,12 @@ int InspectApp::window(Session& session) {
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
     if (got) {
       cv::Mat rgb = grabbed.asCvMat<cv::Mat>(mrpt::img::DEEP_COPY);
-      writeFileAtomically(options_.screenshot_out, pngBytes(rgb));
+      writeFileAtomically(options_.screenshot_out, encodePng(rgb));
       std::cout << "screenshot of the window (scan " << index << ") written to " << options_.screenshot_out << "\n";
       leave(0);
     }
     std::cerr << "lidarseg-inspect: the GL driver gave no window image; writing the picture the window shows\n";
-    writeFileAtomically(options_.screenshot_out, pngBytes(shown));
+    writeFileAtomically(options_.screenshot_out, encodePng(shown));
     leave(0);
   }
 

@@ -12,6 +12,7 @@
 #include "Format.h"
 #include "OutputFiles.h"
 #include "Plots.h"
+#include "Png.h"
 #include "lidarseg/apps/InspectApp.h"
 #include "lidarseg/core/Statistics.h"
 
@@ -20,17 +21,6 @@ namespace lidarseg::apps {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string escapeHtml(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else out += c;
-  }
-  return out;
-}
 
 struct ScanRow {
   std::size_t index = 0;
@@ -120,10 +110,8 @@ InspectReport InspectApp::writeReport(inspect::Session& session) {
   const inspect::Layers layers = parseLayers(options_.layers.empty() ? "raw,l1,l3,predicted,matches,features,trajectory,camera"
                                                             : options_.layers);
   for (std::size_t i : order) {
-    const cv::Mat img = inspect::renderPng(session.draw(i, layers), cv::Size(900, 700));
-    std::vector<uchar> png;
-    cv::imencode(".png", img, png);
-    outputs.add(dir + "/frames/scan_" + std::to_string(i) + ".png", std::string(png.begin(), png.end()));
+    outputs.add(dir + "/frames/scan_" + std::to_string(i) + ".png",
+                encodePng(inspect::renderPng(session.draw(i, layers), cv::Size(900, 700))));
   }
   // Plots.
   std::vector<PlotSeries> traj_series;
@@ -160,11 +148,11 @@ InspectReport InspectApp::writeReport(inspect::Session& session) {
   const Summary t = summarize(us);
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>lidarseg-inspect: "
-       << escapeHtml(fs::path(options_.input).filename().string()) << "</title>\n"
+       << escapeXml(fs::path(options_.input).filename().string()) << "</title>\n"
        << "<style>body{font-family:sans-serif;margin:2em;max-width:1200px}table{border-collapse:collapse}"
           "td,th{border:1px solid #ccc;padding:4px 8px;text-align:right}th{background:#eee}"
           "figure{display:inline-block;margin:6px}img{max-width:100%}figcaption{font-size:90%}</style>\n"
-       << "</head><body>\n<h1>lidarseg-inspect report</h1>\n<p>Log: <code>" << escapeHtml(options_.input)
+       << "</head><body>\n<h1>lidarseg-inspect report</h1>\n<p>Log: <code>" << escapeXml(options_.input)
        << "</code></p>\n<h2>Results</h2>\n<table id=\"results\">\n<tr><th>scans</th><th>path length (m)</th>"
        << "<th>failed matches</th><th>final error vs ground truth (m)</th><th>time per scan, median (&micro;s)</th>"
        << "<th>p99 (&micro;s)</th><th>max (&micro;s)</th></tr>\n<tr><td>" << n << "</td><td>" << fixed(report.length_m, 2)

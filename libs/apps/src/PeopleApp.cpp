@@ -19,6 +19,7 @@
 #include "Format.h"
 #include "Json.h"
 #include "OutputFiles.h"
+#include "Png.h"
 #include "Timing.h"
 #include "lidarseg/mrpt/VisionConfig.h"
 #include "lidarseg/vision/PeopleDetector.h"
@@ -280,11 +281,9 @@ PeopleReport PeopleApp::run() {
       for (const cv::Rect& r : rois) cv::rectangle(pic, r, cv::Scalar(0, 220, 255), 2);
       for (const vision::Person& p : full.people) cv::rectangle(pic, p.box, cv::Scalar(255, 120, 0), 3);
       for (const vision::Person& p : inside.people) cv::rectangle(pic, p.box, cv::Scalar(0, 0, 230), 1);
-      std::vector<uchar> png;
-      cv::imencode(".png", pic, png);
       char name[32];
       std::snprintf(name, sizeof(name), "people_%06zu.png", index);
-      outputs.add(options_.draw_dir + "/" + name, std::string(png.begin(), png.end()));
+      outputs.add(options_.draw_dir + "/" + name, encodePng(pic));
     }
   }
   if (report.frames == 0) throw std::runtime_error("'" + options_.input + "': no frame read");

@@ -10,6 +10,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "Png.h"
+
 namespace lidarseg::apps {
 
 namespace {
@@ -112,12 +114,6 @@ void drawSeries(cv::Mat& img, const Axes& a, const PlotSeries& s) {
   }
 }
 
-std::string encode(const cv::Mat& img) {
-  std::vector<unsigned char> png;
-  if (!cv::imencode(".png", img, png)) throw std::runtime_error("cannot encode a PNG image");
-  return std::string(png.begin(), png.end());
-}
-
 }  // namespace
 
 std::string plotTrajectoriesPng(const std::vector<PlotSeries>& series, const std::string& title) {
@@ -144,7 +140,7 @@ std::string plotTrajectoriesPng(const std::vector<PlotSeries>& series, const std
     cv::rectangle(img, {e.x - 5, e.y - 5}, {e.x + 5, e.y + 5}, colour(s), 2, cv::LINE_AA);
   }
   drawLegend(img, series, a);
-  return encode(img);
+  return encodePng(img);
 }
 
 std::string plotHistogramsPng(const std::vector<PlotSeries>& series, const std::string& title,
@@ -182,7 +178,7 @@ std::string plotHistogramsPng(const std::vector<PlotSeries>& series, const std::
     }
   }
   drawLegend(img, series, a);
-  return encode(img);
+  return encodePng(img);
 }
 
 std::string plotXYPng(const std::vector<PlotSeries>& series, const std::string& title,
@@ -199,7 +195,7 @@ std::string plotXYPng(const std::vector<PlotSeries>& series, const std::string& 
   drawFrame(img, a, title, x_label, y_label, false);
   for (const auto& s : series) drawSeries(img, a, s);
   drawLegend(img, series, a);
-  return encode(img);
+  return encodePng(img);
 }
 
 std::string scanFeaturesPng(const ScanPicture& scan, const std::string& title) {
@@ -241,7 +237,7 @@ std::string scanFeaturesPng(const ScanPicture& scan, const std::string& title) {
   const cv::Point b0(20, kTop + kPanel - 20);
   cv::line(img, b0, b0 + cv::Point(static_cast<int>(scale), 0), cv::Scalar(0, 0, 0), 2);
   cv::putText(img, "1 m", b0 + cv::Point(0, -8), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-  return encode(img);
+  return encodePng(img);
 }
 
 }  // namespace lidarseg::apps

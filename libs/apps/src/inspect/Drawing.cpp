@@ -7,6 +7,9 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "../Format.h"
+#include "../Png.h"
+
 namespace lidarseg::apps::inspect {
 
 namespace {
@@ -32,31 +35,17 @@ cv::Rect insetRect(const cv::Mat& camera, const cv::Size& size) {
   return cv::Rect(size.width - w - 8, size.height - h - 8, w, h);
 }
 
-std::string base64(const std::vector<uchar>& bytes) {
+std::string base64(const std::string& bytes) {
   static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out;
   out.reserve((bytes.size() + 2) / 3 * 4);
   for (std::size_t i = 0; i < bytes.size(); i += 3) {
-    const unsigned n = (bytes[i] << 16) | ((i + 1 < bytes.size() ? bytes[i + 1] : 0) << 8) |
-                       (i + 2 < bytes.size() ? bytes[i + 2] : 0);
+    const auto at = [&](std::size_t k) { return k < bytes.size() ? static_cast<unsigned char>(bytes[k]) : 0u; };
+    const unsigned n = (at(i) << 16) | (at(i + 1) << 8) | at(i + 2);
     out += k[(n >> 18) & 63];
     out += k[(n >> 12) & 63];
     out += i + 1 < bytes.size() ? k[(n >> 6) & 63] : '=';
     out += i + 2 < bytes.size() ? k[n & 63] : '=';
-  }
-  return out;
-}
-
-std::string escapeXml(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
   }
   return out;
 }
@@ -155,8 +144,7 @@ std::string renderSvg(const Drawing& d, const cv::Size& size) {
      << "\" fill=\"#c82828\"/>\n";
   if (!d.camera.empty()) {
     const cv::Rect r = insetRect(d.camera, size);
-    std::vector<uchar> png;
-    cv::imencode(".png", d.camera, png);
+    const std::string png = encodePng(d.camera);
     os << "<image x=\"" << r.x << "\" y=\"" << r.y << "\" width=\"" << r.width << "\" height=\"" << r.height
        << "\" href=\"data:image/png;base64," << base64(png) << "\"/>\n";
   }
