@@ -6,6 +6,9 @@
 #                    first use, deterministically); print statistics per cascade level
 #   ./run.sh test    build with AddressSanitizer + UBSan and run the whole suite (CTest)
 #   ./run.sh bench   Release build, then the Google Benchmark timings (docs/performance.md)
+#   ./run.sh fuzz [SECONDS]  build the libFuzzer targets with clang (ASan + UBSan) and run each
+#                    for SECONDS (default 60) from its committed seed corpus (docs/reliability.md)
+#   ./run.sh tsan    ThreadSanitizer build; the batch runner's tests and apps under it
 #   ./run.sh real    lidarseg-odometry with MRPT ICP on every real log (../shared/datasets and
 #                    MRPT's datasets): build/results/real/<log>/ and a table (docs/results.md)
 #   ./run.sh deps    only install the Debian packages
@@ -16,7 +19,8 @@ JOBS="$(nproc 2>/dev/null || echo 2)"
 DEFAULT_RAWLOG="/usr/share/mrpt/datasets/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog"
 PACKAGES=(cmake g++ make pkg-config libmrpt-dev mrpt-common mrpt-apps libeigen3-dev
           libopencv-dev libnanoflann-dev googletest libgtest-dev libbenchmark-dev zlib1g-dev
-          opencv-doc xvfb xauth xdotool chromium)
+          opencv-doc xvfb xauth xdotool chromium clang libclang-rt-14-dev)
+FUZZ_TARGETS=(fuzz_carmen_log fuzz_rawlog fuzz_sim_inputs fuzz_config fuzz_tables fuzz_scan_pipeline)
 
 log() { echo "[run.sh] $*" >&2; }
 
@@ -79,6 +83,42 @@ case "$cmd" in
     export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}"
     export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
     ctest --test-dir "$ROOT/build/test" --output-on-failure --parallel "$JOBS" --timeout 600
+    ;;
+  fuzz)
+    install_deps
+    seconds="${2:-60}"
+    CXX=clang++ CC=clang configure_build "$ROOT/build/fuzz" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      -DLIDARSEG_FUZZ=ON -DLIDARSEG_BUILD_APPS=OFF -DLIDARSEG_BUILD_TESTS=OFF -DLIDARSEG_BUILD_BENCHMARKS=OFF
+    work="$ROOT/build/fuzz/run"
+    mkdir -p "$work/crashes"  # kept between local runs; CI starts from a fresh clone
+    # Seeds: the committed corpus, plus the project's own configuration and world files
+    # (prefixed with the byte that selects their format in the target).
+    seeds="$work/project-seeds"; mkdir -p "$seeds/fuzz_config" "$seeds/fuzz_sim_inputs"
+    for f in "$ROOT"/config/*.ini "$ROOT"/config/*/*.ini; do
+      { printf '\x00'; cat "$f"; } > "$seeds/fuzz_config/$(basename "$f")"
+    done
+    for f in "$ROOT"/config/worlds/*.world; do { printf '\x00'; cat "$f"; } > "$seeds/fuzz_sim_inputs/$(basename "$f")"; done
+    for f in "$ROOT"/config/worlds/*.traj; do { printf '\x01'; cat "$f"; } > "$seeds/fuzz_sim_inputs/$(basename "$f")"; done
+    export ASAN_OPTIONS="detect_leaks=1"
+    export LSAN_OPTIONS="suppressions=$ROOT/tests/fuzz/lsan.supp"
+    export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+    failed=()
+    for t in "${FUZZ_TARGETS[@]}"; do
+      corpus="$work/corpus/$t"; mkdir -p "$corpus"
+      extra=()
+      [ -d "$seeds/$t" ] && extra+=("$seeds/$t")
+      log "$t: ${seconds} s"
+      # -rss_limit_mb / -malloc_limit_mb: an input that makes a reader ask for gigabytes is a finding.
+      bin="$ROOT/build/fuzz/tests/fuzz/$t"
+      if ! (cd "$work" && TMPDIR="$work" "$bin" "$corpus" "$ROOT/tests/fuzz/corpus/${t#fuzz_}" "${extra[@]}" \
+             -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1024 \
+             -artifact_prefix="$work/crashes/$t-" -print_final_stats=1 > "$work/$t.log" 2>&1); then
+        failed+=("$t")
+        log "$t FOUND A CRASH (artifacts in $work/crashes):"; tail -40 "$work/$t.log" >&2
+      fi
+      grep -E "^stat::number_of_executed_units|^stat::peak_rss_mb|^#[0-9]+.*DONE" "$work/$t.log" | sed "s/^/  $t /" >&2 || true
+    done
+    [ "${#failed[@]}" -eq 0 ] || { log "fuzz targets with findings: ${failed[*]}"; exit 1; }
     ;;
   real)
     install_deps

@@ -1,9 +1,24 @@
 # Per-target compile settings shared by every lidarseg target.
 #   lidarseg_target_options(<target>) : C++17, warnings, optional sanitizers.
 
+# Sanitizer builds (docs/reliability.md): at most one of
+#   LIDARSEG_SANITIZE  AddressSanitizer + UndefinedBehaviorSanitizer (the test suite, ./run.sh test)
+#   LIDARSEG_TSAN      ThreadSanitizer (./run.sh tsan)
+#   LIDARSEG_FUZZ      libFuzzer targets, clang only, with ASan + UBSan (./run.sh fuzz)
 set(LIDARSEG_SANITIZER_FLAGS "")
-if(LIDARSEG_SANITIZE)
+if((LIDARSEG_SANITIZE AND LIDARSEG_TSAN) OR (LIDARSEG_FUZZ AND LIDARSEG_TSAN))
+  message(FATAL_ERROR "LIDARSEG_TSAN cannot be combined with LIDARSEG_SANITIZE or LIDARSEG_FUZZ")
+endif()
+if(LIDARSEG_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "LIDARSEG_FUZZ needs clang (libFuzzer): configure with -DCMAKE_CXX_COMPILER=clang++")
+  endif()
+  set(LIDARSEG_SANITIZER_FLAGS -fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer
+      -fno-sanitize-recover=undefined)
+elseif(LIDARSEG_SANITIZE)
   set(LIDARSEG_SANITIZER_FLAGS -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+elseif(LIDARSEG_TSAN)
+  set(LIDARSEG_SANITIZER_FLAGS -fsanitize=thread -fno-omit-frame-pointer)
 endif()
 
 function(lidarseg_target_options target)
@@ -12,7 +27,7 @@ function(lidarseg_target_options target)
   if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
     target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion)
   endif()
-  if(LIDARSEG_SANITIZE)
+  if(LIDARSEG_SANITIZER_FLAGS)
     target_compile_options(${target} PRIVATE ${LIDARSEG_SANITIZER_FLAGS})
     target_link_options(${target} PRIVATE ${LIDARSEG_SANITIZER_FLAGS})
   endif()

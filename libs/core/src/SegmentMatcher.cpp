@@ -62,7 +62,21 @@ struct Workspace {
   std::vector<double> weights;  // n x m, row-major
   std::vector<double> bearings;
   std::vector<int> order;       // current segments sorted by bearing
+  std::vector<int> prev_index, cur_index;  // considered segment -> index in the input
 };
+
+// The indices (ascending) of the `limit` longest segments, or of all of them.
+void selectLongest(const std::vector<Segment>& segments, std::size_t limit, std::vector<int>& out) {
+  out.resize(segments.size());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = static_cast<int>(i);
+  if (segments.size() <= limit) return;
+  std::nth_element(out.begin(), out.begin() + static_cast<long>(limit), out.end(), [&](int a, int b) {
+    const double la = segments[a].length_m, lb = segments[b].length_m;
+    return la > lb || (la == lb && a < b);
+  });
+  out.resize(limit);
+  std::sort(out.begin(), out.end());
+}
 
 }  // namespace
 
@@ -88,6 +102,7 @@ void MatcherParams::validate() const {
   detail::requirePositive("max_weight", max_weight);
   detail::requireInRange("ambiguity_ratio", ambiguity_ratio, 1e-6, 1.0);
   if (min_matches < 2) detail::failKey("min_matches", ">= 2", static_cast<double>(min_matches));
+  if (max_segments < 2) detail::failKey("max_segments", ">= 2", static_cast<double>(max_segments));
   detail::requirePositive("outlier_sigmas", outlier_sigmas);
   detail::requireInRange("degeneracy_ratio", degeneracy_ratio, 0.0, 1.0);
   detail::requirePositive("unconstrained_sigma_m", unconstrained_sigma_m);
@@ -104,15 +119,18 @@ MatchResult SegmentMatcher::match(const std::vector<Segment>& previous,
   result.T_prev_curr = prior;
   const double u2 = P.unconstrained_sigma_m * P.unconstrained_sigma_m;
   result.covariance = Eigen::Vector3d(u2, u2, 0.1).asDiagonal();  // "nothing learnt"
-  const std::size_t n = previous.size(), m = current.size();
-  if (n == 0 || m == 0) return result;
+  if (previous.empty() || current.empty()) return result;
 
   thread_local Workspace ws;
+  selectLongest(previous, P.max_segments, ws.prev_index);
+  selectLongest(current, P.max_segments, ws.cur_index);
+  const std::size_t n = ws.prev_index.size(), m = ws.cur_index.size();
+  result.segments_ignored = previous.size() - n + current.size() - m;
   ws.prev.resize(n);
   ws.cur.resize(m);
   ws.predicted.resize(n);
-  for (std::size_t i = 0; i < n; ++i) ws.prev[i] = lineOf(previous[i], P);
-  for (std::size_t j = 0; j < m; ++j) ws.cur[j] = lineOf(current[j], P);
+  for (std::size_t i = 0; i < n; ++i) ws.prev[i] = lineOf(previous[ws.prev_index[i]], P);
+  for (std::size_t j = 0; j < m; ++j) ws.cur[j] = lineOf(current[ws.cur_index[j]], P);
   ws.bearings.resize(m);
   ws.order.resize(m);
   for (std::size_t j = 0; j < m; ++j) {
@@ -299,6 +317,10 @@ MatchResult SegmentMatcher::match(const std::vector<Segment>& previous,
   }
   result.T_prev_curr = estimate;
   result.matches = std::move(good_couples);
+  for (auto& [i, j] : result.matches) {  // back to the caller's indices
+    i = ws.prev_index[static_cast<std::size_t>(i)];
+    j = ws.cur_index[static_cast<std::size_t>(j)];
+  }
   return result;
 }
 

@@ -47,7 +47,7 @@ void accumulateMoments(const Eigen::Vector2d* points, const double* ranges,
 std::size_t toPoints(const Scan& scan, const BeamLayout& layout, const std::uint8_t* flags,
                      Eigen::Vector2d* points) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  const double lo = std::max(scan.min_range_m, 0.0);
+  const double lo = std::max(scan.min_range_m, kMinPhysicalRangeM);
   const double hi = std::min(scan.max_range_m, kMaxPhysicalRangeM);
   const double* ranges = scan.ranges_m.data();
   std::size_t valid = 0;

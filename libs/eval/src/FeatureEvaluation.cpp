@@ -59,7 +59,9 @@ std::map<std::size_t, std::vector<TrueFeature>> readTrueFeatures(const std::stri
     f.type = *type;
     f.seen_as = *type;
     const double scan = number_at(0);
-    if (scan < 0 || scan != std::floor(scan)) fail(path, number, "column 'scan' must be a non-negative integer");
+    if (!(scan >= 0 && scan <= 1e15) || scan != std::floor(scan)) {
+      fail(path, number, "column 'scan' must be an integer in [0, 1e15]");
+    }
     f.position = {number_at(3), number_at(4)};
     if (cols.size() > 8) f.resolvable = number_at(8) != 0.0;
     if (cols.size() > 9) {

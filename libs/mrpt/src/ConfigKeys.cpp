@@ -84,9 +84,14 @@ LoadedConfig readConfigFile(const std::string& path) {
   if (out.yaml) {
     loadYaml(path, out);
   } else {
-    out.cfg.setContent(out.text);
     std::vector<std::string> sections;
-    out.cfg.getAllSections(sections);
+    try {  // MRPT's INI preprocessor ($env{}, $eval{}, @define) throws on bad syntax
+      out.cfg.setContent(out.text);
+      out.cfg.getAllSections(sections);
+    } catch (const std::exception& e) {
+      const std::string what = e.what();
+      throw std::invalid_argument(path + ": not a valid INI file: " + what.substr(0, what.find('\n')));
+    }
     for (const std::string& s : sections) out.lines[s] = iniKeyLines(out.text, s);
   }
   return out;

@@ -48,6 +48,7 @@ struct MatcherKeys {
     visit("band_half_width", p.band_half_width);
     visit("min_matches", p.min_matches);
     visit("iterations", p.iterations);
+    visit("max_segments", p.max_segments);
     visit("outlier_sigmas", p.outlier_sigmas);
     visit("degeneracy_ratio", p.degeneracy_ratio);
     visit("unconstrained_sigma_m", p.unconstrained_sigma_m);

@@ -41,8 +41,9 @@ RayCaster::RayCaster(const World& world, double cell_m) : walls_(world.walls()) 
                        : std::max(0.25, std::sqrt(extent.x() * extent.y() /
                                                   (4.0 * static_cast<double>(walls_.size()))));
   min_ = lo - Eigen::Vector2d::Constant(cell_ * 0.5);
-  nx_ = std::min(1024, static_cast<int>(std::ceil((extent.x() + cell_) / cell_)) + 1);
-  ny_ = std::min(1024, static_cast<int>(std::ceil((extent.y() + cell_) / cell_)) + 1);
+  // In double before the conversion: a huge extent must not overflow the int.
+  nx_ = static_cast<int>(std::min(1024.0, std::ceil((extent.x() + cell_) / cell_) + 1.0));
+  ny_ = static_cast<int>(std::min(1024.0, std::ceil((extent.y() + cell_) / cell_) + 1.0));
   cell_ = std::max(cell_, std::max((extent.x() + cell_) / (nx_ - 1), (extent.y() + cell_) / (ny_ - 1)));
 
   std::vector<std::vector<std::uint32_t>> cells(static_cast<std::size_t>(nx_) * ny_);

@@ -98,6 +98,7 @@ Trajectory loadTrajectoryFile(const std::string& path) {
       char* end = nullptr;
       const double x = std::strtod(t[i].c_str(), &end);
       if (end != t[i].c_str() + t[i].size() || errno == ERANGE || !std::isfinite(x)) fail("'" + t[i] + "' is not a number");
+      if (std::abs(x) > 1e6) fail("'" + t[i] + "' is out of range (|value| <= 1e6)");
       v.push_back(x);
     }
     if (t[0] == "speed") {
@@ -112,7 +113,11 @@ Trajectory loadTrajectoryFile(const std::string& path) {
     }
   }
   if (points.size() < 2) throw std::runtime_error(path + ": needs at least 2 waypoints");
-  return Trajectory(points, speed, radius);
+  try {
+    return Trajectory(points, speed, radius);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
 }
 
 }  // namespace lidarseg::sim

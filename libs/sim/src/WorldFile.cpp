@@ -15,6 +15,9 @@ namespace {
 constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 // Shorter than this is "zero length" (m).
 constexpr double kMinLength = 1e-6;
+// Larger magnitudes are refused (m or degrees): far beyond any building, and far from the
+// precision limits of the ray caster's arithmetic.
+constexpr double kMaxMagnitude = 1e6;
 
 class LineParser {
  public:
@@ -44,6 +47,7 @@ class LineParser {
       if (end != t.c_str() + t.size() || errno == ERANGE || !std::isfinite(x)) {
         fail("'" + t + "' is not a number");
       }
+      if (std::abs(x) > kMaxMagnitude) fail("'" + t + "' is out of range (|value| <= 1e6)");
       v.push_back(x);
     }
     return v;

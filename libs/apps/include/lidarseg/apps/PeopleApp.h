@@ -11,6 +11,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "lidarseg/apps/RegionTable.h"
 #include "lidarseg/core/Statistics.h"
 
 namespace lidarseg::apps {
@@ -81,9 +82,5 @@ class PeopleApp {
  private:
   PeopleOptions options_;
 };
-
-/// Parses "u_min,v_min,u_max,v_max" (inclusive pixels).
-/// @throws std::invalid_argument naming `what` and the text.
-cv::Rect parseRegion(const std::string& text, const std::string& what);
 
 }  // namespace lidarseg::apps

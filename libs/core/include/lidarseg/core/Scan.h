@@ -14,10 +14,15 @@ namespace lidarseg {
 /// Ranges at or beyond this are never valid (m), whatever the sensor's maximum: no 2D
 /// lidar measures a kilometre, and squaring such values would overflow the line fits.
 inline constexpr double kMaxPhysicalRangeM = 1e5;
+/// Ranges at or below this are never valid (m), whatever the sensor's minimum: no 2D lidar
+/// measures a millimetre, and the fits weigh points by 1 / range^2 (a denormal range made
+/// that infinite: found by fuzzing, docs/reliability.md).
+inline constexpr double kMinPhysicalRangeM = 1e-3;
 
 /// One sweep of a 2D range sensor: ordered beams in the sensor frame.
 ///
-/// A beam is valid when its range is finite, strictly greater than max(0, min_range_m),
+/// A beam is valid when its range is finite, strictly greater than min_range_m and than
+/// kMinPhysicalRangeM,
 /// strictly less than max_range_m (a return at the maximum range means "no echo") and
 /// than kMaxPhysicalRangeM, and
 /// its entry of `valid` (when given) is non-zero. Invalid beams break segments (paper II.A).
@@ -45,7 +50,7 @@ struct Scan {
   bool beamValid(std::size_t i) const {
     const double r = ranges_m[i];
     // NaN fails every comparison, so it is rejected here too.
-    const bool in_range = r > min_range_m && r > 0.0 && r < max_range_m && r < kMaxPhysicalRangeM;
+    const bool in_range = r > min_range_m && r > kMinPhysicalRangeM && r < max_range_m && r < kMaxPhysicalRangeM;
     return in_range && (valid.empty() || valid[i] != 0);
   }
 

@@ -42,6 +42,10 @@ struct MatcherParams {
   std::size_t min_matches = 3;
   /// Re-association iterations after the first estimate.
   std::size_t iterations = 2;
+  /// Latency bound: at most this many segments of each scan are considered, the longest
+  /// ones (a cluttered or pathological scan can hold thousands). With it, one match costs
+  /// at most 2 x (iterations + 1) x max_segments^2 weights, whatever the scan. >= 2.
+  std::size_t max_segments = 128;
   /// Couples whose line residual exceeds this many standard deviations are dropped.
   double outlier_sigmas = 4.0;
   /// Degenerate when the translation's information along its weakest direction is below
@@ -81,6 +85,8 @@ struct MatchResult {
   /// Weights evaluated and how many of them the COG gate short-cut, over all iterations.
   std::size_t weights_computed = 0;
   std::size_t weights_gated = 0;
+  /// Segments left out by MatcherParams::max_segments (previous + current).
+  std::size_t segments_ignored = 0;
   /// Whether the focused band had to fall back to the full matrix.
   bool used_full_matrix = false;
   std::size_t iterations = 0;
