@@ -100,7 +100,7 @@ case "$cmd" in
     for f in "$ROOT"/config/worlds/*.world; do { printf '\x00'; cat "$f"; } > "$seeds/fuzz_sim_inputs/$(basename "$f")"; done
     for f in "$ROOT"/config/worlds/*.traj; do { printf '\x01'; cat "$f"; } > "$seeds/fuzz_sim_inputs/$(basename "$f")"; done
     export ASAN_OPTIONS="detect_leaks=1"
-    export LSAN_OPTIONS="suppressions=$ROOT/tests/fuzz/lsan.supp"
+    export LSAN_OPTIONS="suppressions=$ROOT/tests/sanitizers/lsan.supp"
     export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
     failed=()
     for t in "${FUZZ_TARGETS[@]}"; do
@@ -119,6 +119,21 @@ case "$cmd" in
       grep -E "^stat::number_of_executed_units|^stat::peak_rss_mb|^#[0-9]+.*DONE" "$work/$t.log" | sed "s/^/  $t /" >&2 || true
     done
     [ "${#failed[@]}" -eq 0 ] || { log "fuzz targets with findings: ${failed[*]}"; exit 1; }
+    ;;
+  tsan)
+    install_deps
+    dir="$ROOT/build/tsan"
+    if [ ! -f "$dir/CMakeCache.txt" ]; then
+      cmake -S "$ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLIDARSEG_TSAN=ON \
+        -DLIDARSEG_BUILD_TESTS=ON -DLIDARSEG_BUILD_BENCHMARKS=OFF
+    fi
+    # The parallel batch runner (its jobs are processes, each single-threaded in lidarseg's
+    # code) and the code meant to be shared by threads: the matcher's per-thread scratch.
+    cmake --build "$dir" --parallel "$JOBS" --target lidarseg-batch lidarseg-simulate lidarseg-odometry \
+      test_BatchApp test_SegmentMatcher test_SegmentOdometry
+    export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$ROOT/tests/sanitizers/tsan.supp"
+    ctest --test-dir "$dir" --output-on-failure --parallel "$JOBS" --timeout 900 \
+      -R "^(BatchApp|SegmentMatcher|SegmentOdometry|MatcherMotions|app\.lidarseg-batch)"
     ;;
   real)
     install_deps

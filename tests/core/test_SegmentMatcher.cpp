@@ -1,5 +1,9 @@
 // The segment matcher on synthetic scans with known motion.
+#include <algorithm>
 #include <cmath>
+#include <functional>
+#include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -101,6 +105,60 @@ TEST(MatcherParams, ValidateNamesTheKey) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("max_weight"), std::string::npos);
   }
+}
+
+// One matcher shared by threads (its scratch memory is per thread): the same results as
+// one thread. The ThreadSanitizer build (./run.sh tsan) runs this test.
+TEST(SegmentMatcher, OneMatcherSharedByThreadsGivesTheSerialResults) {
+  const Pair s = scansOf(officeScene(), {-3.0, 1.0, 0.2}, {0.2, 0.03, 0.05}, 0.012);
+  const SegmentMatcher matcher;
+  const auto& a = s.previous.levels[3].segments;
+  const auto& b = s.current.levels[3].segments;
+  std::vector<Pose2D> priors;
+  for (int k = 0; k < 8; ++k) priors.push_back({0.2 + 0.01 * k, 0.03, 0.05 - 0.005 * k});
+  std::vector<MatchResult> serial;
+  for (const Pose2D& p : priors) serial.push_back(matcher.match(a, b, p));
+  std::vector<MatchResult> parallel(priors.size());
+  std::vector<std::thread> threads;
+  for (std::size_t t = 0; t < 4; ++t) {
+    threads.emplace_back([&, t] {
+      for (int repeat = 0; repeat < 20; ++repeat) {
+        for (std::size_t k = t; k < priors.size(); k += 4) parallel[k] = matcher.match(a, b, priors[k]);
+      }
+    });
+  }
+  for (auto& th : threads) th.join();
+  for (std::size_t k = 0; k < priors.size(); ++k) {
+    EXPECT_EQ(parallel[k].status, serial[k].status);
+    EXPECT_EQ(parallel[k].matches, serial[k].matches);
+    EXPECT_EQ(parallel[k].T_prev_curr.x, serial[k].T_prev_curr.x);
+    EXPECT_EQ(parallel[k].T_prev_curr.yaw, serial[k].T_prev_curr.yaw);
+  }
+}
+
+// max_segments bounds the work whatever the scan holds: the longest segments are kept and
+// the matches refer to the caller's indices.
+TEST(SegmentMatcher, MaxSegmentsBoundsTheWorkAndKeepsTheCallersIndices) {
+  const Pair s = scansOf(officeScene(), {-3.0, 1.0, 0.2}, {0.2, 0.03, 0.05}, 0.012);
+  const auto& a = s.previous.levels[0].segments;
+  const auto& b = s.current.levels[0].segments;
+  ASSERT_GT(a.size(), 8u);
+  MatcherParams p;
+  p.max_segments = 8;
+  p.band_half_width = 0;  // the full matrix: the worst case
+  const MatchResult r = SegmentMatcher(p).match(a, b, {0.2, 0.03, 0.05});
+  EXPECT_EQ(r.segments_ignored, a.size() - 8 + b.size() - std::min<std::size_t>(8, b.size()));
+  EXPECT_LE(r.weights_computed, 2 * (p.iterations + 1) * 8 * 8);
+  std::vector<double> lengths;
+  for (const auto& seg : a) lengths.push_back(seg.length_m);
+  std::sort(lengths.begin(), lengths.end(), std::greater<>());
+  for (const auto& [i, j] : r.matches) {
+    ASSERT_LT(static_cast<std::size_t>(i), a.size());
+    ASSERT_LT(static_cast<std::size_t>(j), b.size());
+    EXPECT_GE(a[static_cast<std::size_t>(i)].length_m, lengths[7]);  // one of the 8 longest
+  }
+  p.max_segments = 1;
+  EXPECT_THROW(p.validate(), std::invalid_argument);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "lidarseg/apps/BatchApp.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/file.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -99,8 +104,35 @@ bool BatchApp::finished(const std::string& out_dir, std::uint64_t seed) {
   return fs::exists(fs::path(runDir(out_dir, seed)) / "metrics.csv");
 }
 
+namespace {
+
+// An exclusive lock on one seed's run, held while it is worked on: a runner started again
+// while a job of an earlier (killed) runner still works on the same seed waits for it
+// instead of writing into the same folder, then finds the run finished.
+class SeedLock {
+ public:
+  explicit SeedLock(const fs::path& path) {
+    fs::create_directories(path.parent_path());
+    fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) throw std::runtime_error("cannot create the lock file '" + path.string() + "'");
+    while (::flock(fd_, LOCK_EX) != 0) {
+      if (errno != EINTR) throw std::runtime_error("cannot lock '" + path.string() + "'");
+    }
+  }
+  ~SeedLock() { ::close(fd_); }  // releases the lock
+  SeedLock(const SeedLock&) = delete;
+  SeedLock& operator=(const SeedLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
+}  // namespace
+
 void BatchApp::runOne(const BatchJob& job) {
   if (finished(job.out_dir, job.seed)) return;
+  const SeedLock lock(fs::path(job.out_dir) / ".locks" / ("run_" + std::to_string(job.seed) + ".lock"));
+  if (finished(job.out_dir, job.seed)) return;  // finished by the job that held the lock
   const fs::path final_dir = runDir(job.out_dir, job.seed);
   const fs::path work = final_dir.string() + ".partial";
   std::error_code ec;
@@ -180,6 +212,9 @@ std::vector<std::string> BatchApp::runMany(const BatchJob& base, const std::vect
       const pid_t pid = fork();
       if (pid < 0) throw std::runtime_error("cannot start a job (fork failed)");
       if (pid == 0) {
+        // A job dies with its runner (killed or not), so that no orphan keeps writing
+        // while a new runner resumes; the seed lock covers the instant in between.
+        ::prctl(PR_SET_PDEATHSIG, SIGKILL);
         FILE* f = std::freopen(log.c_str(), "w", stderr);
         (void)f;
         std::vector<char*> argv;

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# lidarseg-batch killed with SIGKILL while its jobs run, then started again: the jobs die
+# with it, finished runs are not redone (their files are unchanged), every seed ends
+# finished, nothing partial is left, and the table is written.
+#   run_batch_kill_resume.sh <lidarseg-batch> <worlds dir> <scratch dir>
+set -euo pipefail
+batch="$1"; worlds="$2"; out="$3"
+rm -rf "$out"; mkdir -p "$out"
+printf 'speed 1.0\nturn_radius 0.6\nwaypoint 24 0\nwaypoint 34 0\n' > "$out/short.traj"
+args=(run --world "$worlds/maze.world" --trajectory "$out/short.traj" --seeds 1-6 --jobs 2 --no-icp -q --out "$out/b")
+fail() { echo "FAIL: $*"; exit 1; }
+
+"$batch" "${args[@]}" & runner=$!
+for _ in $(seq 1 1200); do  # until the first run has finished (at most 120 s)
+  ls "$out"/b/run_*/metrics.csv > /dev/null 2>&1 && break
+  sleep 0.1
+done
+ls "$out"/b/run_*/metrics.csv > /dev/null 2>&1 || fail "no run finished"
+kill -9 "$runner"; wait "$runner" 2>/dev/null || true
+sleep 1
+if pgrep -f -- "--out $out/b" > /dev/null; then fail "jobs outlived the killed runner"; fi
+finished_before=$(ls -d "$out"/b/run_*/ 2>/dev/null | grep -v partial | wc -l)
+[ "$finished_before" -lt 6 ] || fail "all runs finished before the kill: nothing to resume"
+sums_before=$(cd "$out/b" && sha256sum run_*/metrics.csv)
+echo "killed with $finished_before of 6 runs finished"
+
+"$batch" "${args[@]}" || fail "the resumed runner failed"
+sums_after=$(cd "$out/b" && sha256sum run_*/metrics.csv)
+while read -r line; do
+  grep -qxF "$line" <<< "$sums_after" || fail "a finished run was changed: $line"
+done <<< "$sums_before"
+[ "$(ls "$out"/b/run_*/metrics.csv | wc -l)" -eq 6 ] || fail "not every seed finished"
+! ls -d "$out"/b/*.partial > /dev/null 2>&1 || fail "partial runs left"
+[ -s "$out/b/table1.md" ] || fail "no table1.md"
+grep -q "| lidarseg |" "$out/b/table1.md" || fail "table1.md has no lidarseg row"
+echo "RESUMED: 6 of 6 runs finished, $finished_before kept unchanged"
