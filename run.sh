@@ -11,6 +11,8 @@
 #   ./run.sh tsan    ThreadSanitizer build; the batch runner's tests and apps under it
 #   ./run.sh real    lidarseg-odometry with MRPT ICP on every real log (../shared/datasets and
 #                    MRPT's datasets): build/results/real/<log>/ and a table (docs/results.md)
+#   ./run.sh latency time per scan (median, p99, max) of lidarseg on every log, real and
+#                    simulated, with the default configuration (docs/performance.md)
 #   ./run.sh deps    only install the Debian packages
 set -euo pipefail
 
@@ -157,6 +159,44 @@ case "$cmd" in
     for f in "${logs[@]}"; do
       name="$(basename "$f")"; name="${name%%.*}"; name="${name// /_}"
       echo "### $name"; sed -n '/^| method/,$p' "$out/$name/results.md"; grep "^lidarseg status" "$out/$name.txt"; echo
+    done
+    ;;
+  latency)
+    install_deps
+    build_release
+    bin="$ROOT/build/release/apps"
+    out="$ROOT/build/results/latency"
+    mkdir -p "$out"
+    shared="$ROOT/../shared/datasets"
+    logs=()
+    [ -d "$shared/radish-corrected" ] && logs+=("$shared"/radish-corrected/*.log.gz)
+    [ -f "$shared/intel-mrpt/intel.rawlog" ] && logs+=("$shared/intel-mrpt/intel.rawlog")
+    logs+=("$DEFAULT_RAWLOG" "/usr/share/mrpt/datasets/localization_demo.rawlog")
+    # Simulated: both shipped worlds, two sensors (made on first use, deterministically).
+    for world in hospital maze; do
+      for sensor in lms100 utm30lx; do
+        sim="$out/sim_${world}_${sensor}"
+        [ -f "$sim.rawlog" ] || "$bin/lidarseg-simulate" --world "$ROOT/config/worlds/$world.world" \
+          --trajectory "$ROOT/config/worlds/$world.traj" --sensor "$sensor" --seed 1 --camera-every 0 --out "$sim" >&2
+        logs+=("$sim.rawlog")
+      done
+    done
+    echo "| log | scans | median (µs) | p99 (µs) | max (µs) | max / median |"
+    echo "|---|---:|---:|---:|---:|---:|"
+    for f in "${logs[@]}"; do
+      name="$(basename "$f")"; name="${name%%.*}"; name="${name// /_}"
+      hz=()
+      case "$f" in "$out"/sim_*) hz=(--scanner-hz 50) ;; esac
+      [[ "$f" == *utm30lx* ]] && hz=(--scanner-hz 40)
+      "$bin/lidarseg-odometry" -q --no-plots --no-gt "${hz[@]}" --out "$out/$name" "$f" > "$out/$name.txt" \
+        || { log "FAILED: $f"; exit 1; }
+      python3 - "$out/$name/summary.json" "$name" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+t = s["methods"]["lidarseg"]["time_ms"]
+print("| %s | %d | %.1f | %.1f | %.1f | %.1f |" % (sys.argv[2], t["count"], t["median"] * 1e3, t["p99"] * 1e3,
+      t["max"] * 1e3, t["max"] / t["median"]))
+PY
     done
     ;;
   bench)

@@ -24,6 +24,9 @@ int main(int argc, char** argv) {
                                      false, "", "DIR", cmd);
     TCLAP::ValueArg<std::string> gt("", "gt", "ground truth (TUM); default PREFIX.gt.tum beside PREFIX.rawlog",
                                     false, "", "FILE", cmd);
+    TCLAP::SwitchArg allow_truncated("", "allow-truncated",
+                                     "a log ending in a truncated or corrupt entry: process the scans before it, "
+                                     "write the outputs, warn and exit with code 3 (default: error, no output)", cmd);
     TCLAP::SwitchArg no_gt("", "no-gt", "do not look for ground truth beside the input", cmd);
     TCLAP::ValueArg<std::string> relations("", "relations", "Freiburg relations file to evaluate", false, "",
                                            "FILE", cmd);
@@ -62,9 +65,11 @@ int main(int argc, char** argv) {
     o.scanner_rotation_hz = scanner_hz.getValue();
     o.progress = !quiet.getValue();
     o.plots = !no_plots.getValue();
+    o.allow_truncated = allow_truncated.getValue();
     lidarseg::apps::OdometryApp app(o);
-    lidarseg::apps::OdometryApp::print(app.run(), std::cout);
-    return 0;
+    const auto report = app.run();
+    lidarseg::apps::OdometryApp::print(report, std::cout);
+    return report.log_error.empty() ? 0 : 3;
   } catch (const std::exception& e) {
     std::cerr << "lidarseg-odometry: error: " << e.what() << "\n";
     return 1;

@@ -186,7 +186,14 @@ OdometryReport OdometryApp::run() {
 
   while (true) {
     if (o.max_scans != 0 && report.frames >= o.max_scans) break;
-    auto record = reader.next();
+    std::optional<mrpt_adapter::LaserRecord> record;
+    try {
+      record = reader.next();
+    } catch (const std::runtime_error& e) {
+      if (!o.allow_truncated || report.frames == 0) throw;
+      report.log_error = e.what();  // the scans before it stand
+      break;
+    }
     if (!record) break;
     const auto& obs = *record->observation;
 
@@ -455,15 +462,15 @@ std::string OdometryApp::markdownTable(const OdometryReport& r) {
   if (!r.gt_path.empty()) os << ", ground truth `" << r.gt_path << "`";
   os << "\n\n";
   const bool gt = r.lidarseg.errors.has_value();
-  os << "| method | t (ms) | σt (ms) | median (ms) | p99 (ms)";
+  os << "| method | t (ms) | σt (ms) | median (ms) | p99 (ms) | max (ms)";
   if (gt) os << " | edx (mm) | σedx (mm) | edy (mm) | σedy (mm) | edθ (mrad) | σedθ (mrad) | final error (m) | ATE RMSE (m)";
-  os << " |\n|---|---:|---:|---:|---:";
+  os << " |\n|---|---:|---:|---:|---:|---:";
   if (gt) os << "|---:|---:|---:|---:|---:|---:|---:|---:";
   os << "|\n";
   for (const auto* m : methods) {
     const Summary& t = m->time_summary_us;
     os << "| " << m->name << " | " << std::setprecision(4) << t.mean / 1e3 << " | " << t.stddev / 1e3 << " | "
-       << t.median / 1e3 << " | " << t.p99 / 1e3;
+       << t.median / 1e3 << " | " << t.p99 / 1e3 << " | " << t.max / 1e3;
     if (gt && m->errors) {
       const auto& e = *m->errors;
       os << std::setprecision(2) << " | " << e.motion.dx_m.mean * 1e3 << " | " << e.motion.dx_m.stddev * 1e3
@@ -508,6 +515,7 @@ std::string OdometryApp::summaryJson(const OdometryReport& r) {
   j.endArray();
   j.value("non_increasing_stamps", r.non_increasing_stamps).value("time_gaps", r.time_gaps);
   j.value("odometry_jumps", r.odometry_jumps);
+  if (!r.log_error.empty()) j.value("log_error", r.log_error);
   j.beginArray("warnings");
   for (const auto& s : r.warnings) j.value(nullptr, s);
   j.endArray();
@@ -565,6 +573,10 @@ void OdometryApp::print(const OdometryReport& r, std::ostream& os) {
   os << "\n";
   for (const auto& s : r.skipped) os << "skipped: " << s << "\n";
   for (const auto& s : r.warnings) os << "warning: " << s << "\n";
+  if (!r.log_error.empty()) {
+    os << "warning: the log ends early: " << r.log_error << "; the results cover the " << r.frames
+       << " scans before it\n";
+  }
   for (const auto& s : r.outputs) os << "wrote " << s << "\n";
 }
 

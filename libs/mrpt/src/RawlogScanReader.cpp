@@ -1,7 +1,11 @@
 #include "lidarseg/mrpt/RawlogScanReader.h"
 
 #include <algorithm>
+#include <array>
+#include <fstream>
 #include <stdexcept>
+
+#include <zlib.h>
 
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CStream.h>
@@ -50,6 +54,40 @@ RawlogScanReader::RawlogScanReader(const std::string& path, std::string sensor_l
   }
   if (!opened) throw std::runtime_error("cannot open rawlog '" + path_ + "'");
   counter_ = std::make_unique<CountingStream>(*file_);
+  std::ifstream raw(path_, std::ios::binary);
+  std::array<char, 2> magic{};
+  gzip_ = raw.read(magic.data(), 2) && static_cast<unsigned char>(magic[0]) == 0x1f &&
+          static_cast<unsigned char>(magic[1]) == 0x8b;
+}
+
+void RawlogScanReader::checkCompressedEnd() const {
+  if (!gzip_) return;
+  // The gzip trailer holds the uncompressed size modulo 2^32: equal to what was read, the
+  // stream is complete (the common case, one read of 4 bytes).
+  std::ifstream raw(path_, std::ios::binary | std::ios::ate);
+  const std::streamoff size = raw.tellg();
+  if (size >= 18) {
+    std::array<unsigned char, 4> b{};
+    raw.seekg(size - 4);
+    raw.read(reinterpret_cast<char*>(b.data()), 4);
+    const std::uint32_t isize = b[0] | (b[1] << 8) | (b[2] << 16) | (static_cast<std::uint32_t>(b[3]) << 24);
+    if (raw && isize == static_cast<std::uint32_t>(counter_->bytes())) return;
+  }
+  // Otherwise (a cut stream, or a file of several gzip members) zlib decides, reading the
+  // whole stream once more: MRPT's stream reports a cut stream as a normal end.
+  gzFile g = gzopen(path_.c_str(), "rb");
+  if (g == nullptr) return;
+  std::array<char, 1 << 16> buffer{};
+  int n = 0;
+  while ((n = gzread(g, buffer.data(), static_cast<unsigned>(buffer.size()))) > 0) {
+  }
+  int code = Z_OK;
+  const std::string message = gzerror(g, &code);
+  gzclose(g);
+  if (n < 0 || (code != Z_OK && code != Z_STREAM_END)) {
+    throw std::runtime_error("rawlog '" + path_ + "', entry " + std::to_string(entries_read_) +
+                             ": truncated or corrupt (the compressed data ends early: " + message + ")");
+  }
 }
 
 RawlogScanReader::~RawlogScanReader() = default;
@@ -101,6 +139,7 @@ std::optional<RawlogScan> RawlogScanReader::next() {
     } catch (const std::exception& e) {
       if (counter_->bytes() == before) {  // nothing left: the log ends between entries
         at_end_ = true;
+        checkCompressedEnd();
         return std::nullopt;
       }
       std::string what = e.what();

@@ -59,6 +59,10 @@ struct OdometryOptions {
   /// Speed beyond which an odometry increment is implausible (m/s, rad/s).
   double max_speed_mps = 10.0;
   double max_turn_rate_radps = 10.0;
+  /// A log that ends in a truncated or corrupt entry (a recording cut by a power loss):
+  /// false = an error and no output; true = the scans before it are processed, the outputs
+  /// written, and the message kept in OdometryReport::log_error.
+  bool allow_truncated = false;
 };
 
 /// Figures of one method over a run.
@@ -99,6 +103,9 @@ struct OdometryReport {
   /// Wheel-odometry increments rejected as implausible (a jump).
   std::size_t odometry_jumps = 0;
   std::vector<std::string> warnings;
+  /// With allow_truncated: why the log could not be read to its end ("file, entry N: ...");
+  /// the results cover the scans before it. Empty when the log was read to its end.
+  std::string log_error;
   std::string gt_path;
   std::string relations_path;
   MethodReport lidarseg;

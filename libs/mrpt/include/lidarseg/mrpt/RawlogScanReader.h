@@ -65,6 +65,9 @@ class RawlogScanReader {
  private:
   class CountingStream;
   bool accept(const mrpt::obs::CObservation2DRangeScan::Ptr& scan);
+  /// At the end of a gzip-compressed rawlog: throws if the compressed stream was cut.
+  void checkCompressedEnd() const;
+  bool gzip_ = false;
 
   std::string path_;
   std::string label_;

@@ -1,0 +1,411 @@
+/// @file test_BadInputs.cpp
+/// The bad-input table of docs/reliability.md, row by row: what each kind of bad input
+/// gets (a message naming the file and line, entry or scan, and key; the rest of the log
+/// processed where that makes sense; no partial output on error).
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include "SyntheticScenes.h"
+#include "lidarseg/apps/OdometryApp.h"
+#include "lidarseg/apps/SimulateApp.h"
+#include "lidarseg/core/SegmentOdometry.h"
+#include "lidarseg/mrpt/LaserLogReader.h"
+#include "lidarseg/mrpt/OdometryConfig.h"
+
+namespace lidarseg {
+namespace {
+namespace fs = std::filesystem;
+using apps::OdometryApp;
+using apps::OdometryOptions;
+using apps::OdometryReport;
+
+const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/bad-inputs";
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::string put(const std::string& name, const std::string& bytes) {
+  fs::create_directories(kTmp);
+  const std::string path = kTmp + "/" + name;
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path;
+}
+
+std::string gzip(const std::string& text) {
+  uLongf size = compressBound(static_cast<uLong>(text.size())) + 32;
+  std::string out(size, '\0');
+  z_stream z{};
+  deflateInit2(&z, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY);  // gzip wrapper
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(text.data()));
+  z.avail_in = static_cast<uInt>(text.size());
+  z.next_out = reinterpret_cast<Bytef*>(out.data());
+  z.avail_out = static_cast<uInt>(out.size());
+  deflate(&z, Z_FINISH);
+  out.resize(z.total_out);
+  deflateEnd(&z);
+  return out;
+}
+
+// A short simulated run (maze, 61-beam sensor, 10 Hz): rawlog (gzip, as written) and CARMEN.
+const std::string& smallRun() {
+  static const std::string prefix = [] {
+    fs::create_directories(kTmp);
+    const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    std::ofstream(kTmp + "/short.traj") << "speed 1.0\nturn_radius 0.6\nwaypoint 24 0\nwaypoint 24.6 0\n";
+    std::ofstream(kTmp + "/small.ini") << "[simulation]\nnum_beams = 61\nfield_of_view_rad = 4.71238898\n"
+                                       << "frequency_hz = 10\ncamera_every_scans = 0\n";
+    apps::SimulateOptions o;
+    o.world_path = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/maze.world";
+    o.trajectory_path = kTmp + "/short.traj";
+    o.config_path = kTmp + "/small.ini";
+    o.seed = 5;
+    o.camera_every_scans = 0;
+    o.write_carmen = true;
+    o.out_prefix = kTmp + "/small_" + name;
+    apps::SimulateApp(o).run();
+    return o.out_prefix;
+  }();
+  return prefix;
+}
+
+// Reads a log to its end; returns the scans read and the error message ("" at a clean end).
+std::pair<std::size_t, std::string> readAll(const std::string& path) {
+  std::size_t n = 0;
+  try {
+    mrpt_adapter::LaserLogReader reader(path);
+    while (reader.next()) ++n;
+  } catch (const std::runtime_error& e) {
+    return {n, e.what()};
+  }
+  return {n, ""};
+}
+
+OdometryOptions optionsFor(const std::string& input, const std::string& out) {
+  OdometryOptions o;
+  o.input = input;
+  o.out_dir = out.empty() ? std::string() : kTmp + "/" + out;
+  o.progress = false;
+  o.plots = false;
+  o.auto_gt = false;
+  return o;
+}
+
+std::string errorOf(const OdometryOptions& o) {
+  try {
+    OdometryApp(o).run();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+// A FLASER line of a robot at (x, 0) in the room [-3, 5] x [-4, 4]; `range` overrides.
+std::string flaser(double x, double t, int beams = 181, std::function<std::string(int, double)> range = {}) {
+  std::ostringstream os;
+  os << "FLASER " << beams;
+  for (int i = 0; i < beams; ++i) {
+    const double a = -M_PI / 2 + M_PI * i / (beams - 1);
+    double r = 1e9;
+    if (std::cos(a) > 1e-9) r = std::min(r, (5.0 - x) / std::cos(a));
+    if (std::cos(a) < -1e-9) r = std::min(r, (-3.0 - x) / std::cos(a));
+    if (std::sin(a) > 1e-9) r = std::min(r, 4.0 / std::sin(a));
+    if (std::sin(a) < -1e-9) r = std::min(r, -4.0 / std::sin(a));
+    os << " " << (range ? range(i, r) : std::to_string(r));
+  }
+  os << " " << x << " 0 0 " << x << " 0 0 " << t << " host " << t;
+  return os.str();
+}
+
+// --- Row: empty file -------------------------------------------------------------------
+TEST(BadInputs, EmptyFilesAreAnErrorNamingTheFile) {
+  for (const std::string name : {"empty.rawlog", "empty.log", "empty.log.gz"}) {
+    const std::string path = put(name, name == "empty.log.gz" ? gzip("") : "");
+    OdometryOptions o = optionsFor(path, "out_empty");
+    fs::remove_all(o.out_dir);
+    const std::string e = errorOf(o);
+    EXPECT_NE(e.find("'" + path + "' holds no usable laser scan"), std::string::npos) << e;
+    EXPECT_FALSE(fs::exists(o.out_dir)) << "an output for an empty log";
+  }
+}
+
+// --- Row: truncated at every byte ------------------------------------------------------
+TEST(BadInputs, RawlogTruncatedAtEveryByte) {
+  const std::string gz = slurp(smallRun() + ".rawlog");
+  std::string plain;  // the same log uncompressed
+  {
+    z_stream z{};
+    inflateInit2(&z, 15 + 32);
+    plain.resize(1 << 20);
+    z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(gz.data()));
+    z.avail_in = static_cast<uInt>(gz.size());
+    z.next_out = reinterpret_cast<Bytef*>(plain.data());
+    z.avail_out = static_cast<uInt>(plain.size());
+    ASSERT_EQ(inflate(&z, Z_FINISH), Z_STREAM_END);
+    plain.resize(z.total_out);
+    inflateEnd(&z);
+  }
+  for (const auto& [bytes, name] : {std::pair{plain, std::string("cut.rawlog")}, {gz, std::string("cut_gz.rawlog")}}) {
+    const std::size_t full = readAll(put(name, bytes)).first;
+    ASSERT_GE(full, 5u);
+    std::size_t last = 0, clean_ends = 0, errors = 0;
+    for (std::size_t cut = 0; cut < bytes.size(); ++cut) {
+      const std::string path = put(name, bytes.substr(0, cut));
+      const auto [n, error] = readAll(path);
+      EXPECT_GE(n, last) << "cut at " << cut << ": fewer scans than a shorter cut";
+      EXPECT_LT(n, full + 1);
+      last = n;
+      if (error.empty()) {
+        ++clean_ends;  // the cut fell between two entries
+      } else {
+        ++errors;
+        EXPECT_NE(error.find("'" + path + "', entry "), std::string::npos) << "cut at " << cut << ": " << error;
+      }
+    }
+    if (name == "cut.rawlog") {
+      EXPECT_EQ(clean_ends, 2 * full) << "cuts between entries: one odometry and one scan per step";
+      EXPECT_EQ(last, full - 1) << name;  // the last cut loses only the last scan
+    } else {
+      EXPECT_LE(clean_ends, 1u) << "a cut gzip stream must not pass for a complete log";  // the empty file
+      EXPECT_GE(last, full - 1) << name;  // a cut trailer: every scan, then the error
+    }
+    std::cout << name << ": " << bytes.size() << " cuts, " << errors << " errors naming file and entry, "
+              << clean_ends << " clean ends between entries\n";
+  }
+}
+
+TEST(BadInputs, CarmenLogTruncatedAtEveryByte) {
+  const std::string text = slurp(smallRun() + ".carmen.log");
+  const std::string gz = gzip(text);
+  const std::size_t full = readAll(put("cut.log", text)).first;
+  ASSERT_GE(full, 5u);
+  // Plain text: a cut line is malformed and skipped; never an error.
+  std::size_t last = 0;
+  for (std::size_t cut = 0; cut < text.size(); ++cut) {
+    const auto [n, error] = readAll(put("cut.log", text.substr(0, cut)));
+    EXPECT_TRUE(error.empty()) << "cut at " << cut << ": " << error;
+    EXPECT_GE(n, last);
+    last = n;
+  }
+  // gzip: a cut stream is an error naming the file and line, after the lines before it.
+  std::size_t errors = 0;
+  for (std::size_t cut = 0; cut < gz.size(); ++cut) {
+    const std::string path = put("cut.log.gz", gz.substr(0, cut));
+    const auto [n, error] = readAll(path);
+    EXPECT_LE(n, full);
+    if (!error.empty()) {
+      ++errors;
+      EXPECT_NE(error.find(path + ":"), std::string::npos) << error;
+    }
+  }
+  EXPECT_GE(errors, gz.size() - 20);  // all but the cuts inside the 20-byte header/trailer
+}
+
+TEST(BadInputs, TruncatedLogWithAllowTruncatedKeepsTheScansBeforeTheCut) {
+  const std::string bytes = slurp(smallRun() + ".rawlog");
+  const std::string path = put("cut_half.rawlog", bytes.substr(0, bytes.size() / 2));
+  OdometryOptions o = optionsFor(path, "out_cut_half");
+  fs::remove_all(o.out_dir);
+  EXPECT_NE(errorOf(o).find("entry"), std::string::npos);
+  EXPECT_FALSE(fs::exists(o.out_dir + "/summary.json"));  // default: all or nothing
+  o.allow_truncated = true;
+  const OdometryReport r = OdometryApp(o).run();
+  EXPECT_GT(r.frames, 0u);
+  EXPECT_LT(r.frames, readAll(smallRun() + ".rawlog").first);
+  EXPECT_NE(r.log_error.find(path), std::string::npos) << r.log_error;
+  EXPECT_NE(slurp(o.out_dir + "/summary.json").find("\"log_error\""), std::string::npos);
+}
+
+// --- Rows: wrong magic, gzip corruption --------------------------------------------------
+TEST(BadInputs, WrongMagicAndGzipCorruptionNameTheFile) {
+  const std::string png = put("picture.rawlog", std::string("\x89PNG\r\n\x1a\n", 8) + std::string(200, '\x07'));
+  auto [n, e] = readAll(png);
+  EXPECT_EQ(n, 0u);
+  EXPECT_NE(e.find("'" + png + "', entry 0: truncated or corrupt"), std::string::npos) << e;
+
+  const std::string binary = put("binary.log", std::string("\x01\x02\x03\x00\xff\xfe", 6) + std::string(300, '\x11'));
+  EXPECT_NE(errorOf(optionsFor(binary, "")).find("'" + binary + "' holds no usable laser scan"), std::string::npos);
+
+  std::string gz = slurp(smallRun() + ".rawlog");
+  gz[gz.size() / 2] = static_cast<char>(gz[gz.size() / 2] ^ 0x5a);
+  const std::string bad_rawlog = put("flipped.rawlog", gz);
+  std::tie(n, e) = readAll(bad_rawlog);
+  EXPECT_NE(e.find("'" + bad_rawlog + "', entry "), std::string::npos) << e;
+
+  std::string cgz = gzip(slurp(smallRun() + ".carmen.log"));
+  cgz[cgz.size() / 2] = static_cast<char>(cgz[cgz.size() / 2] ^ 0x5a);
+  const std::string bad_log = put("flipped.log.gz", cgz);
+  std::tie(n, e) = readAll(bad_log);
+  EXPECT_NE(e.find(bad_log + ":"), std::string::npos) << e;
+  EXPECT_NE(e.find("corrupt or truncated compressed data"), std::string::npos) << e;
+}
+
+// --- Rows: field counts, NaN/inf/negative/huge ranges, 0 / 1 / 100000 beams ------------
+TEST(BadInputs, CarmenFieldCountsRangeValuesAndBeamCounts) {
+  std::ostringstream log;
+  double t = 10.0;
+  int line = 0;
+  const auto add = [&](const std::string& l) {
+    log << l << "\n";
+    ++line;
+  };
+  for (int k = 0; k < 10; ++k, t += 0.1) add(flaser(0.02 * k, t));
+  const int too_few = line + 1;
+  add("FLASER 181 1 2 3");                             // too few fields
+  const int too_many = line + 1;
+  add(flaser(0.2, t) + " 7 8 9");                      // too many fields
+  const int zero_beams = line + 1;
+  add("FLASER 0 0 0 0 0 0 0 10.5 host 10.5");          // no beam
+  const int one_beam = line + 1;
+  add("FLASER 1 2.0 0 0 0 0 0 0 10.6 host 10.6");      // one beam
+  t = 11.0;
+  // NaN, inf, negative and huge ranges inside otherwise good scans.
+  const auto weird = [](int i, double r) -> std::string {
+    switch (i % 9) {
+      case 0: return "nan";
+      case 1: return "inf";
+      case 2: return "-1.5";
+      case 3: return "1e300";
+      default: return std::to_string(r);
+    }
+  };
+  for (int k = 0; k < 5; ++k, t += 0.1) add(flaser(0.2 + 0.02 * k, t, 181, weird));
+  const int huge_line = line + 1;
+  add(flaser(0.3, t, 100000));                         // 100,000 beams
+  const std::string path = put("fields.log", log.str());
+
+  OdometryOptions o = optionsFor(path, "out_fields");
+  o.scanner_rotation_hz = 0.0;
+  const OdometryReport r = OdometryApp(o).run();
+  std::string skipped;
+  for (const auto& s : r.skipped) skipped += s + "\n";
+  EXPECT_NE(skipped.find(path + ":" + std::to_string(too_few)), std::string::npos) << skipped;
+  EXPECT_NE(skipped.find(path + ":" + std::to_string(too_many)), std::string::npos) << skipped;
+  EXPECT_NE(skipped.find(path + ":" + std::to_string(zero_beams)), std::string::npos) << skipped;
+  EXPECT_NE(skipped.find(path + ":" + std::to_string(one_beam)), std::string::npos) << skipped;
+  EXPECT_EQ(r.skipped_count, 4u) << skipped;
+  // 10 good scans, 5 with bad values among good ones, and the 100,000-beam scan.
+  EXPECT_EQ(r.frames, 16u);
+  EXPECT_EQ(r.lidarseg.trajectory.size(), 16u);
+  for (const auto& p : r.lidarseg.trajectory) EXPECT_TRUE(std::isfinite(p.pose.x) && std::isfinite(p.pose.yaw));
+  EXPECT_NEAR(r.lidarseg.trajectory[14].pose.x, 0.28, 0.05);  // bad values do not derail it
+  (void)huge_line;
+}
+
+// --- Rows: non-monotonic and duplicate timestamps ---------------------------------------
+TEST(BadInputs, BackwardsAndRepeatedStampsAreCountedAndOutputsStayOrdered) {
+  std::ostringstream log;
+  const double stamps[] = {5.0, 5.1, 5.1, 5.2, 4.0, 5.3, 5.4, 5.4, 5.4, 5.5, 0.0, 5.6};
+  int k = 0;
+  for (double t : stamps) log << flaser(0.02 * k++, t) << "\n";
+  const std::string path = put("stamps.log", log.str());
+  OdometryOptions o = optionsFor(path, "out_stamps");
+  o.scanner_rotation_hz = 0.0;
+  const OdometryReport r = OdometryApp(o).run();
+  EXPECT_EQ(r.frames, 12u);
+  EXPECT_EQ(r.non_increasing_stamps, 5u);  // 5.1, 4.0, 5.4, 5.4, 0.0
+  for (std::size_t i = 1; i < r.lidarseg.trajectory.size(); ++i) {
+    EXPECT_GT(r.lidarseg.trajectory[i].stamp_s, r.lidarseg.trajectory[i - 1].stamp_s) << i;
+  }
+  EXPECT_NEAR(r.lidarseg.trajectory.back().pose.x, 0.22, 0.05);
+}
+
+// --- Rows: all beams at maximum range; a robot that does not move for 1000 scans --------
+TEST(BadInputs, AllMaxRangeScansAndAStaticRobot) {
+  std::ostringstream log;
+  double t = 1.0;
+  for (int k = 0; k < 1000; ++k, t += 0.05) {
+    log << flaser(0.5, t, 181, [&](int, double r) { return (k >= 400 && k < 410) ? std::string("81.91") : std::to_string(r); })
+        << "\n";
+  }
+  const std::string path = put("static.log", log.str());
+  OdometryOptions o = optionsFor(path, "out_static");
+  o.scanner_rotation_hz = 0.0;
+  const OdometryReport r = OdometryApp(o).run();
+  EXPECT_EQ(r.frames, 1000u);
+  EXPECT_GE(r.lidarseg.status_counts.at("too_few_matches"), 10u);  // the blind scans
+  const Pose2D end = r.lidarseg.trajectory.back().pose;
+  EXPECT_LT(std::hypot(end.x, end.y), 0.01) << end.x << " " << end.y;  // no drift standing still
+  EXPECT_LT(std::abs(end.yaw), 0.002);
+}
+
+// --- Row: a kidnapping (a 10 m jump between two scans) ----------------------------------
+TEST(BadInputs, KidnappingIsReportedAndTrackingResumesAfterIt) {
+  using namespace lidarseg::testing;
+  const sim::World world = officeScene();
+  const auto sensor = makeSensor(541, 270, 0.01);
+  SegmentOdometry odo;
+  std::vector<Pose2D> truth;
+  for (int k = 0; k < 20; ++k) truth.push_back({-8.0 + 0.05 * k, 1.0, 0.0});
+  for (int k = 0; k < 20; ++k) truth.push_back({2.0 + 0.05 * k, 1.0, 0.0});  // 10 m further
+  std::vector<OdometryStep> steps;
+  for (std::size_t k = 0; k < truth.size(); ++k) {
+    Scan s = simulate(world, sensor, truth[k], k + 1);
+    s.stamp_s = 0.1 * static_cast<double>(k);
+    steps.push_back(odo.process(s));
+    EXPECT_TRUE(std::isfinite(steps.back().T_odom_sensor.x) && steps.back().increment_covariance.allFinite());
+  }
+  // At the jump the scans do not match the prediction: the step says so (no match, or a
+  // large uncertainty), it does not invent a precise 10 m motion.
+  const OdometryStep& jump = steps[20];
+  const bool flagged = jump.match.status == MatchStatus::kTooFewMatches ||
+                       std::sqrt(jump.increment_covariance(0, 0)) > 0.1 || jump.match.matches.size() < 3;
+  EXPECT_TRUE(flagged) << toString(jump.match.status) << " with " << jump.match.matches.size() << " couples";
+  // Afterwards the relative motion is tracked again: the last 15 increments sum to 0.75 m.
+  const Pose2D a = steps[24].T_odom_sensor, b = steps.back().T_odom_sensor;
+  EXPECT_NEAR(std::hypot(b.x - a.x, b.y - a.y), 0.05 * 15, 0.03);
+}
+
+// --- Row: parameters out of range -------------------------------------------------------
+TEST(BadInputs, ParametersOutOfRangeNameFileLineSectionAndKey) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"[segmentation]\nwd_threshold_m = -1\n", "[segmentation] wd_threshold_m"},
+      {"[segmentation]\nfusion1_max_angle_rad = nan\n", "[segmentation] fusion1_max_angle_rad"},
+      {"[matcher]\nmax_segments = 1\n", "[matcher] max_segments"},
+      {"[matcher]\niterations = -3\n", "[matcher] iterations"},
+      {"[matcher]\nband_half_width = 1e99\n", "[matcher] band_half_width"},
+      {"[odometry]\nkeyframe_distance_m = inf\n", "[odometry] keyframe_distance_m"},
+      {"[odometry]\nlevel = 7\n", "[odometry] level"},
+  };
+  int n = 0;
+  for (const auto& [text, key] : cases) {
+    const std::string path = put("bad" + std::to_string(n++) + ".ini", std::string("; a comment\n") + text);
+    std::string e = "no error";
+    try {
+      mrpt_adapter::loadOdometryParamsFile(path);
+    } catch (const std::invalid_argument& ex) {
+      e = ex.what();
+    }
+    EXPECT_NE(e.find(path + ":3 " + key), std::string::npos) << e;
+  }
+}
+
+// --- Outputs are written atomically ----------------------------------------------------
+TEST(BadInputs, AFailedRunLeavesAnEarlierRunsOutputsIntact) {
+  OdometryOptions o = optionsFor(smallRun() + ".rawlog", "out_atomic");
+  fs::remove_all(o.out_dir);
+  OdometryApp(o).run();
+  const std::string before = slurp(o.out_dir + "/summary.json");
+  ASSERT_FALSE(before.empty());
+  const std::string bytes = slurp(smallRun() + ".rawlog");
+  o.input = put("cut_atomic.rawlog", bytes.substr(0, bytes.size() / 2));
+  EXPECT_NE(errorOf(o).find("entry"), std::string::npos);
+  EXPECT_EQ(slurp(o.out_dir + "/summary.json"), before);
+  for (const auto& e : fs::directory_iterator(o.out_dir)) {
+    EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << "a temporary file left: " << e.path();
+  }
+}
+
+}  // namespace
+}  // namespace lidarseg
