@@ -107,7 +107,49 @@ void BM_MrptIcp(benchmark::State& state) {
 
 }  // namespace
 
+// Worst case (docs/performance.md, "Bounded latency"): a pathological scan pair holding
+// `segments` short segments each (a picket fence of 0.3 m boards in every direction), the
+// full weight matrix (band 0), matched with max_segments = 128 (the default) and with no
+// bound (max_segments = segments). The bound caps the time whatever the scan holds.
+void BM_MatchClutterWorstCase(benchmark::State& state) {
+  const auto segments = static_cast<std::size_t>(state.range(0));
+  const bool bounded = state.range(1) != 0;
+  std::vector<Segment> a(segments), b(segments);
+  for (std::size_t i = 0; i < segments; ++i) {
+    const double bearing = 2.0 * kPi * static_cast<double>(i) / static_cast<double>(segments);
+    const double r = 3.0 + 0.5 * std::sin(7.0 * bearing);
+    for (auto* s : {&a[i], &b[i]}) {
+      const double shift = s == &b[i] ? 0.01 : 0.0;
+      const Eigen::Vector2d c(r * std::cos(bearing) + shift, r * std::sin(bearing));
+      const Eigen::Vector2d d(-std::sin(bearing), std::cos(bearing));
+      s->start = c - 0.15 * d;
+      s->end = c + 0.15 * d;
+      s->cog = s->centroid = c;
+      s->normal = Eigen::Vector2d(std::cos(bearing), std::sin(bearing));
+      s->theta_rad = bearing;
+      s->rho_m = s->normal.dot(c);
+      s->length_m = 0.3 + 0.001 * static_cast<double>(i % 7);
+      s->num_points = 10;
+      s->covariance << 1e-4, 0, 0, 1e-5;
+    }
+  }
+  MatcherParams p;
+  p.band_half_width = 0;
+  p.max_segments = bounded ? 128 : segments;
+  const SegmentMatcher matcher(p);
+  std::size_t weights = 0;
+  for (auto _ : state) {
+    const MatchResult r = matcher.match(a, b, {});
+    weights = r.weights_computed;
+    benchmark::DoNotOptimize(r);
+  }
+  state.counters["weights"] = static_cast<double>(weights);
+}
+
 BENCHMARK(BM_MatchOnly)->Arg(541)->Arg(1081)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_MatchClutterWorstCase)
+    ->Args({128, 1})->Args({512, 1})->Args({2048, 1})->Args({512, 0})->Args({2048, 0})
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SegmentCascadeMatch)->Arg(541)->Arg(1081)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_MrptIcp)->Arg(541)->Arg(1081)->Unit(benchmark::kMicrosecond);
 BENCHMARK_MAIN();
