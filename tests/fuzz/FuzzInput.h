@@ -10,6 +10,7 @@
 #include <cstring>
 #include <exception>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <unistd.h>
 
@@ -38,6 +39,20 @@ inline void requireNamed(const std::exception& e, const std::string& path) {
   if (what.find(path) == std::string::npos) {
     std::fprintf(stderr, "error message does not name the file %s: %s\n", path.c_str(), what.c_str());
     std::abort();
+  }
+}
+
+/// Runs `read` on the input at `path`: the errors a reader may throw
+/// (std::runtime_error, std::invalid_argument) must name the file; any other exception
+/// escapes and libFuzzer reports it.
+template <typename Read>
+void expectNamedErrors(const std::string& path, Read&& read) {
+  try {
+    read();
+  } catch (const std::runtime_error& e) {
+    requireNamed(e, path);
+  } catch (const std::invalid_argument& e) {
+    requireNamed(e, path);
   }
 }
 

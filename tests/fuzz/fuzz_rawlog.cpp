@@ -15,7 +15,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <stdexcept>
 
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CActionCollection.h>
@@ -27,9 +26,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include "FuzzInput.h"
-#include "lidarseg/core/ScanSegmenter.h"
-#include "lidarseg/mrpt/LaserLogReader.h"
-#include "lidarseg/mrpt/ScanConverter.h"
+#include "LogThroughCore.h"
 
 using namespace lidarseg;
 
@@ -118,26 +115,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (truncate(path.c_str(), cut) != 0) std::abort();
   }
 
-  static const ScanSegmenter segmenter;
-  try {
-    mrpt_adapter::LaserLogReader reader(path);
-    mrpt_adapter::ScanConverter converter;
-    Segmentation segmentation;
-    std::size_t n = 0;
-    while (auto record = reader.next()) {
-      fuzz::require(record->index == n, "scan indices are consecutive");
-      fuzz::require(record->observation != nullptr, "a record holds an observation");
-      ++n;
-      try {  // as the apps do: a scan that cannot be converted is skipped with its place
-        const Scan scan = converter.convert(*record->observation);
-        segmenter.process(scan, segmentation);
-      } catch (const std::invalid_argument&) {
-      }
-    }
-  } catch (const std::runtime_error& e) {
-    fuzz::requireNamed(e, path);
-  } catch (const std::invalid_argument& e) {
-    fuzz::requireNamed(e, path);
-  }
+  fuzz::readLogThroughCore(path);
   return 0;
 }

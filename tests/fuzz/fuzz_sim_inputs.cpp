@@ -18,7 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size == 0) return 0;
   const bool world = data[0] % 2 == 0;
   const std::string path = fuzz::writeInput(data + 1, size - 1, world ? "input.world" : "input.traj");
-  try {
+  fuzz::expectNamedErrors(path, [&] {
     if (world) {
       const sim::World w = sim::loadWorldFile(path);
       const sim::RayCaster caster(w);
@@ -35,10 +35,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         fuzz::require(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.yaw), "poses are finite");
       }
     }
-  } catch (const std::runtime_error& e) {
-    fuzz::requireNamed(e, path);
-  } catch (const std::invalid_argument& e) {
-    fuzz::requireNamed(e, path);
-  }
+  });
   return 0;
 }

@@ -21,7 +21,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const int kind = data[0] % 4;
   const char* names[4] = {"input.tum", "input.relations", "input.features.csv", "input.rois.csv"};
   const std::string path = fuzz::writeInput(data + 1, size - 1, names[kind]);
-  try {
+  fuzz::expectNamedErrors(path, [&] {
     switch (kind) {
       case 0: {
         const eval::StampedTrajectory t = eval::readTum(path);
@@ -48,10 +48,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         break;
       }
     }
-  } catch (const std::runtime_error& e) {
-    fuzz::requireNamed(e, path);
-  } catch (const std::invalid_argument& e) {
-    fuzz::requireNamed(e, path);
-  }
+  });
   return 0;
 }
