@@ -69,6 +69,11 @@ int main(int argc, char** argv) {
     lidarseg::apps::OdometryApp app(o);
     const auto report = app.run();
     lidarseg::apps::OdometryApp::print(report, std::cout);
+    if (report.lidarseg.tracking == "lost") {
+      std::cerr << "lidarseg-odometry: warning: lidarseg lost track on " << report.lidarseg.lost << " of "
+                << report.frames << " scans (more than " << o.max_lost_ratio * 100.0
+                << " %); see lost_scans in summary.json\n";
+    }
     return report.log_error.empty() ? 0 : 3;
   } catch (const std::exception& e) {
     std::cerr << "lidarseg-odometry: error: " << e.what() << "\n";

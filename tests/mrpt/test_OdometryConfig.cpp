@@ -27,6 +27,11 @@ TEST(OdometryConfig, TheShippedDefaultFileSetsEveryKeyToTheDefaults) {
   const std::string text((std::istreambuf_iterator<char>(in)), {});
   for (const auto& k : matcherKeys()) EXPECT_NE(text.find("\n" + k + " "), std::string::npos) << k;
   for (const auto& k : odometryKeys()) EXPECT_NE(text.find("\n" + k + " "), std::string::npos) << k;
+  for (const auto& k : refinerKeys()) EXPECT_NE(text.find("\n" + k + " "), std::string::npos) << k;
+  for (const auto& k : searchKeys()) EXPECT_NE(text.find("\n" + k + " "), std::string::npos) << k;
+  EXPECT_DOUBLE_EQ(p.refiner.robust_scale_m, d.refiner.robust_scale_m);
+  EXPECT_EQ(p.refiner.level, d.refiner.level);
+  EXPECT_DOUBLE_EQ(p.search.linear_window_m, d.search.linear_window_m);
 }
 
 TEST(OdometryConfig, RoundTripKeepsEveryValue) {

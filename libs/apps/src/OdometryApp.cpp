@@ -270,10 +270,22 @@ OdometryReport OdometryApp::run() {
     report.lidarseg.matching_us.push_back(step.core.matching_us);
     report.lidarseg.time_us.push_back(step.core.wall_danielsson_us + step.core.cascade_us +
                                       step.core.matching_us);
-    report.lidarseg.scan_status.push_back(step.core.first ? "first" : toString(step.core.match.status));
+    report.lidarseg.scan_status.push_back(toString(step.core.status));
+    report.lidarseg.refinement_us.push_back(step.core.refinement_us);
+    report.lidarseg.prior.push_back(step.core.prior);
+    report.lidarseg.inlier_ratio.push_back(step.core.refine.inlier_ratio);
+    report.lidarseg.refine_iterations.push_back(step.core.refine.iterations);
+    report.lidarseg.match_status.push_back(step.core.first ? "first" : toString(step.core.match.status));
     report.lidarseg.scan_matches.push_back(step.core.match.matches.size());
     if (!step.core.first) {
-      ++report.lidarseg.status_counts[toString(step.core.match.status)];
+      ++report.lidarseg.status_counts[toString(step.core.status)];
+      if (step.core.match.status == MatchStatus::kTooFewMatches) {
+        ++report.lidarseg.match_failures[step.core.match.rejections.dominant()];
+      }
+      if (step.core.status == TrackStatus::kLost) {
+        ++report.lidarseg.lost;
+        if (report.lidarseg.lost_scans.size() < 1000) report.lidarseg.lost_scans.push_back(record->index);
+      }
       if (std::sqrt(std::max(step.increment.cov(0, 0), step.increment.cov(1, 1))) > 0.1) {
         ++report.lidarseg.weak_scans;
       }
@@ -372,6 +384,9 @@ OdometryReport OdometryApp::run() {
 
   // Evaluation.
   finishMethod(report.lidarseg);
+  if (static_cast<double>(report.lidarseg.lost) > o.max_lost_ratio * static_cast<double>(report.frames)) {
+    report.lidarseg.tracking = "lost";
+  }
   const double median_dt = dts.empty() ? 0.1 : summarize(dts).median;
   const double gt_tolerance = std::max(1e-6, 0.25 * median_dt);
   std::optional<std::vector<eval::Relation>> log_relations;
@@ -401,14 +416,18 @@ OdometryReport OdometryApp::run() {
     outputs.add(path("lidarseg.tum"), tumOf(report.lidarseg.trajectory, "lidarseg robot poses, odometry frame"));
     if (report.icp) outputs.add(path("icp.tum"), tumOf(report.icp->trajectory, "MRPT ICP robot poses, odometry frame"));
     std::ostringstream csv;
-    csv << "index,stamp_s,segmentation_us,cascade_us,matching_us,total_us,status,matches"
+    csv << "index,stamp_s,segmentation_us,cascade_us,matching_us,total_us,status,matches,refinement_us,"
+           "inlier_ratio,refine_iterations,match_status,prior_x_m,prior_y_m,prior_yaw_rad"
         << (report.icp ? ",icp_total_us" : "") << "\n";
     csv << std::setprecision(9);
     for (std::size_t k = 0; k < report.lidarseg.time_us.size(); ++k) {
       csv << k << ',' << std::fixed << report.lidarseg.trajectory[k].stamp_s << std::defaultfloat << ','
           << report.lidarseg.segmentation_us[k] << ',' << report.lidarseg.cascade_us[k] << ','
           << report.lidarseg.matching_us[k] << ',' << report.lidarseg.time_us[k];
-      csv << ',' << report.lidarseg.scan_status[k] << ',' << report.lidarseg.scan_matches[k];
+      csv << ',' << report.lidarseg.scan_status[k] << ',' << report.lidarseg.scan_matches[k] << ','
+          << report.lidarseg.refinement_us[k] << ',' << report.lidarseg.inlier_ratio[k] << ','
+          << report.lidarseg.refine_iterations[k] << ',' << report.lidarseg.match_status[k] << ','
+          << report.lidarseg.prior[k].x << ',' << report.lidarseg.prior[k].y << ',' << report.lidarseg.prior[k].yaw;
       if (report.icp) csv << ',' << report.icp->time_us[k];
       csv << '\n';
     }
@@ -486,8 +505,18 @@ std::string OdometryApp::markdownTable(const OdometryReport& r) {
      << ". Final pose 1-sigma from the propagated covariance: " << std::setprecision(3)
      << r.lidarseg.final_sigma_x_m << " m, " << r.lidarseg.final_sigma_y_m << " m, "
      << r.lidarseg.final_sigma_yaw_rad * 180 / M_PI << " deg.\n";
-  if (r.icp) os << "\nSpeed-up (median ICP time / median lidarseg time, same run): " << std::setprecision(1)
-                << r.speedup_median << "x\n";
+  if (!r.lidarseg.match_failures.empty()) {
+    os << "\nSegment matches that failed, by their main reason:";
+    for (const auto& [k, v] : r.lidarseg.match_failures) os << " " << k << " " << v << ";";
+    os << "\n";
+  }
+  if (r.lidarseg.tracking == "lost") {
+    os << "\n**lidarseg lost track**: " << r.lidarseg.lost << " of " << r.frames
+       << " scans lost (the prediction was kept); no speed-up is claimed for this run.\n";
+  } else if (r.icp) {
+    os << "\nSpeed-up (median ICP time / median lidarseg time, same run): " << std::setprecision(1)
+       << r.speedup_median << "x\n";
+  }
   const auto relTable = [&](const char* title, auto get) {
     if (!get(r.lidarseg)) return;
     os << "\n" << title << "\n\n| method | evaluated | trans. mean (m) | trans. median (m) | trans. std (m) | rot. mean (deg) | rot. median (deg) | rot. std (deg) |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
@@ -539,6 +568,13 @@ std::string OdometryApp::summaryJson(const OdometryReport& r) {
       j.value("x_m", m->final_sigma_x_m).value("y_m", m->final_sigma_y_m).value("yaw_rad", m->final_sigma_yaw_rad);
       j.endObject();
       j.value("weak_scans", m->weak_scans);
+      j.value("tracking", m->tracking).value("lost", m->lost);
+      j.beginArray("lost_scans");
+      for (const auto k : m->lost_scans) j.value(nullptr, k);
+      j.endArray();
+      j.beginObject("match_failures");
+      for (const auto& [k, v] : m->match_failures) j.value(k.c_str(), v);
+      j.endObject();
     }
     if (m->errors) {
       const auto& e = *m->errors;

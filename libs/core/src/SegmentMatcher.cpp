@@ -80,6 +80,23 @@ void selectLongest(const std::vector<Segment>& segments, std::size_t limit, std:
 
 }  // namespace
 
+const char* MatchRejections::dominant() const {
+  const std::pair<const char*, std::size_t> all[] = {{"gated", gated},
+                                                     {"over_threshold", over_threshold},
+                                                     {"ambiguous", ambiguous},
+                                                     {"not_mutual", not_mutual},
+                                                     {"outliers", outliers}};
+  const char* name = "none";
+  std::size_t most = 0;
+  for (const auto& [n, c] : all) {
+    if (c > most) {
+      most = c;
+      name = n;
+    }
+  }
+  return name;
+}
+
 const char* toString(MatchStatus s) {
   switch (s) {
     case MatchStatus::kOk:
@@ -189,6 +206,7 @@ MatchResult SegmentMatcher::match(const std::vector<Segment>& previous,
         }
       }
       found.clear();
+      result.rejections = {};
       for (std::size_t i = 0; i < n; ++i) {
         std::size_t best_j = 0;
         double best = kMaxWeight, second = kMaxWeight;
@@ -202,8 +220,18 @@ MatchResult SegmentMatcher::match(const std::vector<Segment>& previous,
             second = w;
           }
         }
-        if (!(best < P.max_weight)) continue;
-        if (second < kMaxWeight && best > P.ambiguity_ratio * second) continue;
+        if (!(best < kMaxWeight)) {
+          ++result.rejections.gated;
+          continue;
+        }
+        if (!(best < P.max_weight)) {
+          ++result.rejections.over_threshold;
+          continue;
+        }
+        if (second < kMaxWeight && best > P.ambiguity_ratio * second) {
+          ++result.rejections.ambiguous;
+          continue;
+        }
         // Mutual: i is also the best (and unambiguous) row of column best_j.
         double col_second = kMaxWeight;
         bool mutual = true;
@@ -213,7 +241,14 @@ MatchResult SegmentMatcher::match(const std::vector<Segment>& previous,
           if (w <= best) mutual = false;
           col_second = std::min(col_second, w);
         }
-        if (!mutual || (col_second < kMaxWeight && best > P.ambiguity_ratio * col_second)) continue;
+        if (!mutual) {
+          ++result.rejections.not_mutual;
+          continue;
+        }
+        if (col_second < kMaxWeight && best > P.ambiguity_ratio * col_second) {
+          ++result.rejections.ambiguous;
+          continue;
+        }
         found.emplace_back(static_cast<int>(i), static_cast<int>(best_j));
       }
       if (found.size() >= P.min_matches || full) {
@@ -290,6 +325,7 @@ MatchResult SegmentMatcher::match(const std::vector<Segment>& previous,
         const double sigma_th = std::sqrt(p.var_theta + c.var_theta) + 0.005;
         if (std::abs(r) > P.outlier_sigmas * sigma || std::abs(dth) > P.outlier_sigmas * sigma_th) {
           inlier[k] = 0;
+          ++result.rejections.outliers;
           dropped = true;
         }
       }

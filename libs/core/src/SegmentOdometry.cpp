@@ -16,9 +16,27 @@ double microsecondsSince(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
+const char* toString(TrackStatus s) {
+  switch (s) {
+    case TrackStatus::kFirst:
+      return "first";
+    case TrackStatus::kOk:
+      return "ok";
+    case TrackStatus::kDegenerate:
+      return "degenerate";
+    case TrackStatus::kRecovered:
+      return "recovered";
+    case TrackStatus::kLost:
+      return "lost";
+  }
+  return "unknown";
+}
+
 void OdometryParams::validate() const {
   segmentation.validate();
   matcher.validate();
+  refiner.validate();
+  search.validate();
   if (static_cast<std::size_t>(level) >= kNumCascadeLevels) {
     detail::failKey("level", "a cascade level 0..3", static_cast<double>(static_cast<std::size_t>(level)));
   }
@@ -28,6 +46,8 @@ void OdometryParams::validate() const {
   detail::requirePositive("angular_velocity_window_s", angular_velocity_window_s);
   detail::requirePositive("deskew_tolerance_rad", deskew_tolerance_rad);
   detail::requireNonNegative("scanner_rotation_hz", scanner_rotation_hz);
+  detail::requireInRange("doubtful_ratio", doubtful_ratio, 0.0, 1.0);
+  detail::requireInRange("prior_preference", prior_preference, 0.0, 10.0);
   if (static_cast<std::size_t>(degenerate_fallback_level) >= kNumCascadeLevels) {
     detail::failKey("degenerate_fallback_level", "a cascade level 0..3",
                     static_cast<double>(static_cast<std::size_t>(degenerate_fallback_level)));
@@ -35,10 +55,15 @@ void OdometryParams::validate() const {
 }
 
 SegmentOdometry::SegmentOdometry(const OdometryParams& params)
-    : params_((params.validate(), params)), segmenter_(params.segmentation), matcher_(params.matcher) {}
+    : params_((params.validate(), params)),
+      segmenter_(params.segmentation),
+      matcher_(params.matcher),
+      refiner_(params.refiner),
+      search_(params.search) {}
 
 void SegmentOdometry::reset() {
   count_ = 0;
+  typical_inlier_ratio_ = 0.0;
   pose_ = {};
   keyframe_pose_ = {};
   history_size_ = 0;
@@ -73,6 +98,79 @@ MatchResult SegmentOdometry::matchWithKeyframe(int slot, const Pose2D& prior, Od
   }
   step.matching_us += microsecondsSince(t0);
   return m;
+}
+
+namespace {
+// The better of two refinements: one that holds over one that failed, then more paired
+// points (a wrong along-corridor solution loses the jambs' and recesses' points).
+bool better(const RefineResult& a, const RefineResult& b) {
+  const bool a_ok = a.status != RefineStatus::kFailed, b_ok = b.status != RefineStatus::kFailed;
+  if (a_ok != b_ok) return a_ok;
+  return a.inliers > b.inliers;
+}
+}  // namespace
+
+Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, OdometryStep& step) {
+  const Segmentation& key = segmentation_[keyframe_];
+  const Segmentation& cur = segmentation_[slot];
+  const MatchResult& m = step.match;
+  const bool matched = m.status != MatchStatus::kTooFewMatches;
+  // A result is doubtful when it failed, or pairs clearly fewer points than the last scans
+  // did: a local optimum (a corridor's walls pair at any shift along them; only the
+  // jambs' and recesses' points tell).
+  const auto doubtful = [&](const RefineResult& r) {
+    return r.status == RefineStatus::kFailed ||
+           (typical_inlier_ratio_ > 0.0 && r.inlier_ratio < params_.doubtful_ratio * typical_inlier_ratio_);
+  };
+  // 1. From the segment match.
+  RefineResult best;
+  if (matched) best = refiner_.refine(key, cur, m.T_prev_curr);
+  // 2. From the prior, when the match failed, moved far from the prior (it may have locked
+  // onto a wrong couple: a repeated door, a corridor) or its refinement is doubtful.
+  const Pose2D shift = relative(best.T_key_curr, prior);
+  const bool far = std::hypot(shift.x, shift.y) > params_.refiner.max_distance_m ||
+                   std::abs(shift.yaw) > params_.refiner.max_distance_m / std::max(1.0, best.rms_range_m);
+  // The prior's hypothesis is the reference (as ICP, which only looks near the prior): another
+  // replaces it only when it holds and pairs clearly more points, or the prior's failed.
+  std::optional<RefineResult> reference;
+  const auto replaces = [&](const RefineResult& r) {
+    if (!reference || reference->status == RefineStatus::kFailed) return better(r, best);
+    return r.status != RefineStatus::kFailed &&
+           static_cast<double>(r.inliers) > (1.0 + params_.prior_preference) * static_cast<double>(reference->inliers);
+  };
+  if (!matched || far || doubtful(best)) {
+    reference = refiner_.refine(key, cur, prior);
+    if (!matched || !replaces(best)) best = *reference;
+  }
+  bool recovered = false;
+  // 3. A bounded correlative search around the prior, then the refinement from its best.
+  if (doubtful(best) && params_.recovery) {
+    step.search = search_.search(key.points, cur.points, prior);
+    if (step.search->found) {
+      RefineResult r = refiner_.refine(key, cur, step.search->T_key_curr);
+      if (replaces(r) && better(r, best)) {
+        best = std::move(r);
+        recovered = true;
+      }
+    }
+  }
+  step.refine = best;
+  if (best.status != RefineStatus::kFailed) {
+    // The running mean of the inlier ratio (about the last 10 scans).
+    typical_inlier_ratio_ = typical_inlier_ratio_ > 0.0 ? 0.9 * typical_inlier_ratio_ + 0.1 * best.inlier_ratio
+                                                        : best.inlier_ratio;
+    step.status = best.status == RefineStatus::kDegenerate ? TrackStatus::kDegenerate
+                  : recovered                              ? TrackStatus::kRecovered
+                                                           : TrackStatus::kOk;
+    return best.T_key_curr;
+  }
+  // 4. Nothing refined: the segment match alone if it held, else the prediction.
+  if (matched) {
+    step.status = m.status == MatchStatus::kOk ? TrackStatus::kOk : TrackStatus::kDegenerate;
+    return m.T_prev_curr;
+  }
+  step.status = TrackStatus::kLost;
+  return prior;
 }
 
 const Scan& SegmentOdometry::withBeamTimes(const Scan& scan) {
@@ -150,20 +248,33 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
     }
   }
 
-  const Pose2D new_pose = compose(keyframe_pose_, step.match.T_prev_curr);
+  Pose2D T_key_curr = step.match.T_prev_curr;
+  if (params_.refiner.enabled) {
+    const auto t0 = std::chrono::steady_clock::now();
+    T_key_curr = refineWithKeyframe(slot, prior_from_key, step);
+    step.refinement_us = microsecondsSince(t0);
+    step.matching_us += step.refinement_us;
+  } else {
+    step.status = step.match.status == MatchStatus::kOk           ? TrackStatus::kOk
+                  : step.match.status == MatchStatus::kDegenerate ? TrackStatus::kDegenerate
+                                                                  : TrackStatus::kLost;
+  }
+  const bool refined = step.refine.status != RefineStatus::kFailed;
+
+  const Pose2D new_pose = compose(keyframe_pose_, T_key_curr);
   step.increment = relative(new_pose, pose_);
   // The increment's uncertainty: that of the keyframe match, seen from the last pose.
-  step.increment_covariance = step.match.covariance;
+  step.increment_covariance = refined ? step.refine.covariance : step.match.covariance;
   pose_ = new_pose;
   step.T_odom_sensor = pose_;
   last_stamp_ = scan.stamp_s;
   ++count_;
   remember(scan.stamp_s);
 
-  const Pose2D from_key = step.match.T_prev_curr;
+  const Pose2D& from_key = T_key_curr;
   const bool moved = std::hypot(from_key.x, from_key.y) >= params_.keyframe_distance_m ||
                      std::abs(from_key.yaw) >= params_.keyframe_angle_rad;
-  if (moved || step.match.status != MatchStatus::kOk) {
+  if (moved || step.status != TrackStatus::kOk) {
     keyframe_ = slot;
     keyframe_pose_ = pose_;
     step.keyframe = true;

@@ -70,6 +70,48 @@ struct OdometryKeys {
     visit("angular_velocity_window_s", p.angular_velocity_window_s);
     visit("deskew_tolerance_rad", p.deskew_tolerance_rad);
     visit("scanner_rotation_hz", p.scanner_rotation_hz);
+    visit("recovery", p.recovery);
+    visit("doubtful_ratio", p.doubtful_ratio);
+    visit("prior_preference", p.prior_preference);
+  }
+};
+
+// Every key of the [refiner] section (point-to-segment refinement).
+struct RefinerKeys {
+  template <typename Params, typename Visitor>
+  void operator()(Params& p, Visitor&& visit) const {
+    visit("enabled", p.enabled);
+    visit("level", p.level);
+    visit("min_segment_points", p.min_segment_points);
+    visit("max_iterations", p.max_iterations);
+    visit("max_distance_m", p.max_distance_m);
+    visit("robust_scale_m", p.robust_scale_m);
+    visit("endpoint_margin_m", p.endpoint_margin_m);
+    visit("bearing_window", p.bearing_window);
+    visit("min_point_sigma_m", p.min_point_sigma_m);
+    visit("correlation_length_points", p.correlation_length_points);
+    visit("min_inlier_ratio", p.min_inlier_ratio);
+    visit("max_points", p.max_points);
+    visit("min_points", p.min_points);
+    visit("min_constraint_points", p.min_constraint_points);
+    visit("degeneracy_ratio", p.degeneracy_ratio);
+    visit("unconstrained_sigma_m", p.unconstrained_sigma_m);
+    visit("convergence_m", p.convergence_m);
+  }
+};
+
+// Every key of the [search] section (correlative recovery search).
+struct SearchKeys {
+  template <typename Params, typename Visitor>
+  void operator()(Params& p, Visitor&& visit) const {
+    visit("linear_window_m", p.linear_window_m);
+    visit("angular_window_rad", p.angular_window_rad);
+    visit("resolution_m", p.resolution_m);
+    visit("sigma_m", p.sigma_m);
+    visit("angular_step_rad", p.angular_step_rad);
+    visit("max_points", p.max_points);
+    visit("coarse_cells", p.coarse_cells);
+    visit("max_grid_cells", p.max_grid_cells);
   }
 };
 

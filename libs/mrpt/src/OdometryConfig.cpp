@@ -6,6 +6,8 @@
 namespace lidarseg::mrpt_adapter {
 
 std::vector<std::string> matcherKeys() { return detail::keysOf<MatcherParams>(detail::MatcherKeys{}); }
+std::vector<std::string> refinerKeys() { return detail::keysOf<RefinerParams>(detail::RefinerKeys{}); }
+std::vector<std::string> searchKeys() { return detail::keysOf<SearchParams>(detail::SearchKeys{}); }
 std::vector<std::string> odometryKeys() { return detail::keysOf<OdometryParams>(detail::OdometryKeys{}); }
 
 void loadMatcherParams(MatcherParams& params, const mrpt::config::CConfigFileBase& cfg,
@@ -34,6 +36,13 @@ void loadAll(OdometryParams& params, const mrpt::config::CConfigFileBase& cfg, c
     detail::loadKeys(loaded.matcher, cfg, kMatcherSection, source, lines(kMatcherSection),
                      detail::MatcherKeys{});
   }
+  if (cfg.sectionExists(kRefinerSection)) {
+    detail::loadKeys(loaded.refiner, cfg, kRefinerSection, source, lines(kRefinerSection),
+                     detail::RefinerKeys{});
+  }
+  if (cfg.sectionExists(kSearchSection)) {
+    detail::loadKeys(loaded.search, cfg, kSearchSection, source, lines(kSearchSection), detail::SearchKeys{});
+  }
   if (cfg.sectionExists(kOdometrySection)) {
     detail::loadKeys(loaded, cfg, kOdometrySection, source, lines(kOdometrySection), detail::OdometryKeys{});
   }
@@ -49,6 +58,8 @@ void loadOdometryParams(OdometryParams& params, const mrpt::config::CConfigFileB
 void saveOdometryParams(const OdometryParams& params, mrpt::config::CConfigFileBase& cfg) {
   detail::saveKeys(params.segmentation, cfg, kSegmentationSection, detail::SegmentationKeys{});
   detail::saveKeys(params.matcher, cfg, kMatcherSection, detail::MatcherKeys{});
+  detail::saveKeys(params.refiner, cfg, kRefinerSection, detail::RefinerKeys{});
+  detail::saveKeys(params.search, cfg, kSearchSection, detail::SearchKeys{});
   detail::saveKeys(params, cfg, kOdometrySection, detail::OdometryKeys{});
 }
 

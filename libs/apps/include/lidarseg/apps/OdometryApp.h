@@ -63,6 +63,9 @@ struct OdometryOptions {
   /// false = an error and no output; true = the scans before it are processed, the outputs
   /// written, and the message kept in OdometryReport::log_error.
   bool allow_truncated = false;
+  /// A run that loses more than this share of its scans is reported as lost
+  /// ("tracking": "lost"), on stderr and without a headline speed-up.
+  double max_lost_ratio = 0.01;
 };
 
 /// Figures of one method over a run.
@@ -73,11 +76,28 @@ struct MethodReport {
   std::vector<double> time_us;
   Summary time_summary_us;
   std::vector<double> segmentation_us, cascade_us, matching_us;
+  /// lidarseg, per scan: refinement (and search) time (part of matching_us), the
+  /// refinement's inlier ratio and iterations, and the segment match's status.
+  std::vector<double> refinement_us, inlier_ratio;
+  std::vector<std::size_t> refine_iterations;
+  std::vector<std::string> match_status;
+  /// lidarseg, per scan: the predicted motion since the previous scan (sensor frame).
+  std::vector<Pose2D> prior;
   /// Per scan: the match status ("first" for the first scan) and the number of couples.
   std::vector<std::string> scan_status;
   std::vector<std::size_t> scan_matches;
-  /// lidarseg: matches per status ("ok", "degenerate", "too_few_matches"); ICP: "converged", "not_converged", "skipped".
+  /// lidarseg: scans per tracking status ("ok", "degenerate", "recovered", "lost"); ICP:
+  /// "converged", "not_converged", "skipped".
   std::map<std::string, std::size_t> status_counts;
+  /// lidarseg: why the segment match failed (too few couples), by its dominant rejection
+  /// ("gated", "over_threshold", "ambiguous", "not_mutual", "outliers", "none"), whatever the
+  /// refinement or the search made of the scan afterwards.
+  std::map<std::string, std::size_t> match_failures;
+  /// lidarseg: the index of every lost scan (the first 1000).
+  std::vector<std::size_t> lost_scans;
+  std::size_t lost = 0;
+  /// "ok", or "lost" when more than OdometryOptions::max_lost_ratio of the scans were lost.
+  std::string tracking = "ok";
   /// Standard deviations (x, y: m; yaw: rad) of the final pose from the propagated covariance.
   double final_sigma_x_m = 0.0, final_sigma_y_m = 0.0, final_sigma_yaw_rad = 0.0;
   /// Scans whose increment's translation 1-sigma exceeded 0.1 m (weakly constrained matches).

@@ -71,6 +71,19 @@ enum class MatchStatus {
 };
 const char* toString(MatchStatus s);
 
+/// Why rows of the weight matrix (previous segments) gave no couple, in the last
+/// association of a match: the reasons a match fails, counted (issue: failures on real data).
+struct MatchRejections {
+  std::size_t gated = 0;           ///< every candidate beyond the COG gate (or outside the band)
+  std::size_t over_threshold = 0;  ///< best weight not below max_weight
+  std::size_t ambiguous = 0;       ///< best weight too close to the row's or column's second best
+  std::size_t not_mutual = 0;      ///< the column's best is another row
+  std::size_t outliers = 0;        ///< couples dropped by the residual test
+  /// The most frequent reason ("gated", "over_threshold", "ambiguous", "not_mutual",
+  /// "outliers"), or "none".
+  const char* dominant() const;
+};
+
 /// Result of matching two scans.
 struct MatchResult {
   MatchStatus status = MatchStatus::kTooFewMatches;
@@ -90,6 +103,8 @@ struct MatchResult {
   /// Whether the focused band had to fall back to the full matrix.
   bool used_full_matrix = false;
   std::size_t iterations = 0;
+  /// Why previous segments found no couple (last association).
+  MatchRejections rejections;
 };
 
 /// Matches the high-level segments of two consecutive scans (paper §III.A, five steps):

@@ -7,9 +7,11 @@
 
 #include <Eigen/Core>
 
+#include "lidarseg/core/CorrelativeSearch.h"
 #include "lidarseg/core/Pose2D.h"
 #include "lidarseg/core/Scan.h"
 #include "lidarseg/core/ScanSegmenter.h"
+#include "lidarseg/core/ScanRefiner.h"
 #include "lidarseg/core/SegmentMatcher.h"
 
 namespace lidarseg {
@@ -18,6 +20,23 @@ namespace lidarseg {
 struct OdometryParams {
   SegmentationParams segmentation;
   MatcherParams matcher;
+  /// Point-to-segment refinement of every match (beyond the paper).
+  RefinerParams refiner;
+  /// Correlative search around the prior when neither the segment match nor the
+  /// refinement from the prior holds (beyond the paper).
+  SearchParams search;
+  /// Whether the search runs at all; without it, such a scan is lost at once.
+  bool recovery = true;
+  /// A refinement is doubtful when its inlier ratio is below this fraction of the running
+  /// mean of the last scans' ratios; it is then also refined from the prior and, if still
+  /// doubtful, the search runs and the hypothesis pairing the most points wins. 0 = only
+  /// failed refinements are doubtful.
+  double doubtful_ratio = 0.9;
+  /// When the segment match (or the search) and the prior lead to different poses, the
+  /// prior's refinement is kept unless it is doubtful or the other pairs more than
+  /// (1 + this) times as many points: a corridor's walls pair almost as well one door
+  /// further, and the prior is what tells the two apart.
+  double prior_preference = 0.15;
   /// Cascade level whose segments are matched (paper: the high level).
   CascadeLevel level = CascadeLevel::kFusedAgain;
   /// When the match at `level` is degenerate (a corridor), match again at this finer level
@@ -52,6 +71,16 @@ struct OdometryParams {
   void validate() const;
 };
 
+/// How a scan was tracked.
+enum class TrackStatus {
+  kFirst,       ///< the first scan: the origin
+  kOk,          ///< matched (and refined); every direction constrained
+  kDegenerate,  ///< matched, but one direction was unconstrained and kept from the prior
+  kRecovered,   ///< the match and the refinement from the prior failed; the search found it
+  kLost,        ///< every hypothesis failed: the prediction is kept, with a large covariance
+};
+const char* toString(TrackStatus s);
+
 /// One step of the odometry.
 struct OdometryStep {
   std::size_t index = 0;
@@ -70,6 +99,12 @@ struct OdometryStep {
   /// Matching details (status, couples, weights) against the keyframe; empty for the
   /// first scan. match.T_prev_curr is T_keyframe_curr.
   MatchResult match;
+  /// The point-to-segment refinement that gave the pose (status kFailed when none held).
+  RefineResult refine;
+  /// The correlative search, when it ran.
+  std::optional<SearchResult> search;
+  /// How this scan was tracked; the pose is T_keyframe_curr of `refine` unless kLost.
+  TrackStatus status = TrackStatus::kFirst;
   /// Whether this scan became the keyframe.
   bool keyframe = false;
   bool first = false;
@@ -77,6 +112,8 @@ struct OdometryStep {
   double wall_danielsson_us = 0.0;
   double cascade_us = 0.0;
   double matching_us = 0.0;
+  /// Refinement and (when it ran) search; part of the matching time above.
+  double refinement_us = 0.0;
 };
 
 /// Laser odometry with the segment matcher. Each scan is segmented once; the keyframe's
@@ -107,16 +144,22 @@ class SegmentOdometry {
   void remember(double stamp);
   void segmentInto(const Scan& scan, int slot, const Twist2D& motion, OdometryStep& step);
   MatchResult matchWithKeyframe(int slot, const Pose2D& prior, OdometryStep& step) const;
+  /// Refines the match (or recovers from a failed one) into step.refine and step.status;
+  /// returns T_keyframe_curr.
+  Pose2D refineWithKeyframe(int slot, const Pose2D& prior, OdometryStep& step);
   Twist2D meanVelocity(double stamp, double window) const;
   const Scan& withBeamTimes(const Scan& scan);
 
   OdometryParams params_;
   ScanSegmenter segmenter_;
   SegmentMatcher matcher_;
+  ScanRefiner refiner_;
+  CorrelativeSearch search_;
   Segmentation segmentation_[2];  // the keyframe's and the current scan's
   int keyframe_ = 0;
   int current_ = 0;
   std::size_t count_ = 0;
+  double typical_inlier_ratio_ = 0.0;  // running mean of the refinements' inlier ratios
   double last_stamp_ = 0.0;
   /// Recent (stamp, pose): a ring buffer for the velocity estimate.
   static constexpr std::size_t kHistory = 64;

@@ -14,10 +14,15 @@ namespace lidarseg::mrpt_adapter {
 
 inline const std::string kMatcherSection = "matcher";
 inline const std::string kOdometrySection = "odometry";
+inline const std::string kRefinerSection = "refiner";
+inline const std::string kSearchSection = "search";
 
 /// Names of every key of the [matcher] and [odometry] sections, in file order.
 std::vector<std::string> matcherKeys();
 std::vector<std::string> odometryKeys();
+/// Names of every key of the [refiner] and [search] sections.
+std::vector<std::string> refinerKeys();
+std::vector<std::string> searchKeys();
 
 /// Reads the keys present in `section` into `params`, then validates them.
 /// @throws std::invalid_argument naming source, section and key (unknown key, not a
@@ -28,15 +33,15 @@ void loadMatcherParams(MatcherParams& params, const mrpt::config::CConfigFileBas
 void saveMatcherParams(const MatcherParams& params, mrpt::config::CConfigFileBase& cfg,
                        const std::string& section = kMatcherSection);
 
-/// Reads [segmentation], [matcher] and [odometry], each when present (absent sections
+/// Reads [segmentation], [matcher], [refiner], [search] and [odometry], each when present (absent sections
 /// keep the defaults: a file may hold only some of them), and validates.
 /// @throws std::invalid_argument as above.
 void loadOdometryParams(OdometryParams& params, const mrpt::config::CConfigFileBase& cfg,
                         const std::string& source = "configuration");
-/// Writes the three sections with every key.
+/// Writes the five sections with every key.
 void saveOdometryParams(const OdometryParams& params, mrpt::config::CConfigFileBase& cfg);
 
-/// Loads an INI (or YAML, by extension) file's three sections on top of the defaults,
+/// Loads an INI (or YAML, by extension) file's five sections on top of the defaults,
 /// with errors naming file:line [section] key.
 /// @throws std::runtime_error if the file cannot be read; std::invalid_argument as above.
 OdometryParams loadOdometryParamsFile(const std::string& path);

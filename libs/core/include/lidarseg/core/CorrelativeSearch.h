@@ -1,0 +1,72 @@
+#pragma once
+/// @file CorrelativeSearch.h
+/// Recovery when the motion prior is wrong: a bounded correlative search around it
+/// (Olson 2009, "Real-Time Correlative Scan Matching", the paper's reference [14]).
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "lidarseg/core/Pose2D.h"
+
+namespace lidarseg {
+
+/// Parameters of the correlative search.
+struct SearchParams {
+  /// Half-widths of the searched window around the prior: translation (m) and rotation (rad).
+  double linear_window_m = 1.2;
+  double angular_window_rad = 0.6;
+  /// Cell size of the keyframe's likelihood grid (m); also the translation step.
+  double resolution_m = 0.05;
+  /// Standard deviation of the likelihood around each keyframe point (m).
+  double sigma_m = 0.08;
+  /// Rotation step (rad); 0 = chosen so that the farthest used point moves by at most one
+  /// cell (Olson's rule), within [0.5 deg, 2 deg].
+  double angular_step_rad = 0.0;
+  /// Points of the current scan used at most (evenly subsampled).
+  std::size_t max_points = 100;
+  /// Coarse translation step of the branch and bound, in cells (>= 1).
+  std::size_t coarse_cells = 8;
+  /// Largest grid side (cells): a keyframe spanning more is clipped around the sensor.
+  std::size_t max_grid_cells = 1200;
+
+  /// @throws std::invalid_argument naming the key (as in the [search] section).
+  void validate() const;
+};
+
+/// Result of a search.
+struct SearchResult {
+  bool found = false;
+  /// Best T_key_curr found.
+  Pose2D T_key_curr;
+  /// Mean likelihood of the used points at the best pose (0..1) and at the prior.
+  double score = 0.0;
+  double prior_score = 0.0;
+  /// Poses whose score was evaluated exactly, and coarse bounds evaluated.
+  std::size_t evaluated = 0;
+  std::size_t bounds = 0;
+};
+
+/// Exhaustive-in-effect search of T_key_curr over a window around a prior: the keyframe's
+/// points are rasterised into a likelihood grid, and every rotation step x translation cell
+/// of the window is scored by the current scan's points, with a one-level branch and bound
+/// on a sliding-maximum grid (exact: the result is the best pose of the full grid search).
+/// Points are in the sensor frames (m); invalid (non-finite) points are skipped.
+/// Bounded cost: O(grid cells + rotations * (window / coarse)^2 * points + refinement).
+class CorrelativeSearch {
+ public:
+  /// @throws std::invalid_argument for invalid parameters.
+  explicit CorrelativeSearch(const SearchParams& params = {});
+
+  SearchResult search(const std::vector<Eigen::Vector2d>& keyframe_points,
+                      const std::vector<Eigen::Vector2d>& current_points, const Pose2D& prior) const;
+
+  const SearchParams& params() const { return params_; }
+
+ private:
+  SearchParams params_;
+};
+
+}  // namespace lidarseg

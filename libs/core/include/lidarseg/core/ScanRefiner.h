@@ -1,0 +1,130 @@
+#pragma once
+/// @file ScanRefiner.h
+/// Precise pose refinement after the segment match (beyond the paper): the current scan's
+/// own points against the keyframe's low-level segments taken as finite lines.
+
+#include <cstddef>
+
+#include <Eigen/Core>
+
+#include "lidarseg/core/Pose2D.h"
+#include "lidarseg/core/Segmentation.h"
+
+namespace lidarseg {
+
+/// Parameters of the point-to-segment refinement.
+struct RefinerParams {
+  /// Whether the odometry refines its matches at all.
+  bool enabled = true;
+  /// Cascade level of the keyframe's segments the points are matched to. The low level
+  /// keeps the short segments (door jambs, recesses, pillars) that constrain the motion
+  /// along a corridor.
+  CascadeLevel level = CascadeLevel::kWallDanielsson;
+  /// Keyframe segments with fewer points than this are not used (their line is unknown).
+  std::size_t min_segment_points = 3;
+  /// Gauss-Newton iterations at most; each re-associates the points.
+  std::size_t max_iterations = 10;
+  /// A point is paired only with a segment whose line is closer than this (m).
+  double max_distance_m = 0.3;
+  /// Scale of the Cauchy loss on the point-to-line residuals (m): residuals well below it
+  /// count fully, far beyond it hardly at all.
+  double robust_scale_m = 0.05;
+  /// How far beyond a segment's end a point's projection may fall and still pair with it
+  /// (m): the segment is finite, so a wall's points do not slide onto a jamb's extension.
+  double endpoint_margin_m = 0.05;
+  /// Keyframe beams searched on each side of a point's bearing for candidate segments.
+  std::size_t bearing_window = 3;
+  /// Standard deviation of one point across its line (m), floor of the estimate from the
+  /// residuals (a noiseless simulation would otherwise give a zero covariance).
+  double min_point_sigma_m = 0.005;
+  /// Points per independent measurement: neighbouring points of one segment share the
+  /// segment's modelling error (a wall is not a perfect line, the scan is deskewed with an
+  /// estimated velocity), so the information of n points is counted as n / this.
+  double correlation_length_points = 4.0;
+  /// A refinement whose share of the scan's points that pair (within 3 robust scales) is
+  /// below this is reported as failed: the initial pose was too far off, or the scans
+  /// overlap too little.
+  double min_inlier_ratio = 0.3;
+  /// Points of the current scan used at most (evenly thinned beyond): bounds the cost of a
+  /// dense scan.
+  std::size_t max_points = 400;
+  /// At least this many points must pair for any estimate.
+  std::size_t min_points = 20;
+  /// A direction of the information (yaw scaled by the points' RMS range) is unconstrained
+  /// when it holds less than this many points' worth (a point counts 1 along its segment's
+  /// normal, less with its robust weight): one door jamb's few points are enough, the
+  /// grazing noise of a featureless corridor's walls is not...
+  double min_constraint_points = 3.0;
+  /// ...or less than this fraction of the strongest direction (numerical safety).
+  double degeneracy_ratio = 1e-5;
+  /// Standard deviation along an unconstrained direction, where the initial pose is kept (m).
+  double unconstrained_sigma_m = 1.0;
+  /// Stop when a step moves less than this (m, and the same in rad per metre of range).
+  double convergence_m = 5e-4;
+
+  /// @throws std::invalid_argument naming the key (as in the [refiner] section).
+  void validate() const;
+};
+
+/// Why a refinement ended as it did.
+enum class RefineStatus {
+  kOk,          ///< every direction constrained
+  kDegenerate,  ///< one direction unconstrained: the initial pose is kept along it
+  kFailed,      ///< too few points paired, or a low inlier ratio: do not trust the pose
+};
+const char* toString(RefineStatus s);
+
+/// Result of one refinement.
+struct RefineResult {
+  RefineStatus status = RefineStatus::kFailed;
+  /// Pose of the current sensor frame in the keyframe's (T_key_curr).
+  Pose2D T_key_curr;
+  /// Covariance of (x, y, yaw) of T_key_curr from the final normal equations (m^2, rad^2).
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
+  /// Valid points of the current scan considered (after thinning to max_points).
+  std::size_t points = 0;
+  /// Points paired within 3 robust scales at the final pose.
+  std::size_t inliers = 0;
+  /// inliers / points.
+  double inlier_ratio = 0.0;
+  /// Root mean square of the inliers' residuals (m).
+  double rms_m = 0.0;
+  /// Root mean square range of the points used (m): the lever arm of a rotation.
+  double rms_range_m = 0.0;
+  std::size_t iterations = 0;
+  /// Unit direction (keyframe frame) along which the translation is unconstrained.
+  Eigen::Vector2d degenerate_direction = Eigen::Vector2d::Zero();
+};
+
+/// Refines T_key_curr by robust Gauss-Newton on point-to-line distances: each valid point of
+/// the current scan, moved into the keyframe's frame, is paired with the nearest finite
+/// keyframe segment among those covering the keyframe beams around its bearing (no k-d
+/// tree: the scans' bearing order is the index). Cauchy loss; the covariance is the inverse
+/// of the final normal equations scaled by the residuals' variance and by the points'
+/// correlation length. A degenerate direction (a featureless corridor) keeps the initial
+/// value and gets RefinerParams::unconstrained_sigma_m.
+/// Never throws on data. O(iterations * points * (log beams + bearing_window)).
+/// Thread-safe: the scratch buffers are per thread.
+class ScanRefiner {
+ public:
+  /// @throws std::invalid_argument for invalid parameters.
+  explicit ScanRefiner(const RefinerParams& params = {});
+
+  /// @param keyframe segmentation of the keyframe (its points and segments, sensor frame)
+  /// @param current segmentation of the current scan (only its points are used)
+  /// @param initial starting T_key_curr (the segment match, or a prior)
+  RefineResult refine(const Segmentation& keyframe, const Segmentation& current,
+                      const Pose2D& initial) const;
+
+  /// Fraction of the current scan's valid points that pair with a keyframe segment within
+  /// 3 robust scales at `T_key_curr`, without optimising: the score of a hypothesis.
+  double inlierRatio(const Segmentation& keyframe, const Segmentation& current,
+                     const Pose2D& T_key_curr) const;
+
+  const RefinerParams& params() const { return params_; }
+
+ private:
+  RefinerParams params_;
+};
+
+}  // namespace lidarseg

@@ -1,0 +1,357 @@
+#include "lidarseg/core/ScanRefiner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Eigenvalues>
+
+#include "Validation.h"
+
+namespace lidarseg {
+
+namespace {
+
+// A keyframe segment as a finite line (keyframe frame).
+struct FiniteLine {
+  Eigen::Vector2d normal, start, direction;
+  double rho = 0.0, length = 0.0;
+};
+
+// The keyframe's bearing index: valid beams that belong to a usable segment, sorted by
+// the bearing of their point.
+struct KeyframeIndex {
+  std::vector<FiniteLine> lines;
+  std::vector<int> beam_line;  // beam -> line, -1 when none
+  std::vector<double> bearing;  // sorted
+  std::vector<int> line_of;     // line of each sorted entry
+  // O(1) lookup: bin_start[b] is the first sorted entry whose bearing is >= b * 4 / kBins.
+  std::vector<int> bin_start;
+  std::vector<std::pair<double, int>> scratch;
+};
+
+// A monotonic stand-in for the bearing atan2(y, x), in [0, 4) over [0, 2 pi): the index only
+// needs the order, and this costs one division.
+inline double pseudoBearing(double x, double y) {
+  const double ax = std::abs(x), ay = std::abs(y);
+  const double sum = ax + ay;
+  if (!(sum > 0.0)) return 0.0;
+  if (y >= 0.0) return x >= 0.0 ? y / sum : 1.0 - x / sum;
+  return x < 0.0 ? 2.0 - y / sum : 3.0 + x / sum;
+}
+
+constexpr int kBins = 2048;
+
+struct Pairing {
+  Eigen::Vector3d jacobian;
+  double residual = 0.0;
+};
+
+struct Workspace {
+  KeyframeIndex index;
+  std::vector<Eigen::Vector2d> points;  // the current scan's valid points
+  std::vector<Pairing> pairs;
+};
+
+void buildIndex(const Segmentation& keyframe, const RefinerParams& P, KeyframeIndex& ix) {
+  const SegmentLevel& level = keyframe.level(P.level);
+  const std::size_t beams = keyframe.points.size();
+  ix.lines.clear();
+  ix.beam_line.assign(beams, -1);
+  for (const Segment& s : level.segments) {
+    if (s.num_points < P.min_segment_points || !(s.length_m > 0.0)) continue;
+    FiniteLine l;
+    l.normal = s.normal;
+    l.rho = s.rho_m;
+    l.start = s.start;
+    l.length = s.length_m;
+    l.direction = (s.end - s.start) / s.length_m;
+    const int id = static_cast<int>(ix.lines.size());
+    ix.lines.push_back(l);
+    const auto mark = [&](std::size_t b) {
+      if (b < beams) ix.beam_line[b] = id;
+    };
+    if (s.first_beam <= s.last_beam) {
+      for (std::size_t b = s.first_beam; b <= s.last_beam && b < beams; ++b) mark(b);
+    } else {  // across the wrap-around of a full turn
+      for (std::size_t b = s.first_beam; b < beams; ++b) mark(b);
+      for (std::size_t b = 0; b <= s.last_beam && b < beams; ++b) mark(b);
+    }
+  }
+  ix.scratch.clear();
+  for (std::size_t b = 0; b < beams; ++b) {
+    const Eigen::Vector2d& p = keyframe.points[b];
+    if (ix.beam_line[b] < 0 || !std::isfinite(p.x()) || !std::isfinite(p.y())) continue;
+    ix.scratch.emplace_back(pseudoBearing(p.x(), p.y()), ix.beam_line[b]);
+  }
+  // Scan order is bearing order up to one wrap-around: rotate, and sort only if that is not
+  // enough (a scanner with an unusual layout).
+  if (!ix.scratch.empty()) {
+    const auto lowest = std::min_element(ix.scratch.begin(), ix.scratch.end());
+    std::rotate(ix.scratch.begin(), lowest, ix.scratch.end());
+    if (!std::is_sorted(ix.scratch.begin(), ix.scratch.end())) std::sort(ix.scratch.begin(), ix.scratch.end());
+  }
+  ix.bearing.resize(ix.scratch.size());
+  ix.line_of.resize(ix.scratch.size());
+  for (std::size_t k = 0; k < ix.scratch.size(); ++k) {
+    ix.bearing[k] = ix.scratch[k].first;
+    ix.line_of[k] = ix.scratch[k].second;
+  }
+  ix.bin_start.resize(kBins + 1);
+  std::size_t k = 0;
+  for (int b = 0; b <= kBins; ++b) {
+    const double lo = 4.0 * b / kBins;
+    while (k < ix.bearing.size() && ix.bearing[k] < lo) ++k;
+    ix.bin_start[static_cast<std::size_t>(b)] = static_cast<int>(k);
+  }
+}
+
+// The signed distance of q (keyframe frame) to the nearest finite segment around its
+// bearing, or false when none is within max_distance_m.
+bool pairPoint(const KeyframeIndex& ix, const RefinerParams& P, const Eigen::Vector2d& q,
+               double& residual, const FiniteLine** line) {
+  const long n = static_cast<long>(ix.bearing.size());
+  if (n == 0) return false;
+  const double beta = pseudoBearing(q.x(), q.y());
+  const int bin = std::clamp(static_cast<int>(beta * (kBins / 4.0)), 0, kBins - 1);
+  long pos = ix.bin_start[static_cast<std::size_t>(bin)];
+  while (pos < n && ix.bearing[static_cast<std::size_t>(pos)] < beta) ++pos;
+  const long w = static_cast<long>(P.bearing_window);
+  double best = P.max_distance_m;
+  bool found = false;
+  int last = -1;
+  long k = pos - w;
+  if (k < 0) k = ((k % n) + n) % n;  // the bearings wrap around (a full-turn scan)
+  for (long c = 0; c < 2 * w; ++c, ++k) {
+    if (k >= n) k -= n;
+    const int id = ix.line_of[static_cast<std::size_t>(k)];
+    if (id == last) continue;
+    last = id;
+    const FiniteLine& l = ix.lines[static_cast<std::size_t>(id)];
+    const double d = l.normal.dot(q) - l.rho;
+    if (!(std::abs(d) < best)) continue;
+    const double along = (q - l.start).dot(l.direction);
+    if (along < -P.endpoint_margin_m || along > l.length + P.endpoint_margin_m) continue;
+    best = std::abs(d);
+    residual = d;
+    *line = &l;
+    found = true;
+  }
+  return found;
+}
+
+// Pairs every current point at pose T; returns the number paired.
+std::size_t pairAll(const KeyframeIndex& ix, const RefinerParams& P, const std::vector<Eigen::Vector2d>& pts,
+                    const Pose2D& T, std::vector<Pairing>& pairs) {
+  pairs.clear();
+  const double c = std::cos(T.yaw), s = std::sin(T.yaw);
+  for (const Eigen::Vector2d& p : pts) {
+    const Eigen::Vector2d rp(c * p.x() - s * p.y(), s * p.x() + c * p.y());
+    const Eigen::Vector2d q = rp + T.translation();
+    double r = 0.0;
+    const FiniteLine* l = nullptr;
+    if (!pairPoint(ix, P, q, r, &l)) continue;
+    Pairing pr;
+    pr.residual = r;
+    pr.jacobian = Eigen::Vector3d(l->normal.x(), l->normal.y(), l->normal.dot(Eigen::Vector2d(-rp.y(), rp.x())));
+    pairs.push_back(pr);
+  }
+  return pairs.size();
+}
+
+double cauchyWeight(double r, double scale) {
+  const double u = r / scale;
+  return 1.0 / (1.0 + u * u);
+}
+
+}  // namespace
+
+const char* toString(RefineStatus s) {
+  switch (s) {
+    case RefineStatus::kOk:
+      return "ok";
+    case RefineStatus::kDegenerate:
+      return "degenerate";
+    case RefineStatus::kFailed:
+      return "failed";
+  }
+  return "unknown";
+}
+
+void RefinerParams::validate() const {
+  if (static_cast<std::size_t>(level) >= kNumCascadeLevels) {
+    detail::failKey("level", "a cascade level 0..3", static_cast<double>(static_cast<std::size_t>(level)));
+  }
+  if (min_segment_points < 2) detail::failKey("min_segment_points", ">= 2", static_cast<double>(min_segment_points));
+  if (max_iterations < 1) detail::failKey("max_iterations", ">= 1", static_cast<double>(max_iterations));
+  detail::requirePositive("max_distance_m", max_distance_m);
+  detail::requirePositive("robust_scale_m", robust_scale_m);
+  detail::requireNonNegative("endpoint_margin_m", endpoint_margin_m);
+  if (bearing_window < 1 || bearing_window > 64) {
+    detail::failKey("bearing_window", "in [1, 64]", static_cast<double>(bearing_window));
+  }
+  detail::requirePositive("min_point_sigma_m", min_point_sigma_m);
+  detail::requireInRange("correlation_length_points", correlation_length_points, 1.0, 1e3);
+  detail::requireInRange("min_inlier_ratio", min_inlier_ratio, 0.0, 1.0);
+  if (min_points < 3) detail::failKey("min_points", ">= 3", static_cast<double>(min_points));
+  detail::requireInRange("degeneracy_ratio", degeneracy_ratio, 0.0, 1.0);
+  detail::requireNonNegative("min_constraint_points", min_constraint_points);
+  detail::requirePositive("unconstrained_sigma_m", unconstrained_sigma_m);
+  detail::requirePositive("convergence_m", convergence_m);
+  if (max_points < min_points) detail::failKey("max_points", ">= min_points", static_cast<double>(max_points));
+}
+
+ScanRefiner::ScanRefiner(const RefinerParams& params) : params_(params) { params_.validate(); }
+
+namespace {
+// The valid points, evenly thinned to at most `limit`.
+void collectPoints(const Segmentation& current, std::size_t limit, std::vector<Eigen::Vector2d>& out) {
+  out.clear();
+  std::size_t valid = 0;
+  for (const Eigen::Vector2d& p : current.points) valid += std::isfinite(p.x()) && std::isfinite(p.y());
+  const double stride = std::max(1.0, static_cast<double>(valid) / static_cast<double>(limit));
+  double next = 0.0;
+  std::size_t k = 0;
+  for (const Eigen::Vector2d& p : current.points) {
+    if (!(std::isfinite(p.x()) && std::isfinite(p.y()))) continue;
+    if (static_cast<double>(k++) >= next) {
+      out.push_back(p);
+      next += stride;
+    }
+  }
+}
+}  // namespace
+
+double ScanRefiner::inlierRatio(const Segmentation& keyframe, const Segmentation& current,
+                                const Pose2D& T_key_curr) const {
+  thread_local Workspace ws;
+  buildIndex(keyframe, params_, ws.index);
+  collectPoints(current, params_.max_points, ws.points);
+  if (ws.points.empty()) return 0.0;
+  pairAll(ws.index, params_, ws.points, T_key_curr, ws.pairs);
+  std::size_t inliers = 0;
+  for (const Pairing& p : ws.pairs) inliers += std::abs(p.residual) < 3.0 * params_.robust_scale_m;
+  return static_cast<double>(inliers) / static_cast<double>(ws.points.size());
+}
+
+RefineResult ScanRefiner::refine(const Segmentation& keyframe, const Segmentation& current,
+                                 const Pose2D& initial) const {
+  const RefinerParams& P = params_;
+  RefineResult result;
+  result.T_key_curr = initial;
+  const double u2 = P.unconstrained_sigma_m * P.unconstrained_sigma_m;
+  result.covariance = Eigen::Vector3d(u2, u2, 0.1).asDiagonal();
+  thread_local Workspace ws;
+  buildIndex(keyframe, P, ws.index);
+  collectPoints(current, params_.max_points, ws.points);
+  result.points = ws.points.size();
+  if (ws.points.size() < P.min_points || ws.index.bearing.empty()) return result;
+
+  // Yaw is scaled by the points' RMS range so that the information is compared in metres.
+  double sum_r2 = 0.0;
+  for (const Eigen::Vector2d& p : ws.points) sum_r2 += p.squaredNorm();
+  const double L = std::max(0.1, std::sqrt(sum_r2 / static_cast<double>(ws.points.size())));
+  const Eigen::Vector3d D(1.0, 1.0, 1.0 / L);
+  result.rms_range_m = L;
+
+  Pose2D T = initial;
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d Hu = Eigen::Matrix3d::Zero();  // unweighted: how many points constrain what
+  bool degenerate = false;
+  Eigen::Matrix3d V = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d lambda = Eigen::Vector3d::Zero();
+  Eigen::Vector3d strong_mask = Eigen::Vector3d::Ones();
+  const auto normalEquations = [&](Eigen::Matrix3d& Hn, Eigen::Vector3d& g, double& wr2, double& wsum) {
+    Hn.setZero();
+    Hu.setZero();
+    g.setZero();
+    wr2 = 0.0;
+    wsum = 0.0;
+    for (const Pairing& pr : ws.pairs) {
+      const double w = cauchyWeight(pr.residual, P.robust_scale_m);
+      const Eigen::Vector3d J = pr.jacobian.cwiseProduct(D);
+      Hn.noalias() += w * J * J.transpose();
+      Hu.noalias() += J * J.transpose();
+      g.noalias() += w * J * pr.residual;
+      wr2 += w * pr.residual * pr.residual;
+      wsum += w;
+    }
+  };
+  // Which directions are constrained is decided on the unweighted information: a jamb's
+  // points, far from their line at the start, have small robust weights but still count.
+  const auto decompose = [&](const Eigen::Matrix3d& Hn) {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(Hn);
+    lambda = eig.eigenvalues();  // ascending
+    V = eig.eigenvectors();
+    degenerate = false;
+    for (int k = 0; k < 3; ++k) {
+      strong_mask(k) = lambda(k) > std::max(P.degeneracy_ratio * lambda(2), P.min_constraint_points) ? 1.0 : 0.0;
+      degenerate = degenerate || strong_mask(k) == 0.0;
+    }
+  };
+
+  const auto strongBasis = [&]() {
+    Eigen::MatrixXd Vs(3, static_cast<Eigen::Index>(strong_mask.sum()));
+    Eigen::Index c = 0;
+    for (int k = 0; k < 3; ++k) {
+      if (strong_mask(k) != 0.0) Vs.col(c++) = V.col(k);
+    }
+    return Vs;
+  };
+
+  // Each iteration pairs the points at T, solves, and steps; the statistics come from the
+  // last pairing (the final step is below convergence_m, or the iterations ran out).
+  double wr2 = 0.0, wsum = 0.0;
+  Eigen::Vector3d g;
+  for (std::size_t it = 0; it < P.max_iterations; ++it) {
+    if (pairAll(ws.index, P, ws.points, T, ws.pairs) < P.min_points) return result;
+    normalEquations(H, g, wr2, wsum);
+    decompose(Hu);
+    if (!(lambda(2) > 0.0)) return result;
+    // Step in the constrained subspace only (the weak directions keep their value).
+    const Eigen::MatrixXd Vs = strongBasis();
+    const Eigen::MatrixXd Hs = Vs.transpose() * H * Vs;
+    Eigen::Vector3d step = -Vs * Hs.ldlt().solve(Vs.transpose() * g);
+    if (!step.allFinite()) return result;
+    step = step.cwiseProduct(D);  // back to (m, m, rad)
+    T.x += step.x();
+    T.y += step.y();
+    T.yaw = wrapAngle(T.yaw + step.z());
+    result.iterations = it + 1;
+    if (std::hypot(step.x(), step.y()) < P.convergence_m && std::abs(step.z()) * L < P.convergence_m) break;
+  }
+  std::size_t inliers = 0;
+  double inlier_r2 = 0.0;
+  for (const Pairing& pr : ws.pairs) {
+    if (std::abs(pr.residual) < 3.0 * P.robust_scale_m) {
+      ++inliers;
+      inlier_r2 += pr.residual * pr.residual;
+    }
+  }
+  result.T_key_curr = T;
+  result.inliers = inliers;
+  result.inlier_ratio = static_cast<double>(inliers) / static_cast<double>(ws.points.size());
+  result.rms_m = inliers > 0 ? std::sqrt(inlier_r2 / static_cast<double>(inliers)) : 0.0;
+  // Residual variance (robustly weighted), floored; information of correlated points shared.
+  const double dof = std::max(1.0, wsum - 3.0);
+  const double sigma2 = std::max(wr2 / dof, P.min_point_sigma_m * P.min_point_sigma_m);
+  const Eigen::MatrixXd Vs = strongBasis();
+  const Eigen::MatrixXd Hs = Vs.transpose() * H * Vs;
+  Eigen::Matrix3d cov_scaled = Vs * Hs.inverse() * Vs.transpose() * (sigma2 * P.correlation_length_points);
+  for (int k = 0; k < 3; ++k) {
+    if (strong_mask(k) == 0.0) cov_scaled += V.col(k) * V.col(k).transpose() * u2;
+  }
+  result.covariance = D.asDiagonal() * cov_scaled * D.asDiagonal();
+  if (degenerate) {
+    const Eigen::Vector2d t = V.col(0).head<2>();
+    result.degenerate_direction = t.norm() > 1e-9 ? Eigen::Vector2d(t.normalized()) : Eigen::Vector2d::Zero();
+  }
+  if (result.inliers < P.min_points || result.inlier_ratio < P.min_inlier_ratio) {
+    result.status = RefineStatus::kFailed;
+    return result;
+  }
+  result.status = degenerate ? RefineStatus::kDegenerate : RefineStatus::kOk;
+  return result;
+}
+
+}  // namespace lidarseg

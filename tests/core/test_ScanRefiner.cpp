@@ -1,0 +1,81 @@
+// Point-to-segment refinement: corridors with and without along-axis cues.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "lidarseg/core/ScanRefiner.h"
+#include "lidarseg/core/ScanSegmenter.h"
+#include "SyntheticScenes.h"
+
+namespace lidarseg {
+namespace {
+
+Segmentation segmentAt(const sim::World& world, const Pose2D& pose, std::uint64_t seed) {
+  const auto sensor = testing::makeSensor(541, 270.0, 0.01, 30.0);
+  Segmentation seg;
+  ScanSegmenter().process(testing::simulate(world, sensor, pose, seed), seg);
+  return seg;
+}
+
+// A 2 m corridor whose only along-axis cue is one recessed door (0.3 m deep: from inside
+// the corridor one jamb face is seen, with 6-7 points at 3-4 m): the
+// refinement from a prior that says "no motion" finds the 0.2 m the sensor moved (a point
+// pairs within RefinerParams::max_distance_m, 0.3 m: the jamb's points must be in reach).
+TEST(ScanRefiner, OneDoorJambConstrainsTheMotionAlongACorridor) {
+  const sim::World world = testing::corridorWithDoors(2.0, {{3.0, 0.9, 0.3}});
+  const Segmentation key = segmentAt(world, {0.0, 1.0, 0.0}, 1);
+  const Segmentation cur = segmentAt(world, {0.2, 1.05, 0.02}, 2);
+  const RefineResult r = ScanRefiner().refine(key, cur, Pose2D{});
+  EXPECT_EQ(r.status, RefineStatus::kOk) << r.degenerate_direction.transpose() << " inl " << r.inliers << " it " << r.iterations << " T " << r.T_key_curr.x << " " << r.T_key_curr.y;
+  EXPECT_NEAR(r.T_key_curr.x, 0.2, 0.02);
+  EXPECT_NEAR(r.T_key_curr.y, 0.05, 0.01);
+  EXPECT_NEAR(r.T_key_curr.yaw, 0.02, 0.003);
+  EXPECT_GT(r.inlier_ratio, 0.8);
+  // The covariance says the along-axis motion is known, but less well than across.
+  EXPECT_LT(std::sqrt(r.covariance(0, 0)), 0.05);
+  EXPECT_GT(r.covariance(0, 0), r.covariance(1, 1));
+}
+
+// Two endless parallel walls: nothing tells the motion along them. The refinement says so,
+// keeps the initial value along the corridor and gives it the large variance.
+TEST(ScanRefiner, FeaturelessCorridorIsDegenerateWithTheLargeVarianceAlongIt) {
+  sim::World world;
+  world.addWall({-200.0, 0.0}, {200.0, 0.0});
+  world.addWall({-200.0, 2.0}, {200.0, 2.0});
+  const Segmentation key = segmentAt(world, {0.0, 1.0, 0.0}, 3);
+  const Segmentation cur = segmentAt(world, {0.4, 0.9, 0.0}, 4);
+  RefinerParams params;
+  const RefineResult r = ScanRefiner(params).refine(key, cur, Pose2D{0.1, 0.0, 0.0});
+  ASSERT_EQ(r.status, RefineStatus::kDegenerate);
+  EXPECT_GT(std::abs(r.degenerate_direction.x()), 0.99);
+  EXPECT_NEAR(r.T_key_curr.x, 0.1, 0.01);   // kept from the initial pose (not the true 0.4)
+  EXPECT_NEAR(r.T_key_curr.y, -0.1, 0.01);  // across: measured
+  EXPECT_GT(r.covariance(0, 0), 0.5 * params.unconstrained_sigma_m * params.unconstrained_sigma_m);
+  EXPECT_LT(r.covariance(1, 1), 1e-3);
+}
+
+TEST(ScanRefiner, FarInitialPoseOrNoOverlapFails) {
+  const sim::World world = testing::rectangleRoom(6.0, 4.0);
+  const Segmentation key = segmentAt(world, {3.0, 2.0, 0.0}, 5);
+  Segmentation empty;
+  EXPECT_EQ(ScanRefiner().refine(key, empty, Pose2D{}).status, RefineStatus::kFailed);
+  EXPECT_EQ(ScanRefiner().refine(empty, key, Pose2D{}).status, RefineStatus::kFailed);
+  // A 1 m, 60 degree wrong start in a small room: not within reach of a local method.
+  const RefineResult r = ScanRefiner().refine(key, key, Pose2D{1.0, 0.8, 1.0});
+  EXPECT_TRUE(r.status == RefineStatus::kFailed || std::hypot(r.T_key_curr.x, r.T_key_curr.y) > 0.1);
+}
+
+TEST(ScanRefiner, ParametersAreValidated) {
+  RefinerParams p;
+  p.robust_scale_m = 0.0;
+  EXPECT_THROW(ScanRefiner{p}, std::invalid_argument);
+  p = {};
+  p.max_points = 5;
+  EXPECT_THROW(ScanRefiner{p}, std::invalid_argument);
+  p = {};
+  p.min_inlier_ratio = 1.5;
+  EXPECT_THROW(ScanRefiner{p}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace lidarseg
