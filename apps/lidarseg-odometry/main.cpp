@@ -1,6 +1,7 @@
 // lidarseg-odometry: laser odometry of a rawlog or CARMEN log with lidarseg, compared
 // with MRPT's ICP in the same run.
 #include <iostream>
+#include <sstream>
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
@@ -17,7 +18,7 @@ int main(int argc, char** argv) {
     TCLAP::ValueArg<std::string> sensor("l", "sensor", "rawlog sensor label or CARMEN laser type", false, "",
                                         "LABEL", cmd);
     TCLAP::ValueArg<std::size_t> max_scans("n", "max-scans", "stop after N scans (0: all)", false, 0, "N", cmd);
-    TCLAP::ValueArg<std::string> baseline("", "baseline", "also run a baseline in the same run: 'icp'", false,
+    TCLAP::ValueArg<std::string> baseline("", "baseline", "also run baselines in the same run: 'icp' (MRPT ICP with lidarseg's keyframes), 'icp-s2s' (scan to scan), or 'icp,icp-s2s'", false,
                                           "", "NAME", cmd);
     TCLAP::SwitchArg use_odometry("", "use-odometry", "prior from the log's wheel odometry (default: constant velocity)", cmd);
     TCLAP::ValueArg<std::string> out("o", "out", "output folder: *.tum, timing.csv, summary.json, results.md, PNGs",
@@ -48,11 +49,21 @@ int main(int argc, char** argv) {
     o.config_path = config.getValue();
     o.sensor = sensor.getValue();
     o.max_scans = max_scans.getValue();
-    if (!baseline.getValue().empty() && baseline.getValue() != "icp") {
-      std::cerr << "lidarseg-odometry: error: --baseline '" << baseline.getValue() << "' (only 'icp' exists)\n";
-      return 2;
+    {
+      std::stringstream names(baseline.getValue());
+      std::string name;
+      while (std::getline(names, name, ',')) {
+        if (name == "icp") {
+          o.baseline_icp = true;
+        } else if (name == "icp-s2s") {
+          o.baseline_icp_s2s = true;
+        } else {
+          std::cerr << "lidarseg-odometry: error: --baseline '" << name
+                    << "' (known: 'icp' keyframed like lidarseg, 'icp-s2s' scan to scan, or both: 'icp,icp-s2s')\n";
+          return 2;
+        }
+      }
     }
-    o.baseline_icp = baseline.getValue() == "icp";
     o.use_odometry = use_odometry.getValue();
     o.out_dir = out.getValue();
     o.gt_path = gt.getValue();

@@ -54,6 +54,69 @@ std::string stemOf(const std::string& path) {
   return path;
 }
 
+// MRPT ICP as a laser odometry: each scan's points aligned against a reference scan's (the
+// keyframe's, renewed with lidarseg's policy, or simply the previous scan's), from the same
+// kind of prior as lidarseg.
+class IcpOdometry {
+ public:
+  IcpOdometry(mrpt::slam::CICP& icp, bool keyframed, double keyframe_distance_m, double keyframe_angle_rad)
+      : icp_(icp), keyframed_(keyframed), key_distance_(keyframe_distance_m), key_angle_(keyframe_angle_rad) {}
+
+  // increment_prior: the wheel-odometry increment, or nothing for constant velocity;
+  // restart: the prior restarts from rest (a time gap).
+  void process(const mrpt::obs::CObservation2DRangeScan& obs, const std::optional<Pose2D>& increment_prior,
+               double dt, bool restart, double stamp, MethodReport& report) {
+    const auto t0 = Clock::now();
+    auto current = std::make_unique<mrpt::maps::CSimplePointsMap>();
+    current->insertionOptions.minDistBetweenLaserPoints = 0.0f;
+    current->loadFromRangeScan(obs);
+    bool renew = !reference_;
+    if (reference_) {
+      Pose2D increment;
+      if (increment_prior) {
+        increment = *increment_prior;
+      } else if (!restart && last_dt_ > 0.0) {
+        const double k = dt / last_dt_;
+        increment = {last_increment_.x * k, last_increment_.y * k, last_increment_.yaw * k};
+      }
+      // From the reference: T_ref_curr = T_ref_last (+) predicted increment.
+      Pose2D T_ref_curr = compose(relative(pose_, reference_pose_), increment);
+      if (current->size() >= 5 && reference_->size() >= 5) {
+        mrpt::slam::CICP::TReturnInfo info;
+        const auto pdf = icp_.AlignPDF(reference_.get(), current.get(),
+                                       mrpt::poses::CPosePDFGaussian(toMrpt(T_ref_curr)), info);
+        T_ref_curr = toPose2D(pdf->getMeanVal());
+        const bool converged = info.nIterations < icp_.options.maxIterations;
+        ++report.status_counts[converged ? "converged" : "not_converged"];
+        renew = renew || !converged;
+      } else {
+        ++report.status_counts["skipped"];
+        renew = true;
+      }
+      const Pose2D new_pose = compose(reference_pose_, T_ref_curr);
+      last_increment_ = relative(new_pose, pose_);
+      last_dt_ = dt;
+      pose_ = new_pose;
+      renew = renew || !keyframed_ || std::hypot(T_ref_curr.x, T_ref_curr.y) >= key_distance_ ||
+              std::abs(T_ref_curr.yaw) >= key_angle_;
+    }
+    if (renew) {
+      reference_ = std::move(current);
+      reference_pose_ = pose_;
+    }
+    report.time_us.push_back(microsecondsSince(t0));
+    report.trajectory.push_back({stamp, pose_});
+  }
+
+ private:
+  mrpt::slam::CICP& icp_;
+  bool keyframed_;
+  double key_distance_, key_angle_;
+  std::unique_ptr<mrpt::maps::CSimplePointsMap> reference_;
+  Pose2D reference_pose_, pose_, last_increment_;
+  double last_dt_ = 0.0;
+};
+
 // Progress on stderr: a counter with the rate, redrawn at most 5 times a second.
 class Progress {
  public:
@@ -156,8 +219,11 @@ OdometryReport OdometryApp::run() {
   writeFeatureCsvHeader(features_csv);
 
   report.lidarseg.name = "lidarseg";
-  MethodReport icp_report;
+  MethodReport icp_report, icp_s2s_report;
   icp_report.name = "icp";
+  icp_s2s_report.name = "icp-s2s";
+  IcpOdometry icp_keyframed(icp, true, params.keyframe_distance_m, params.keyframe_angle_rad);
+  IcpOdometry icp_scan_to_scan(icp, false, 0.0, 0.0);
   eval::StampedTrajectory log_poses;
 
   // Rawlog output, written as it goes under a temporary name.
@@ -177,11 +243,6 @@ OdometryReport OdometryApp::run() {
   double last_stamp = 0.0, last_log_stamp = 0.0, last_model_stamp = 0.0, last_dt = 0.1;
   std::optional<Pose2D> last_odometry;
   Pose2D last_lidarseg_pose;
-  // ICP: the previous scan's points, pose and last increment (constant velocity).
-  mrpt::maps::CSimplePointsMap icp_previous;
-  bool icp_have_previous = false;
-  Pose2D icp_pose, icp_last_increment;
-  double icp_last_dt = 0.0;
   std::vector<double> dts;
 
   while (true) {
@@ -302,39 +363,12 @@ OdometryReport OdometryApp::run() {
       }
     }
 
-    // MRPT ICP, scan to scan, with the same kind of prior.
-    if (o.baseline_icp) {
-      const auto t0 = Clock::now();
-      mrpt::maps::CSimplePointsMap current;
-      current.insertionOptions.minDistBetweenLaserPoints = 0.0f;
-      current.loadFromRangeScan(obs);
-      if (icp_have_previous) {
-        Pose2D prior;
-        if (odo_increment) {
-          prior = toPose2D(*odo_increment);
-        } else if (!restart_prior && icp_last_dt > 0.0) {
-          const double k = dt / icp_last_dt;
-          prior = {icp_last_increment.x * k, icp_last_increment.y * k, icp_last_increment.yaw * k};
-        }
-        Pose2D increment = prior;
-        if (current.size() >= 5 && icp_previous.size() >= 5) {
-          mrpt::slam::CICP::TReturnInfo info;
-          const auto pdf = icp.AlignPDF(&icp_previous, &current,
-                                        mrpt::poses::CPosePDFGaussian(toMrpt(prior)), info);
-          increment = toPose2D(pdf->getMeanVal());
-          ++icp_report.status_counts[info.nIterations < icp.options.maxIterations ? "converged"
-                                                                                      : "not_converged"];
-        } else {
-          ++icp_report.status_counts["skipped"];
-        }
-        icp_pose = compose(icp_pose, increment);
-        icp_last_increment = increment;
-        icp_last_dt = dt;
-      }
-      icp_previous = std::move(current);
-      icp_have_previous = true;
-      icp_report.time_us.push_back(microsecondsSince(t0));
-      icp_report.trajectory.push_back({stamp, icp_pose});
+    // MRPT ICP, keyframed like lidarseg and scan to scan, with the same kind of prior.
+    {
+      std::optional<Pose2D> icp_prior;
+      if (odo_increment) icp_prior = toPose2D(*odo_increment);
+      if (o.baseline_icp) icp_keyframed.process(obs, icp_prior, dt, restart_prior, stamp, icp_report);
+      if (o.baseline_icp_s2s) icp_scan_to_scan.process(obs, icp_prior, dt, restart_prior, stamp, icp_s2s_report);
     }
 
     // Rawlog output: lidarseg's motion as the robot's odometry action, then the scan and
@@ -399,26 +433,33 @@ OdometryReport OdometryApp::run() {
   }
   evaluate(report.lidarseg, gt ? &*gt : nullptr, gt_tolerance, relations ? &*relations : nullptr,
            o.relations_tolerance_s, log_relations ? &*log_relations : nullptr);
+  const auto finishIcp = [&](MethodReport& m, std::optional<MethodReport>& slot) {
+    finishMethod(m);
+    evaluate(m, gt ? &*gt : nullptr, gt_tolerance, relations ? &*relations : nullptr, o.relations_tolerance_s,
+             log_relations ? &*log_relations : nullptr);
+    slot = std::move(m);
+  };
   if (o.baseline_icp) {
-    finishMethod(icp_report);
-    evaluate(icp_report, gt ? &*gt : nullptr, gt_tolerance, relations ? &*relations : nullptr,
-             o.relations_tolerance_s, log_relations ? &*log_relations : nullptr);
+    finishIcp(icp_report, report.icp);
     if (report.lidarseg.time_summary_us.median > 0.0) {
-      report.speedup_median = icp_report.time_summary_us.median / report.lidarseg.time_summary_us.median;
+      report.speedup_median = report.icp->time_summary_us.median / report.lidarseg.time_summary_us.median;
     }
-    report.icp = std::move(icp_report);
   }
+  if (o.baseline_icp_s2s) finishIcp(icp_s2s_report, report.icp_s2s);
 
   // Outputs, all put in place together.
   if (!o.out_dir.empty()) {
     fs::create_directories(o.out_dir);
     const auto path = [&](const char* name) { return (fs::path(o.out_dir) / name).string(); };
     outputs.add(path("lidarseg.tum"), tumOf(report.lidarseg.trajectory, "lidarseg robot poses, odometry frame"));
-    if (report.icp) outputs.add(path("icp.tum"), tumOf(report.icp->trajectory, "MRPT ICP robot poses, odometry frame"));
+    if (report.icp) outputs.add(path("icp.tum"), tumOf(report.icp->trajectory, "MRPT ICP (keyframed) robot poses, odometry frame"));
+    if (report.icp_s2s) {
+      outputs.add(path("icp-s2s.tum"), tumOf(report.icp_s2s->trajectory, "MRPT ICP (scan to scan) robot poses, odometry frame"));
+    }
     std::ostringstream csv;
     csv << "index,stamp_s,segmentation_us,cascade_us,matching_us,total_us,status,matches,refinement_us,"
            "inlier_ratio,refine_iterations,match_status,prior_x_m,prior_y_m,prior_yaw_rad"
-        << (report.icp ? ",icp_total_us" : "") << "\n";
+        << (report.icp ? ",icp_total_us" : "") << (report.icp_s2s ? ",icp_s2s_total_us" : "") << "\n";
     csv << std::setprecision(9);
     for (std::size_t k = 0; k < report.lidarseg.time_us.size(); ++k) {
       csv << k << ',' << std::fixed << report.lidarseg.trajectory[k].stamp_s << std::defaultfloat << ','
@@ -429,6 +470,7 @@ OdometryReport OdometryApp::run() {
           << report.lidarseg.refine_iterations[k] << ',' << report.lidarseg.match_status[k] << ','
           << report.lidarseg.prior[k].x << ',' << report.lidarseg.prior[k].y << ',' << report.lidarseg.prior[k].yaw;
       if (report.icp) csv << ',' << report.icp->time_us[k];
+      if (report.icp_s2s) csv << ',' << report.icp_s2s->time_us[k];
       csv << '\n';
     }
     outputs.add(path("timing.csv"), csv.str());
@@ -455,15 +497,17 @@ OdometryReport OdometryApp::run() {
         add(gt ? "ground truth" : "log poses", *reference, 0, 0, 0, {});
       }
       add("lidarseg", report.lidarseg.trajectory, 200, 80, 0, anchor);
-      if (report.icp) add("MRPT ICP", report.icp->trajectory, 0, 0, 220, anchor);
+      if (report.icp) add("MRPT ICP (keyframed)", report.icp->trajectory, 0, 0, 220, anchor);
+      if (report.icp_s2s) add("MRPT ICP (scan to scan)", report.icp_s2s->trajectory, 160, 0, 160, anchor);
       outputs.add(path("trajectories.png"), plotTrajectoriesPng(series, "Trajectories: " + fs::path(o.input).filename().string()));
       std::vector<PlotSeries> hist;
       hist.push_back({"lidarseg (segmentation + cascade + matching)", 200, 80, 0, report.lidarseg.time_us, {}, false});
-      if (report.icp) hist.push_back({"MRPT ICP (points + alignment)", 0, 0, 220, report.icp->time_us, {}, false});
+      if (report.icp) hist.push_back({"MRPT ICP keyframed (points + alignment)", 0, 0, 220, report.icp->time_us, {}, false});
       outputs.add(path("timing.png"), plotHistogramsPng(hist, "Time per scan", "microseconds"));
     }
     report.outputs = {path("lidarseg.tum"), path("timing.csv"), path("summary.json"), path("results.md")};
     if (report.icp) report.outputs.push_back(path("icp.tum"));
+    if (report.icp_s2s) report.outputs.push_back(path("icp-s2s.tum"));
   }
   if (!o.features_out.empty()) outputs.add(o.features_out, features_csv.str());
   outputs.commit();
@@ -476,6 +520,7 @@ std::string OdometryApp::markdownTable(const OdometryReport& r) {
   os << std::fixed;
   std::vector<const MethodReport*> methods = {&r.lidarseg};
   if (r.icp) methods.push_back(&*r.icp);
+  if (r.icp_s2s) methods.push_back(&*r.icp_s2s);
   os << "Input: `" << r.input << "` (" << r.format << ", sensor " << r.sensor << "), " << r.frames
      << " scans";
   if (!r.gt_path.empty()) os << ", ground truth `" << r.gt_path << "`";
@@ -553,6 +598,7 @@ std::string OdometryApp::summaryJson(const OdometryReport& r) {
   j.beginObject("methods");
   std::vector<const MethodReport*> methods = {&r.lidarseg};
   if (r.icp) methods.push_back(&*r.icp);
+  if (r.icp_s2s) methods.push_back(&*r.icp_s2s);
   for (const auto* m : methods) {
     j.beginObject(m->name.c_str());
     writeSummary(j, "time_ms", m->time_summary_us, 1e-3);

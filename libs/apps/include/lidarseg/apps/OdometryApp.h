@@ -27,8 +27,11 @@ struct OdometryOptions {
   std::string sensor;
   /// Stop after this many scans (0 = all).
   std::size_t max_scans = 0;
-  /// Also run MRPT's CICP on the same scans with the same prior.
+  /// Also run MRPT's CICP on the same scans with the same prior and the same keyframe policy
+  /// as lidarseg ([odometry] keyframe_distance_m / keyframe_angle_rad): "icp".
   bool baseline_icp = false;
+  /// Also run MRPT's CICP scan to scan (every scan against the previous one): "icp-s2s".
+  bool baseline_icp_s2s = false;
   /// Use the log's wheel odometry as the prior of both methods (default: constant velocity).
   bool use_odometry = false;
   /// Output folder (created); empty = no files.
@@ -129,8 +132,10 @@ struct OdometryReport {
   std::string gt_path;
   std::string relations_path;
   MethodReport lidarseg;
+  /// MRPT ICP keyframed like lidarseg ("icp"), and scan to scan ("icp-s2s").
   std::optional<MethodReport> icp;
-  /// Median ICP time / median lidarseg time, measured in the same run.
+  std::optional<MethodReport> icp_s2s;
+  /// Median keyframed ICP time / median lidarseg time, measured in the same run.
   double speedup_median = 0.0;
   std::vector<std::string> outputs;
 };

@@ -31,7 +31,7 @@ struct RefinerParams {
   double robust_scale_m = 0.05;
   /// How far beyond a segment's end a point's projection may fall and still pair with it
   /// (m): the segment is finite, so a wall's points do not slide onto a jamb's extension.
-  double endpoint_margin_m = 0.05;
+  double endpoint_margin_m = 0.0;
   /// Keyframe beams searched on each side of a point's bearing for candidate segments.
   std::size_t bearing_window = 3;
   /// Standard deviation of one point across its line (m), floor of the estimate from the
