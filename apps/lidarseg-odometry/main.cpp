@@ -40,6 +40,9 @@ int main(int argc, char** argv) {
                                               false, "", "FILE.csv", cmd);
     TCLAP::ValueArg<double> scanner_hz("", "scanner-hz", "scanner rotation frequency for rolling-shutter correction (Hz)",
                                        false, -1.0, "HZ", cmd);
+    TCLAP::ValueArg<std::string> scan_stamp("", "scan-stamp",
+                                            "which beam's instant the log's stamps are, for --scanner-hz: first, middle or last",
+                                            false, "", "first|middle|last", cmd);
     TCLAP::SwitchArg quiet("q", "quiet", "no progress on stderr", cmd);
     TCLAP::SwitchArg no_plots("", "no-plots", "do not draw PNG pictures", cmd);
     cmd.parse(argc, argv);
@@ -74,6 +77,7 @@ int main(int argc, char** argv) {
     o.write_rawlog = write_rawlog.getValue();
     o.features_out = features_out.getValue();
     o.scanner_rotation_hz = scanner_hz.getValue();
+    o.scan_stamp = scan_stamp.getValue();
     o.progress = !quiet.getValue();
     o.plots = !no_plots.getValue();
     o.allow_truncated = allow_truncated.getValue();

@@ -15,6 +15,8 @@ int main(int argc, char** argv) {
     TCLAP::ValueArg<std::string> config("c", "config", "INI/YAML with a [simulation] section", false, "", "FILE", cmd);
     TCLAP::ValueArg<std::uint64_t> seed("", "seed", "noise seed (same seed, same bytes)", false, 1, "N", cmd);
     TCLAP::ValueArg<std::string> out("o", "out", "output prefix (writes PREFIX.rawlog, ...)", true, "", "PREFIX", cmd);
+    TCLAP::ValueArg<std::string> scan_stamp("", "scan-stamp", "stamp each scan at its first, middle or last beam",
+                                            false, "", "first|middle|last", cmd);
     TCLAP::SwitchArg no_rs("", "no-rolling-shutter", "measure every beam of a scan from one pose", cmd);
     TCLAP::ValueArg<long> camera("", "camera-every", "an image every N scans (0: no camera)", false, -1, "N", cmd);
     TCLAP::SwitchArg carmen("", "carmen", "also write PREFIX.carmen.log (ROBOTLASER1/ODOM)", cmd);
@@ -28,6 +30,7 @@ int main(int argc, char** argv) {
     o.seed = seed.getValue();
     o.out_prefix = out.getValue();
     o.rolling_shutter = !no_rs.getValue();
+    o.scan_stamp = scan_stamp.getValue();
     o.camera_every_scans = camera.getValue();
     o.write_carmen = carmen.getValue();
     const auto r = lidarseg::apps::SimulateApp(o).run();

@@ -193,6 +193,7 @@ OdometryReport OdometryApp::run() {
     if (cfg.sectionExists("icp")) icp.options.loadFromConfigFile(cfg, "icp");
   }
   if (o.scanner_rotation_hz >= 0.0) params.scanner_rotation_hz = o.scanner_rotation_hz;
+  if (!o.scan_stamp.empty()) params.scan_stamp = scanStampFromString(o.scan_stamp);
   params.validate();
 
   // Reference data, read before the run so that a bad file fails early.

@@ -90,6 +90,7 @@ SimulateReport SimulateApp::runOrThrow() {
   }
   params.seed = options_.seed;
   params.rolling_shutter = params.rolling_shutter && options_.rolling_shutter;
+  if (!options_.scan_stamp.empty()) params.scan_stamp = scanStampFromString(options_.scan_stamp);
   if (options_.camera_every_scans >= 0) {
     params.camera_every_scans = static_cast<std::size_t>(options_.camera_every_scans);
   }

@@ -6,6 +6,25 @@
 
 namespace lidarseg {
 
+const char* toString(ScanStamp s) {
+  switch (s) {
+    case ScanStamp::kFirst:
+      return "first";
+    case ScanStamp::kMiddle:
+      return "middle";
+    case ScanStamp::kLast:
+      return "last";
+  }
+  return "unknown";
+}
+
+ScanStamp scanStampFromString(const std::string& name) {
+  if (name == "first") return ScanStamp::kFirst;
+  if (name == "middle") return ScanStamp::kMiddle;
+  if (name == "last") return ScanStamp::kLast;
+  throw std::invalid_argument("scan stamp '" + name + "' is not one of first, middle, last");
+}
+
 void Scan::validate() const {
   if (!layout) throw std::invalid_argument("Scan: no beam layout");
   const std::string n_layout = std::to_string(layout->size());

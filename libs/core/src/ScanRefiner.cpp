@@ -191,6 +191,8 @@ void RefinerParams::validate() const {
     detail::failKey("bearing_window", "in [1, 64]", static_cast<double>(bearing_window));
   }
   detail::requirePositive("min_point_sigma_m", min_point_sigma_m);
+  detail::requireNonNegative("model_sigma_m", model_sigma_m);
+  detail::requireNonNegative("model_sigma_rad", model_sigma_rad);
   detail::requireInRange("correlation_length_points", correlation_length_points, 1.0, 1e3);
   detail::requireInRange("min_inlier_ratio", min_inlier_ratio, 0.0, 1.0);
   if (min_points < 3) detail::failKey("min_points", ">= 3", static_cast<double>(min_points));
@@ -342,6 +344,11 @@ RefineResult ScanRefiner::refine(const Segmentation& keyframe, const Segmentatio
     if (strong_mask(k) == 0.0) cov_scaled += V.col(k) * V.col(k).transpose() * u2;
   }
   result.covariance = D.asDiagonal() * cov_scaled * D.asDiagonal();
+  // Model error no residual shows: the keyframe's own distortion (deskewed with an estimated
+  // velocity), its segments' fit; a floor on each standard deviation.
+  result.covariance(0, 0) += P.model_sigma_m * P.model_sigma_m;
+  result.covariance(1, 1) += P.model_sigma_m * P.model_sigma_m;
+  result.covariance(2, 2) += P.model_sigma_rad * P.model_sigma_rad;
   if (degenerate) {
     const Eigen::Vector2d t = V.col(0).head<2>();
     result.degenerate_direction = t.norm() > 1e-9 ? Eigen::Vector2d(t.normalized()) : Eigen::Vector2d::Zero();

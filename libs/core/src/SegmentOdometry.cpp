@@ -48,6 +48,10 @@ void OdometryParams::validate() const {
   detail::requireNonNegative("scanner_rotation_hz", scanner_rotation_hz);
   detail::requireInRange("doubtful_ratio", doubtful_ratio, 0.0, 1.0);
   detail::requireInRange("prior_preference", prior_preference, 0.0, 10.0);
+  if (static_cast<std::size_t>(scan_stamp) > 2) {
+    detail::failKey("scan_stamp", "0 (first beam), 1 (middle) or 2 (last beam)",
+                    static_cast<double>(static_cast<std::size_t>(scan_stamp)));
+  }
   if (static_cast<std::size_t>(degenerate_fallback_level) >= kNumCascadeLevels) {
     detail::failKey("degenerate_fallback_level", "a cascade level 0..3",
                     static_cast<double>(static_cast<std::size_t>(degenerate_fallback_level)));
@@ -175,13 +179,20 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, Odomet
 
 const Scan& SegmentOdometry::withBeamTimes(const Scan& scan) {
   if (!scan.time_offsets_s.empty() || !(params_.scanner_rotation_hz > 0.0) || !scan.layout) return scan;
-  if (scan.layout != timed_layout_) {
+  if (scan.layout != timed_layout_ || params_.scan_stamp != timed_stamp_) {
+    timed_stamp_ = params_.scan_stamp;
     const BeamLayout& layout = *scan.layout;
     beam_times_.assign(layout.size(), 0.0);
     const double period = 1.0 / (2.0 * 3.14159265358979323846 * params_.scanner_rotation_hz);
     for (std::size_t i = 1; i < layout.size(); ++i) {
       beam_times_[i] = beam_times_[i - 1] + std::abs(layout.angle(i) - layout.angle(i - 1)) * period;
     }
+    // Relative to the stamped beam's instant.
+    const double sweep = beam_times_.empty() ? 0.0 : beam_times_.back();
+    const double shift = params_.scan_stamp == ScanStamp::kMiddle ? 0.5 * sweep
+                         : params_.scan_stamp == ScanStamp::kLast ? sweep
+                                                                  : 0.0;
+    for (double& t : beam_times_) t -= shift;
     timed_layout_ = scan.layout;
   }
   timed_.layout = scan.layout;
@@ -228,7 +239,7 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
     // The rolling-shutter correction used the predicted rotation rate. Where the match
     // says otherwise (a turn starts or ends) or failed, segment again with the measured
     // rate (or none) and keep the better match.
-    const double sweep = scan.time_offsets_s.back();
+    const double sweep = scan.time_offsets_s.back() - scan.time_offsets_s.front();
     Twist2D corrected = motion;
     if (step.match.status == MatchStatus::kTooFewMatches) {
       corrected = Twist2D{};

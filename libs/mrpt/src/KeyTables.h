@@ -70,6 +70,7 @@ struct OdometryKeys {
     visit("angular_velocity_window_s", p.angular_velocity_window_s);
     visit("deskew_tolerance_rad", p.deskew_tolerance_rad);
     visit("scanner_rotation_hz", p.scanner_rotation_hz);
+    visit("scan_stamp", p.scan_stamp);
     visit("recovery", p.recovery);
     visit("doubtful_ratio", p.doubtful_ratio);
     visit("prior_preference", p.prior_preference);
@@ -89,6 +90,8 @@ struct RefinerKeys {
     visit("endpoint_margin_m", p.endpoint_margin_m);
     visit("bearing_window", p.bearing_window);
     visit("min_point_sigma_m", p.min_point_sigma_m);
+    visit("model_sigma_m", p.model_sigma_m);
+    visit("model_sigma_rad", p.model_sigma_rad);
     visit("correlation_length_points", p.correlation_length_points);
     visit("min_inlier_ratio", p.min_inlier_ratio);
     visit("max_points", p.max_points);

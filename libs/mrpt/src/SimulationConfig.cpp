@@ -16,6 +16,7 @@ struct SimulationKeys {
     visit("max_range_m", p.sensor.max_range_m);
     visit("frequency_hz", p.sensor.frequency_hz);
     visit("rolling_shutter", p.rolling_shutter);
+    visit("scan_stamp", p.scan_stamp);
     visit("lidar_z_m", p.lidar_z_m);
     visit("camera_every_scans", p.camera_every_scans);
     visit("camera_width", p.camera.width);

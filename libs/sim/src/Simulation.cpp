@@ -30,6 +30,9 @@ void SimulationParams::validate() const {
     throw std::invalid_argument("field_of_view_rad must be <= 2 pi (got " + std::to_string(field_of_view_rad) + ")");
   }
   if (num_beams == 1) throw std::invalid_argument("num_beams must be 0 (profile) or >= 2");
+  if (static_cast<std::size_t>(scan_stamp) > 2) {
+    throw std::invalid_argument("scan_stamp must be 0 (first beam), 1 (middle) or 2 (last beam)");
+  }
   if (camera.width < 16 || camera.height < 16) throw std::invalid_argument("camera_width and camera_height must be >= 16");
   requirePositive("camera_fx", camera.fx);
   requirePositive("camera_fy", camera.fy);
@@ -79,13 +82,22 @@ SimulatedFrame Simulation::next() {
   if (next_ >= num_scans_) throw std::out_of_range("Simulation::next: past the last scan");
   SimulatedFrame f;
   f.index = next_++;
-  const double t = static_cast<double>(f.index) / params_.sensor.frequency_hz;
-  f.stamp_s = params_.start_time_s + t;
-  f.T_world_robot = trajectory_->poseAt(t);
-  const Pose2 last = params_.rolling_shutter ? trajectory_->poseAt(t + lidar_.sweepDuration()) : f.T_world_robot;
-  f.scan = lidar_.scan(f.T_world_robot, last);
+  const double t = static_cast<double>(f.index) / params_.sensor.frequency_hz;  // first beam
+  const double sweep = params_.rolling_shutter ? lidar_.sweepDuration() : 0.0;
+  const double shift = params_.scan_stamp == ScanStamp::kMiddle ? 0.5 * sweep
+                       : params_.scan_stamp == ScanStamp::kLast ? sweep
+                                                                : 0.0;
+  f.stamp_s = params_.start_time_s + t + shift;
+  f.T_world_robot = trajectory_->poseAt(t + shift);
+  const Pose2 first = trajectory_->poseAt(t);
+  const Pose2 last = params_.rolling_shutter ? trajectory_->poseAt(t + sweep) : first;
+  f.scan = lidar_.scan(first, last);
   f.scan.stamp_s = f.stamp_s;
-  if (!params_.rolling_shutter) f.scan.time_offsets_s.assign(f.scan.size(), 0.0);
+  if (!params_.rolling_shutter) {
+    f.scan.time_offsets_s.assign(f.scan.size(), 0.0);
+  } else {
+    for (double& o : f.scan.time_offsets_s) o -= shift;
+  }
   f.odometry = odometry_.update(f.T_world_robot);
   f.features = oracle_.visible(f.T_world_robot, *params_.sensor.layout, params_.sensor.max_range_m);
   if (params_.camera_every_scans > 0 && f.index % params_.camera_every_scans == 0) {

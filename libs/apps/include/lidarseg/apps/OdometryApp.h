@@ -53,6 +53,9 @@ struct OdometryOptions {
   std::string features_out;
   /// Scanner rotation frequency for rolling-shutter correction (Hz); < 0 = the config's.
   double scanner_rotation_hz = -1.0;
+  /// Which beam's instant the log's stamps are ("first", "middle", "last"); empty: the
+  /// configuration's [odometry] scan_stamp.
+  std::string scan_stamp;
   /// Progress on stderr (only shown when stderr is a terminal).
   bool progress = true;
   /// Draw PNG pictures in out_dir.

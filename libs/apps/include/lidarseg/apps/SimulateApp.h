@@ -20,6 +20,8 @@ struct SimulateOptions {
   /// PREFIX.features.csv, PREFIX.rois.csv (and PREFIX.carmen.log).
   std::string out_prefix;
   bool rolling_shutter = true;
+  /// Which beam's instant the scans are stamped with; empty: the configuration's.
+  std::string scan_stamp;
   /// -1: keep the configuration's value; 0: no camera; N: an image every N scans.
   long camera_every_scans = -1;
   bool write_carmen = false;

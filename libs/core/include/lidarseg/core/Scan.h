@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "lidarseg/core/BeamLayout.h"
@@ -18,6 +19,17 @@ inline constexpr double kMaxPhysicalRangeM = 1e5;
 /// measures a millimetre, and the fits weigh points by 1 / range^2 (a denormal range made
 /// that infinite: found by fuzzing, docs/reliability.md).
 inline constexpr double kMinPhysicalRangeM = 1e-3;
+
+/// Which beam's instant a driver stamps a scan with (drivers differ: first, middle or last).
+enum class ScanStamp : std::size_t {
+  kFirst = 0,   ///< the first beam's time
+  kMiddle = 1,  ///< the middle of the sweep
+  kLast = 2,    ///< the last beam's time
+};
+/// "first", "middle", "last".
+const char* toString(ScanStamp s);
+/// The convention of that name. @throws std::invalid_argument listing the names.
+ScanStamp scanStampFromString(const std::string& name);
 
 /// One sweep of a 2D range sensor: ordered beams in the sensor frame.
 ///

@@ -37,6 +37,11 @@ struct RefinerParams {
   /// Standard deviation of one point across its line (m), floor of the estimate from the
   /// residuals (a noiseless simulation would otherwise give a zero covariance).
   double min_point_sigma_m = 0.005;
+  /// Model error added to the covariance, per direction (m, m, rad): what the residuals
+  /// cannot show (the keyframe's own distortion when it was deskewed with a wrong velocity,
+  /// the segments' fits). Measured against ground truth: docs/results.md (NEES).
+  double model_sigma_m = 0.005;
+  double model_sigma_rad = 0.0005;
   /// Points per independent measurement: neighbouring points of one segment share the
   /// segment's modelling error (a wall is not a perfect line, the scan is deskewed with an
   /// estimated velocity), so the information of n points is counted as n / this.

@@ -67,6 +67,9 @@ struct OdometryParams {
   /// scanner measures them (e.g. 50 for a SICK LMS100 at 50 Hz). 0 = the beams of such
   /// scans are taken as simultaneous (no rolling-shutter correction).
   double scanner_rotation_hz = 0.0;
+  /// Which beam's instant the scans' stamps are (for scans given beam times from
+  /// scanner_rotation_hz): the beam times are then relative to that beam.
+  ScanStamp scan_stamp = ScanStamp::kFirst;
 
   void validate() const;
 };
@@ -171,6 +174,7 @@ class SegmentOdometry {
   Pose2D keyframe_pose_;  // T_odom_sensor of the keyframe
   Scan timed_;            // a scan given beam times from scanner_rotation_hz
   std::shared_ptr<const BeamLayout> timed_layout_;
+  ScanStamp timed_stamp_ = ScanStamp::kFirst;
   std::vector<double> beam_times_;
 };
 

@@ -28,6 +28,9 @@ struct SimulationParams {
   /// Each beam measured at its own time while the robot moves (paper IV.A); off: every
   /// beam of a scan from the pose at the scan's time.
   bool rolling_shutter = true;
+  /// Which beam's instant the scans are stamped with (drivers differ); the ground truth and
+  /// odometry poses are at the stamp, and the beam times relative to it.
+  ScanStamp scan_stamp = ScanStamp::kFirst;
   double lidar_z_m = 0.3;
   PinholeCamera camera;
   SceneHeights heights;
@@ -50,7 +53,8 @@ SensorModel sensorProfile(const std::string& name);
 /// One time step of a simulated run.
 struct SimulatedFrame {
   std::size_t index = 0;
-  /// Time of the scan's first beam (s); beams follow at scan.time_offsets_s.
+  /// Time of the scan (s): its first, middle or last beam's (SimulationParams::scan_stamp);
+  /// the beams are at stamp_s + scan.time_offsets_s.
   double stamp_s = 0.0;
   Scan scan;
   /// True robot pose at stamp_s (world frame).
