@@ -9,8 +9,9 @@
 #   ./run.sh fuzz [SECONDS]  build the libFuzzer targets with clang (ASan + UBSan) and run each
 #                    for SECONDS (default 60) from its committed seed corpus (docs/reliability.md)
 #   ./run.sh tsan    ThreadSanitizer build; the batch runner's tests and apps under it
-#   ./run.sh real    lidarseg-odometry with MRPT ICP on every real log (../shared/datasets and
-#                    MRPT's datasets): build/results/real/<log>/ and a table (docs/results.md)
+#   ./run.sh real    lidarseg-odometry with MRPT ICP (keyframed and scan to scan) on every real
+#                    log (../shared/datasets and MRPT's datasets): build/results/real/ and the
+#                    table of docs/results.md
 #   ./run.sh latency time per scan (median, p99, max) of lidarseg on every log, real and
 #                    simulated, with the default configuration (docs/performance.md)
 #   ./run.sh deps    only install the Debian packages
@@ -140,26 +141,10 @@ case "$cmd" in
   real)
     install_deps
     build_release
-    bin="$ROOT/build/release/apps"
     out="$ROOT/build/results/real"
     mkdir -p "$out"
-    shared="$ROOT/../shared/datasets"
-    logs=()
-    [ -d "$shared/radish-corrected" ] && logs+=("$shared"/radish-corrected/*.log.gz)
-    [ -f "$shared/intel-mrpt/intel.rawlog" ] && logs+=("$shared/intel-mrpt/intel.rawlog")
-    logs+=("$DEFAULT_RAWLOG" "/usr/share/mrpt/datasets/localization_demo.rawlog")
-    for f in "${logs[@]}"; do
-      name="$(basename "$f")"; name="${name%%.*}"; name="${name// /_}"
-      extra=()
-      case "$f" in *.log.gz) extra=(--log-reference) ;; esac
-      log "$name"
-      "$bin/lidarseg-odometry" -q --baseline icp --use-odometry "${extra[@]}" --out "$out/$name" "$f" \
-        > "$out/$name.txt" || { log "FAILED: $f"; exit 1; }
-    done
-    for f in "${logs[@]}"; do
-      name="$(basename "$f")"; name="${name%%.*}"; name="${name// /_}"
-      echo "### $name"; sed -n '/^| method/,$p' "$out/$name/results.md"; grep "^lidarseg status" "$out/$name.txt"; echo
-    done
+    python3 "$ROOT/tests/benchmarks/real_logs.py" --bin "$ROOT/build/release/apps" --config "$ROOT/config/default.ini" \
+      --shared "$ROOT/../shared/datasets" --mrpt "$(dirname "$DEFAULT_RAWLOG")" --out "$out"
     ;;
   latency)
     install_deps

@@ -108,14 +108,27 @@ void buildIndex(const Segmentation& keyframe, const RefinerParams& P, KeyframeIn
 
 // The signed distance of q (keyframe frame) to the nearest finite segment around its
 // bearing, or false when none is within max_distance_m.
+// `covered` tells whether the keyframe saw a segment within about 2 degrees of the point's
+// bearing: a point that could pair at all (the denominator of the inlier ratio).
 bool pairPoint(const KeyframeIndex& ix, const RefinerParams& P, const Eigen::Vector2d& q,
-               double& residual, const FiniteLine** line) {
+               double& residual, const FiniteLine** line, bool& covered) {
   const long n = static_cast<long>(ix.bearing.size());
+  covered = false;
   if (n == 0) return false;
   const double beta = pseudoBearing(q.x(), q.y());
   const int bin = std::clamp(static_cast<int>(beta * (kBins / 4.0)), 0, kBins - 1);
   long pos = ix.bin_start[static_cast<std::size_t>(bin)];
   while (pos < n && ix.bearing[static_cast<std::size_t>(pos)] < beta) ++pos;
+  {
+    constexpr double kCoverage = 0.025;  // pseudo-bearing units (4 per turn): 1.4 to 2.8 degrees
+    const double after = ix.bearing[static_cast<std::size_t>(pos % n)];
+    const double before = ix.bearing[static_cast<std::size_t>((pos + n - 1) % n)];
+    const auto gap = [](double a, double b) {
+      const double d = std::abs(a - b);
+      return std::min(d, 4.0 - d);
+    };
+    covered = gap(after, beta) < kCoverage || gap(before, beta) < kCoverage;
+  }
   const long w = static_cast<long>(P.bearing_window);
   double best = P.max_distance_m;
   bool found = false;
@@ -140,22 +153,28 @@ bool pairPoint(const KeyframeIndex& ix, const RefinerParams& P, const Eigen::Vec
   return found;
 }
 
-// Pairs every current point at pose T; returns the number paired.
+// Pairs every current point at pose T; returns the number paired. `covered` counts the
+// points the keyframe saw a segment near (see pairPoint).
 std::size_t pairAll(const KeyframeIndex& ix, const RefinerParams& P, const std::vector<Eigen::Vector2d>& pts,
-                    const Pose2D& T, std::vector<Pairing>& pairs) {
+                    const Pose2D& T, std::vector<Pairing>& pairs, std::size_t* covered = nullptr) {
   pairs.clear();
+  std::size_t near = 0;
   const double c = std::cos(T.yaw), s = std::sin(T.yaw);
   for (const Eigen::Vector2d& p : pts) {
     const Eigen::Vector2d rp(c * p.x() - s * p.y(), s * p.x() + c * p.y());
     const Eigen::Vector2d q = rp + T.translation();
     double r = 0.0;
     const FiniteLine* l = nullptr;
-    if (!pairPoint(ix, P, q, r, &l)) continue;
+    bool is_covered = false;
+    const bool paired = pairPoint(ix, P, q, r, &l, is_covered);
+    near += is_covered;
+    if (!paired) continue;
     Pairing pr;
     pr.residual = r;
     pr.jacobian = Eigen::Vector3d(l->normal.x(), l->normal.y(), l->normal.dot(Eigen::Vector2d(-rp.y(), rp.x())));
     pairs.push_back(pr);
   }
+  if (covered) *covered = near;
   return pairs.size();
 }
 
@@ -230,10 +249,11 @@ double ScanRefiner::inlierRatio(const Segmentation& keyframe, const Segmentation
   buildIndex(keyframe, params_, ws.index);
   collectPoints(current, params_.max_points, ws.points);
   if (ws.points.empty()) return 0.0;
-  pairAll(ws.index, params_, ws.points, T_key_curr, ws.pairs);
+  std::size_t covered = 0;
+  pairAll(ws.index, params_, ws.points, T_key_curr, ws.pairs, &covered);
   std::size_t inliers = 0;
   for (const Pairing& p : ws.pairs) inliers += std::abs(p.residual) < 3.0 * params_.robust_scale_m;
-  return static_cast<double>(inliers) / static_cast<double>(ws.points.size());
+  return inliers == 0 ? 0.0 : static_cast<double>(inliers) / static_cast<double>(std::max(covered, inliers));
 }
 
 RefineResult ScanRefiner::refine(const Segmentation& keyframe, const Segmentation& current,
@@ -304,9 +324,10 @@ RefineResult ScanRefiner::refine(const Segmentation& keyframe, const Segmentatio
   // Each iteration pairs the points at T, solves, and steps; the statistics come from the
   // last pairing (the final step is below convergence_m, or the iterations ran out).
   double wr2 = 0.0, wsum = 0.0;
+  std::size_t covered = 0;
   Eigen::Vector3d g;
   for (std::size_t it = 0; it < P.max_iterations; ++it) {
-    if (pairAll(ws.index, P, ws.points, T, ws.pairs) < P.min_points) return result;
+    if (pairAll(ws.index, P, ws.points, T, ws.pairs, &covered) < P.min_points) return result;
     normalEquations(H, g, wr2, wsum);
     decompose(Hu);
     if (!(lambda(2) > 0.0)) return result;
@@ -332,7 +353,8 @@ RefineResult ScanRefiner::refine(const Segmentation& keyframe, const Segmentatio
   }
   result.T_key_curr = T;
   result.inliers = inliers;
-  result.inlier_ratio = static_cast<double>(inliers) / static_cast<double>(ws.points.size());
+  result.covered = covered;
+  result.inlier_ratio = inliers == 0 ? 0.0 : static_cast<double>(inliers) / static_cast<double>(std::max(covered, inliers));
   result.rms_m = inliers > 0 ? std::sqrt(inlier_r2 / static_cast<double>(inliers)) : 0.0;
   // Residual variance (robustly weighted), floored; information of correlated points shared.
   const double dof = std::max(1.0, wsum - 3.0);

@@ -46,9 +46,9 @@ struct RefinerParams {
   /// segment's modelling error (a wall is not a perfect line, the scan is deskewed with an
   /// estimated velocity), so the information of n points is counted as n / this.
   double correlation_length_points = 4.0;
-  /// A refinement whose share of the scan's points that pair (within 3 robust scales) is
-  /// below this is reported as failed: the initial pose was too far off, or the scans
-  /// overlap too little.
+  /// A refinement whose inlier ratio (points paired within 3 robust scales, out of those
+  /// looking where the keyframe saw a segment) is below this is reported as failed: the
+  /// initial pose was too far off, or the scans do not overlap.
   double min_inlier_ratio = 0.3;
   /// Points of the current scan used at most (evenly thinned beyond): bounds the cost of a
   /// dense scan.
@@ -88,9 +88,12 @@ struct RefineResult {
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
   /// Valid points of the current scan considered (after thinning to max_points).
   std::size_t points = 0;
+  /// Points whose bearing (at the final pose) has a keyframe segment within about 2
+  /// degrees: those that could pair at all (the rest look where the keyframe saw nothing).
+  std::size_t covered = 0;
   /// Points paired within 3 robust scales at the final pose.
   std::size_t inliers = 0;
-  /// inliers / points.
+  /// inliers / covered.
   double inlier_ratio = 0.0;
   /// Root mean square of the inliers' residuals (m).
   double rms_m = 0.0;
@@ -121,8 +124,8 @@ class ScanRefiner {
   RefineResult refine(const Segmentation& keyframe, const Segmentation& current,
                       const Pose2D& initial) const;
 
-  /// Fraction of the current scan's valid points that pair with a keyframe segment within
-  /// 3 robust scales at `T_key_curr`, without optimising: the score of a hypothesis.
+  /// The inlier ratio of RefineResult at `T_key_curr`, without optimising: the score of a
+  /// hypothesis.
   double inlierRatio(const Segmentation& keyframe, const Segmentation& current,
                      const Pose2D& T_key_curr) const;
 
