@@ -65,7 +65,7 @@ struct RefinerParams {
   /// Standard deviation along an unconstrained direction, where the initial pose is kept (m).
   double unconstrained_sigma_m = 1.0;
   /// Stop when a step moves less than this (m, and the same in rad per metre of range).
-  double convergence_m = 5e-4;
+  double convergence_m = 1e-3;
 
   /// @throws std::invalid_argument naming the key (as in the [refiner] section).
   void validate() const;
