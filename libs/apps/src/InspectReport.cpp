@@ -65,8 +65,11 @@ InspectReport InspectApp::writeReport(inspect::Session& session) {
     ScanRow row;
     row.index = i;
     row.t = f.stamp_s;
-    row.status = f.step.first ? "first" : toString(f.step.match.status);
-    row.failed = !f.step.first && f.step.match.status != MatchStatus::kOk;
+    row.status = toString(f.step.status);
+    if (f.step.match.status == MatchStatus::kTooFewMatches && !f.step.first) {
+      row.status += std::string(" (segment match: ") + f.step.match.rejections.dominant() + ")";
+    }
+    row.failed = !f.step.first && f.step.status != TrackStatus::kOk;
     row.matches = f.step.match.matches.size();
     row.sd_xy_m = std::sqrt(std::max(0.0, f.step.increment_covariance(0, 0) + f.step.increment_covariance(1, 1)));
     row.total_us = f.step.wall_danielsson_us + f.step.cascade_us + f.step.matching_us;

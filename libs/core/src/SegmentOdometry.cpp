@@ -148,7 +148,7 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, Odomet
   }
   bool recovered = false;
   // 3. A bounded correlative search around the prior, then the refinement from its best.
-  if (doubtful(best) && params_.recovery) {
+  if (params_.recovery && (best.status == RefineStatus::kFailed || (params_.search_when_doubtful && doubtful(best)))) {
     step.search = search_.search(key.points, cur.points, prior);
     if (step.search->found) {
       RefineResult r = refiner_.refine(key, cur, step.search->T_key_curr);

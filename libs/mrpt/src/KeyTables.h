@@ -74,6 +74,7 @@ struct OdometryKeys {
     visit("recovery", p.recovery);
     visit("doubtful_ratio", p.doubtful_ratio);
     visit("prior_preference", p.prior_preference);
+    visit("search_when_doubtful", p.search_when_doubtful);
   }
 };
 

@@ -226,10 +226,14 @@ Drawing Session::draw(std::size_t index, const Layers& layers) {
   if (f.step.first) {
     s2 << "first scan";
   } else {
-    s2 << "match vs " << f.keyframe_index << ": " << toString(m.status) << ", " << m.matches.size() << " pairs, sd x "
-       << fixed(std::sqrt(std::max(m.covariance(0, 0), 0.0)) * 100, 1) << " cm y "
-       << fixed(std::sqrt(std::max(m.covariance(1, 1), 0.0)) * 100, 1) << " cm yaw "
-       << fixed(std::sqrt(std::max(m.covariance(2, 2), 0.0)) * 180 / M_PI, 2) << " deg";
+    const Eigen::Matrix3d& c = f.step.increment_covariance;
+    s2 << toString(f.step.status) << " vs " << f.keyframe_index << ": segment match " << toString(m.status) << ", "
+       << m.matches.size() << " pairs";
+    if (m.status == MatchStatus::kTooFewMatches) s2 << " (mostly " << m.rejections.dominant() << ")";
+    s2 << "; refined " << toString(f.step.refine.status) << ", inliers " << fixed(f.step.refine.inlier_ratio * 100, 0)
+       << " %; sd x " << fixed(std::sqrt(std::max(c(0, 0), 0.0)) * 100, 1) << " cm y "
+       << fixed(std::sqrt(std::max(c(1, 1), 0.0)) * 100, 1) << " cm yaw "
+       << fixed(std::sqrt(std::max(c(2, 2), 0.0)) * 180 / M_PI, 2) << " deg";
   }
   s2 << "  |  W-D " << fixed(f.step.wall_danielsson_us, 0) << " us, cascade " << fixed(f.step.cascade_us, 0)
      << " us, match " << fixed(f.step.matching_us, 0) << " us, features " << fixed(f.detect_us, 1) << " us";

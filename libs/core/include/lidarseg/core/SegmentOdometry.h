@@ -37,6 +37,8 @@ struct OdometryParams {
   /// (1 + this) times as many points: a corridor's walls pair almost as well one door
   /// further, and the prior is what tells the two apart.
   double prior_preference = 0.15;
+  /// Whether a doubtful (not only a failed) refinement also runs the search.
+  bool search_when_doubtful = true;
   /// Cascade level whose segments are matched (paper: the high level).
   CascadeLevel level = CascadeLevel::kFusedAgain;
   /// When the match at `level` is degenerate (a corridor), match again at this finer level
