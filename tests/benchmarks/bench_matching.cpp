@@ -38,6 +38,14 @@ std::vector<Pair> officePairs(std::size_t beams) {
   return pairs;
 }
 
+// The previous scan of each pair, segmented (the odometry keeps them).
+std::vector<Segmentation> previousSegmentations(const std::vector<Pair>& pairs) {
+  const ScanSegmenter segmenter;
+  std::vector<Segmentation> prev(pairs.size());
+  for (std::size_t k = 0; k < pairs.size(); ++k) segmenter.process(pairs[k].previous, prev[k]);
+  return prev;
+}
+
 void BM_MatchOnly(benchmark::State& state) {
   const auto pairs = officePairs(static_cast<std::size_t>(state.range(0)));
   const ScanSegmenter segmenter;
@@ -62,8 +70,7 @@ void BM_MatchOnly(benchmark::State& state) {
 void BM_SegmentCascadeMatch(benchmark::State& state) {
   const auto pairs = officePairs(static_cast<std::size_t>(state.range(0)));
   const ScanSegmenter segmenter;
-  std::vector<Segmentation> prev(pairs.size());
-  for (std::size_t k = 0; k < pairs.size(); ++k) segmenter.process(pairs[k].previous, prev[k]);
+  const std::vector<Segmentation> prev = previousSegmentations(pairs);
   const SegmentMatcher matcher;
   Segmentation current;
   std::size_t i = 0;
@@ -83,8 +90,7 @@ void BM_SegmentCascadeMatch(benchmark::State& state) {
 void BM_SegmentCascadeMatchRefine(benchmark::State& state) {
   const auto pairs = officePairs(static_cast<std::size_t>(state.range(0)));
   const ScanSegmenter segmenter;
-  std::vector<Segmentation> prev(pairs.size());
-  for (std::size_t k = 0; k < pairs.size(); ++k) segmenter.process(pairs[k].previous, prev[k]);
+  const std::vector<Segmentation> prev = previousSegmentations(pairs);
   const SegmentMatcher matcher;
   const ScanRefiner refiner;
   Segmentation current;

@@ -14,14 +14,27 @@
 namespace lidarseg {
 namespace {
 
+// The paper's maze run (config/worlds/maze.*), LMS100 at 50 Hz, no camera.
+struct MazeRun {
+  explicit MazeRun(std::uint64_t seed, ScanStamp stamp = ScanStamp::kFirst)
+      : world(sim::loadWorldFile(std::string(LIDARSEG_CONFIG_DIR) + "/worlds/maze.world")),
+        trajectory(sim::loadTrajectoryFile(std::string(LIDARSEG_CONFIG_DIR) + "/worlds/maze.traj")),
+        simulation(world, trajectory, params(seed, stamp)) {}
+  static sim::SimulationParams params(std::uint64_t seed, ScanStamp stamp) {
+    sim::SimulationParams sp;
+    sp.seed = seed;
+    sp.camera_every_scans = 0;
+    sp.scan_stamp = stamp;
+    return sp;
+  }
+  sim::World world;
+  sim::Trajectory trajectory;
+  sim::Simulation simulation;
+};
+
 TEST(SegmentOdometry, DrivesTheMazeLoopWithSmallDrift) {
-  const std::string dir = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/";
-  const sim::World world = sim::loadWorldFile(dir + "maze.world");
-  const sim::Trajectory traj = sim::loadTrajectoryFile(dir + "maze.traj");
-  sim::SimulationParams sp;
-  sp.seed = 1;
-  sp.camera_every_scans = 0;
-  sim::Simulation simulation(world, traj, sp);
+  MazeRun maze(1);
+  sim::Simulation& simulation = maze.simulation;
   SegmentOdometry odometry;
   Pose2D gt0, gt_last;
   std::size_t failures = 0;
@@ -120,14 +133,8 @@ TEST(SegmentOdometry, TurnReversalAndUnpredictedJumpAreRecovered) {
 // the scans as in a rawlog) is corrected with scanner_rotation_hz and the same convention;
 // the correction must beat no correction, and the wrong convention must not beat the right one.
 double mazeFinalError(ScanStamp written, std::optional<ScanStamp> assumed, std::size_t scans) {
-  const std::string dir = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/";
-  const sim::World world = sim::loadWorldFile(dir + "maze.world");
-  const sim::Trajectory traj = sim::loadTrajectoryFile(dir + "maze.traj");
-  sim::SimulationParams sp;
-  sp.seed = 3;
-  sp.camera_every_scans = 0;
-  sp.scan_stamp = written;
-  sim::Simulation simulation(world, traj, sp);
+  MazeRun maze(3, written);
+  sim::Simulation& simulation = maze.simulation;
   OdometryParams params;
   params.scanner_rotation_hz = assumed ? 50.0 : 0.0;
   params.scan_stamp = assumed.value_or(ScanStamp::kFirst);
@@ -162,13 +169,8 @@ TEST(SegmentOdometry, RollingShutterCorrectionHelpsUnderEveryStampConvention) {
 // For a consistent estimator it follows a chi-square with 3 degrees of freedom: mean 3,
 // 95 % of the steps below 7.81.
 TEST(SegmentOdometry, CovarianceIsConsistentWithTheErrorsOnTheMaze) {
-  const std::string dir = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/";
-  const sim::World world = sim::loadWorldFile(dir + "maze.world");
-  const sim::Trajectory traj = sim::loadTrajectoryFile(dir + "maze.traj");
-  sim::SimulationParams sp;
-  sp.seed = 2;
-  sp.camera_every_scans = 0;
-  sim::Simulation simulation(world, traj, sp);
+  MazeRun maze(2);
+  sim::Simulation& simulation = maze.simulation;
   SegmentOdometry odometry;
   Pose2D key_truth, key_estimate;
   double sum = 0.0;
@@ -202,12 +204,8 @@ TEST(SegmentOdometry, CovarianceIsConsistentWithTheErrorsOnTheMaze) {
 }
 
 TEST(SegmentOdometry, FirstScanIsTheOriginAndTimesAreReported) {
-  const std::string dir = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/";
-  const sim::World world = sim::loadWorldFile(dir + "maze.world");
-  const sim::Trajectory traj = sim::loadTrajectoryFile(dir + "maze.traj");
-  sim::SimulationParams sp;
-  sp.camera_every_scans = 0;
-  sim::Simulation simulation(world, traj, sp);
+  MazeRun maze(1);
+  sim::Simulation& simulation = maze.simulation;
   SegmentOdometry odometry;
   const OdometryStep first = odometry.process(simulation.next().scan);
   EXPECT_TRUE(first.first);
