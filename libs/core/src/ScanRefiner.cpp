@@ -12,23 +12,8 @@ namespace lidarseg {
 
 namespace {
 
-// A keyframe segment as a finite line (keyframe frame).
-struct FiniteLine {
-  Eigen::Vector2d normal, start, direction;
-  double rho = 0.0, length = 0.0;
-};
-
-// The keyframe's bearing index: valid beams that belong to a usable segment, sorted by
-// the bearing of their point.
-struct KeyframeIndex {
-  std::vector<FiniteLine> lines;
-  std::vector<int> beam_line;  // beam -> line, -1 when none
-  std::vector<double> bearing;  // sorted
-  std::vector<int> line_of;     // line of each sorted entry
-  // O(1) lookup: bin_start[b] is the first sorted entry whose bearing is >= b * 4 / kBins.
-  std::vector<int> bin_start;
-  std::vector<std::pair<double, int>> scratch;
-};
+using FiniteLine = RefinementKeyframe::Line;
+using KeyframeIndex = RefinementKeyframe;
 
 // A monotonic stand-in for the bearing atan2(y, x), in [0, 4) over [0, 2 pi): the index only
 // needs the order, and this costs one division.
@@ -42,18 +27,24 @@ inline double pseudoBearing(double x, double y) {
 
 constexpr int kBins = 2048;
 
-struct Pairing {
-  Eigen::Vector3d jacobian;
-  double residual = 0.0;
+// The normal equations of one pairing pass (yaw scaled by D), and its counts.
+struct Accumulator {
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();   // robustly weighted
+  Eigen::Matrix3d Hu = Eigen::Matrix3d::Zero();  // unweighted: how many points constrain what
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();
+  double wr2 = 0.0, wsum = 0.0, inlier_r2 = 0.0;
+  std::size_t paired = 0, covered = 0, inliers = 0;
 };
 
 struct Workspace {
   KeyframeIndex index;
   std::vector<Eigen::Vector2d> points;  // the current scan's valid points
-  std::vector<Pairing> pairs;
 };
 
-void buildIndex(const Segmentation& keyframe, const RefinerParams& P, KeyframeIndex& ix) {
+}  // namespace
+
+void ScanRefiner::prepare(const Segmentation& keyframe, RefinementKeyframe& ix) const {
+  const RefinerParams& P = params_;
   const SegmentLevel& level = keyframe.level(P.level);
   const std::size_t beams = keyframe.points.size();
   ix.lines.clear();
@@ -106,6 +97,8 @@ void buildIndex(const Segmentation& keyframe, const RefinerParams& P, KeyframeIn
   }
 }
 
+namespace {
+
 // The signed distance of q (keyframe frame) to the nearest finite segment around its
 // bearing, or false when none is within max_distance_m.
 // `covered` tells whether the keyframe saw a segment within about 2 degrees of the point's
@@ -121,8 +114,8 @@ bool pairPoint(const KeyframeIndex& ix, const RefinerParams& P, const Eigen::Vec
   while (pos < n && ix.bearing[static_cast<std::size_t>(pos)] < beta) ++pos;
   {
     constexpr double kCoverage = 0.025;  // pseudo-bearing units (4 per turn): 1.4 to 2.8 degrees
-    const double after = ix.bearing[static_cast<std::size_t>(pos % n)];
-    const double before = ix.bearing[static_cast<std::size_t>((pos + n - 1) % n)];
+    const double after = ix.bearing[static_cast<std::size_t>(pos < n ? pos : 0)];
+    const double before = ix.bearing[static_cast<std::size_t>(pos > 0 ? pos - 1 : n - 1)];
     const auto gap = [](double a, double b) {
       const double d = std::abs(a - b);
       return std::min(d, 4.0 - d);
@@ -153,34 +146,41 @@ bool pairPoint(const KeyframeIndex& ix, const RefinerParams& P, const Eigen::Vec
   return found;
 }
 
-// Pairs every current point at pose T; returns the number paired. `covered` counts the
-// points the keyframe saw a segment near (see pairPoint).
-std::size_t pairAll(const KeyframeIndex& ix, const RefinerParams& P, const std::vector<Eigen::Vector2d>& pts,
-                    const Pose2D& T, std::vector<Pairing>& pairs, std::size_t* covered = nullptr) {
-  pairs.clear();
-  std::size_t near = 0;
+// Pairs every current point at pose T and accumulates the normal equations (yaw scaled
+// by D(2)) and the counts, in one pass: nothing is stored per point.
+void accumulate(const KeyframeIndex& ix, const RefinerParams& P, const std::vector<Eigen::Vector2d>& pts,
+                const Pose2D& T, double yaw_scale, Accumulator& acc) {
+  acc = Accumulator{};
   const double c = std::cos(T.yaw), s = std::sin(T.yaw);
+  const double inv_c2 = 1.0 / (P.robust_scale_m * P.robust_scale_m);
+  const double inlier_limit = 3.0 * P.robust_scale_m;
+  double h[6] = {0, 0, 0, 0, 0, 0}, hu[6] = {0, 0, 0, 0, 0, 0}, g[3] = {0, 0, 0};
   for (const Eigen::Vector2d& p : pts) {
-    const Eigen::Vector2d rp(c * p.x() - s * p.y(), s * p.x() + c * p.y());
-    const Eigen::Vector2d q = rp + T.translation();
+    const double rx = c * p.x() - s * p.y(), ry = s * p.x() + c * p.y();
+    const Eigen::Vector2d q(rx + T.x, ry + T.y);
     double r = 0.0;
     const FiniteLine* l = nullptr;
     bool is_covered = false;
     const bool paired = pairPoint(ix, P, q, r, &l, is_covered);
-    near += is_covered;
+    acc.covered += is_covered;
     if (!paired) continue;
-    Pairing pr;
-    pr.residual = r;
-    pr.jacobian = Eigen::Vector3d(l->normal.x(), l->normal.y(), l->normal.dot(Eigen::Vector2d(-rp.y(), rp.x())));
-    pairs.push_back(pr);
+    ++acc.paired;
+    const double j0 = l->normal.x(), j1 = l->normal.y(), j2 = (l->normal.y() * rx - l->normal.x() * ry) * yaw_scale;
+    const double w = 1.0 / (1.0 + r * r * inv_c2);  // Cauchy
+    hu[0] += j0 * j0, hu[1] += j0 * j1, hu[2] += j0 * j2, hu[3] += j1 * j1, hu[4] += j1 * j2, hu[5] += j2 * j2;
+    const double w0 = w * j0, w1 = w * j1, w2 = w * j2;
+    h[0] += w0 * j0, h[1] += w0 * j1, h[2] += w0 * j2, h[3] += w1 * j1, h[4] += w1 * j2, h[5] += w2 * j2;
+    g[0] += w0 * r, g[1] += w1 * r, g[2] += w2 * r;
+    acc.wr2 += w * r * r;
+    acc.wsum += w;
+    if (std::abs(r) < inlier_limit) {
+      ++acc.inliers;
+      acc.inlier_r2 += r * r;
+    }
   }
-  if (covered) *covered = near;
-  return pairs.size();
-}
-
-double cauchyWeight(double r, double scale) {
-  const double u = r / scale;
-  return 1.0 / (1.0 + u * u);
+  acc.H << h[0], h[1], h[2], h[1], h[3], h[4], h[2], h[4], h[5];
+  acc.Hu << hu[0], hu[1], hu[2], hu[1], hu[3], hu[4], hu[2], hu[4], hu[5];
+  acc.g << g[0], g[1], g[2];
 }
 
 }  // namespace
@@ -246,72 +246,65 @@ void collectPoints(const Segmentation& current, std::size_t limit, std::vector<E
 double ScanRefiner::inlierRatio(const Segmentation& keyframe, const Segmentation& current,
                                 const Pose2D& T_key_curr) const {
   thread_local Workspace ws;
-  buildIndex(keyframe, params_, ws.index);
-  collectPoints(current, params_.max_points, ws.points);
-  if (ws.points.empty()) return 0.0;
-  std::size_t covered = 0;
-  pairAll(ws.index, params_, ws.points, T_key_curr, ws.pairs, &covered);
-  std::size_t inliers = 0;
-  for (const Pairing& p : ws.pairs) inliers += std::abs(p.residual) < 3.0 * params_.robust_scale_m;
-  return inliers == 0 ? 0.0 : static_cast<double>(inliers) / static_cast<double>(std::max(covered, inliers));
+  prepare(keyframe, ws.index);
+  return inlierRatio(ws.index, current, T_key_curr);
+}
+
+double ScanRefiner::inlierRatio(const RefinementKeyframe& keyframe, const Segmentation& current,
+                                const Pose2D& T_key_curr) const {
+  thread_local std::vector<Eigen::Vector2d> points;
+  collectPoints(current, params_.max_points, points);
+  if (points.empty()) return 0.0;
+  Accumulator acc;
+  accumulate(keyframe, params_, points, T_key_curr, 1.0, acc);
+  return acc.inliers == 0 ? 0.0
+                          : static_cast<double>(acc.inliers) / static_cast<double>(std::max(acc.covered, acc.inliers));
 }
 
 RefineResult ScanRefiner::refine(const Segmentation& keyframe, const Segmentation& current,
+                                 const Pose2D& initial) const {
+  thread_local Workspace ws;
+  prepare(keyframe, ws.index);
+  return refine(ws.index, current, initial);
+}
+
+RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segmentation& current,
                                  const Pose2D& initial) const {
   const RefinerParams& P = params_;
   RefineResult result;
   result.T_key_curr = initial;
   const double u2 = P.unconstrained_sigma_m * P.unconstrained_sigma_m;
   result.covariance = Eigen::Vector3d(u2, u2, 0.1).asDiagonal();
-  thread_local Workspace ws;
-  buildIndex(keyframe, P, ws.index);
-  collectPoints(current, params_.max_points, ws.points);
-  result.points = ws.points.size();
-  if (ws.points.size() < P.min_points || ws.index.bearing.empty()) return result;
+  thread_local std::vector<Eigen::Vector2d> points;
+  collectPoints(current, P.max_points, points);
+  result.points = points.size();
+  if (points.size() < P.min_points || keyframe.bearing.empty()) return result;
 
   // Yaw is scaled by the points' RMS range so that the information is compared in metres.
   double sum_r2 = 0.0;
-  for (const Eigen::Vector2d& p : ws.points) sum_r2 += p.squaredNorm();
-  const double L = std::max(0.1, std::sqrt(sum_r2 / static_cast<double>(ws.points.size())));
+  for (const Eigen::Vector2d& p : points) sum_r2 += p.squaredNorm();
+  const double L = std::max(0.1, std::sqrt(sum_r2 / static_cast<double>(points.size())));
   const Eigen::Vector3d D(1.0, 1.0, 1.0 / L);
   result.rms_range_m = L;
 
   Pose2D T = initial;
-  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-  Eigen::Matrix3d Hu = Eigen::Matrix3d::Zero();  // unweighted: how many points constrain what
-  bool degenerate = false;
+  Accumulator acc;
   Eigen::Matrix3d V = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d lambda = Eigen::Vector3d::Zero();
   Eigen::Vector3d strong_mask = Eigen::Vector3d::Ones();
-  const auto normalEquations = [&](Eigen::Matrix3d& Hn, Eigen::Vector3d& g, double& wr2, double& wsum) {
-    Hn.setZero();
-    Hu.setZero();
-    g.setZero();
-    wr2 = 0.0;
-    wsum = 0.0;
-    for (const Pairing& pr : ws.pairs) {
-      const double w = cauchyWeight(pr.residual, P.robust_scale_m);
-      const Eigen::Vector3d J = pr.jacobian.cwiseProduct(D);
-      Hn.noalias() += w * J * J.transpose();
-      Hu.noalias() += J * J.transpose();
-      g.noalias() += w * J * pr.residual;
-      wr2 += w * pr.residual * pr.residual;
-      wsum += w;
-    }
-  };
+  bool degenerate = false;
   // Which directions are constrained is decided on the unweighted information: a jamb's
   // points, far from their line at the start, have small robust weights but still count.
-  const auto decompose = [&](const Eigen::Matrix3d& Hn) {
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(Hn);
-    lambda = eig.eigenvalues();  // ascending
+  const auto decompose = [&](const Eigen::Matrix3d& Hu) {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(Hu);
+    const Eigen::Vector3d lambda = eig.eigenvalues();  // ascending
     V = eig.eigenvectors();
     degenerate = false;
     for (int k = 0; k < 3; ++k) {
       strong_mask(k) = lambda(k) > std::max(P.degeneracy_ratio * lambda(2), P.min_constraint_points) ? 1.0 : 0.0;
       degenerate = degenerate || strong_mask(k) == 0.0;
     }
+    return lambda(2) > 0.0 && strong_mask.sum() > 0.0;
   };
-
   const auto strongBasis = [&]() {
     Eigen::MatrixXd Vs(3, static_cast<Eigen::Index>(strong_mask.sum()));
     Eigen::Index c = 0;
@@ -323,18 +316,13 @@ RefineResult ScanRefiner::refine(const Segmentation& keyframe, const Segmentatio
 
   // Each iteration pairs the points at T, solves, and steps; the statistics come from the
   // last pairing (the final step is below convergence_m, or the iterations ran out).
-  double wr2 = 0.0, wsum = 0.0;
-  std::size_t covered = 0;
-  Eigen::Vector3d g;
   for (std::size_t it = 0; it < P.max_iterations; ++it) {
-    if (pairAll(ws.index, P, ws.points, T, ws.pairs, &covered) < P.min_points) return result;
-    normalEquations(H, g, wr2, wsum);
-    decompose(Hu);
-    if (!(lambda(2) > 0.0)) return result;
+    accumulate(keyframe, P, points, T, D(2), acc);
+    if (acc.paired < P.min_points || !decompose(acc.Hu)) return result;
     // Step in the constrained subspace only (the weak directions keep their value).
     const Eigen::MatrixXd Vs = strongBasis();
-    const Eigen::MatrixXd Hs = Vs.transpose() * H * Vs;
-    Eigen::Vector3d step = -Vs * Hs.ldlt().solve(Vs.transpose() * g);
+    const Eigen::MatrixXd Hs = Vs.transpose() * acc.H * Vs;
+    Eigen::Vector3d step = -Vs * Hs.ldlt().solve(Vs.transpose() * acc.g);
     if (!step.allFinite()) return result;
     step = step.cwiseProduct(D);  // back to (m, m, rad)
     T.x += step.x();
@@ -343,24 +331,17 @@ RefineResult ScanRefiner::refine(const Segmentation& keyframe, const Segmentatio
     result.iterations = it + 1;
     if (std::hypot(step.x(), step.y()) < P.convergence_m && std::abs(step.z()) * L < P.convergence_m) break;
   }
-  std::size_t inliers = 0;
-  double inlier_r2 = 0.0;
-  for (const Pairing& pr : ws.pairs) {
-    if (std::abs(pr.residual) < 3.0 * P.robust_scale_m) {
-      ++inliers;
-      inlier_r2 += pr.residual * pr.residual;
-    }
-  }
   result.T_key_curr = T;
-  result.inliers = inliers;
-  result.covered = covered;
-  result.inlier_ratio = inliers == 0 ? 0.0 : static_cast<double>(inliers) / static_cast<double>(std::max(covered, inliers));
-  result.rms_m = inliers > 0 ? std::sqrt(inlier_r2 / static_cast<double>(inliers)) : 0.0;
+  result.inliers = acc.inliers;
+  result.covered = acc.covered;
+  result.inlier_ratio =
+      acc.inliers == 0 ? 0.0 : static_cast<double>(acc.inliers) / static_cast<double>(std::max(acc.covered, acc.inliers));
+  result.rms_m = acc.inliers > 0 ? std::sqrt(acc.inlier_r2 / static_cast<double>(acc.inliers)) : 0.0;
   // Residual variance (robustly weighted), floored; information of correlated points shared.
-  const double dof = std::max(1.0, wsum - 3.0);
-  const double sigma2 = std::max(wr2 / dof, P.min_point_sigma_m * P.min_point_sigma_m);
+  const double dof = std::max(1.0, acc.wsum - 3.0);
+  const double sigma2 = std::max(acc.wr2 / dof, P.min_point_sigma_m * P.min_point_sigma_m);
   const Eigen::MatrixXd Vs = strongBasis();
-  const Eigen::MatrixXd Hs = Vs.transpose() * H * Vs;
+  const Eigen::MatrixXd Hs = Vs.transpose() * acc.H * Vs;
   Eigen::Matrix3d cov_scaled = Vs * Hs.inverse() * Vs.transpose() * (sigma2 * P.correlation_length_points);
   for (int k = 0; k < 3; ++k) {
     if (strong_mask(k) == 0.0) cov_scaled += V.col(k) * V.col(k).transpose() * u2;

@@ -128,7 +128,7 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, Odomet
   };
   // 1. From the segment match.
   RefineResult best;
-  if (matched) best = refiner_.refine(key, cur, m.T_prev_curr);
+  if (matched) best = refiner_.refine(refine_keyframe_, cur, m.T_prev_curr);
   // 2. From the prior, when the match failed, moved far from the prior (it may have locked
   // onto a wrong couple: a repeated door, a corridor) or its refinement is doubtful.
   const Pose2D shift = relative(best.T_key_curr, prior);
@@ -143,7 +143,7 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, Odomet
            static_cast<double>(r.inliers) > (1.0 + params_.prior_preference) * static_cast<double>(reference->inliers);
   };
   if (!matched || far || doubtful(best)) {
-    reference = refiner_.refine(key, cur, prior);
+    reference = refiner_.refine(refine_keyframe_, cur, prior);
     if (!matched || !replaces(best)) best = *reference;
   }
   bool recovered = false;
@@ -151,7 +151,7 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, Odomet
   if (params_.recovery && (best.status == RefineStatus::kFailed || (params_.search_when_doubtful && doubtful(best)))) {
     step.search = search_.search(key.points, cur.points, prior);
     if (step.search->found) {
-      RefineResult r = refiner_.refine(key, cur, step.search->T_key_curr);
+      RefineResult r = refiner_.refine(refine_keyframe_, cur, step.search->T_key_curr);
       if (replaces(r) && better(r, best)) {
         best = std::move(r);
         recovered = true;
@@ -221,6 +221,7 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
     step.first = true;
     step.keyframe = true;
     keyframe_ = slot;
+    if (params_.refiner.enabled) refiner_.prepare(segmentation_[keyframe_], refine_keyframe_);
     keyframe_pose_ = pose_;
     last_stamp_ = scan.stamp_s;
     ++count_;
@@ -287,6 +288,7 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
                      std::abs(from_key.yaw) >= params_.keyframe_angle_rad;
   if (moved || step.status != TrackStatus::kOk) {
     keyframe_ = slot;
+    if (params_.refiner.enabled) refiner_.prepare(segmentation_[keyframe_], refine_keyframe_);
     keyframe_pose_ = pose_;
     step.keyframe = true;
   }

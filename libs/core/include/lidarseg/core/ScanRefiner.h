@@ -4,6 +4,8 @@
 /// own points against the keyframe's low-level segments taken as finite lines.
 
 #include <cstddef>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -104,6 +106,27 @@ struct RefineResult {
   Eigen::Vector2d degenerate_direction = Eigen::Vector2d::Zero();
 };
 
+/// A keyframe prepared for refinement (ScanRefiner::prepare): its usable segments as finite
+/// lines and the bearing index of its points. Build it once per keyframe and refine every
+/// scan matched against that keyframe with it. Reuse one object: it keeps its buffers.
+struct RefinementKeyframe {
+  /// A segment as a finite line, keyframe sensor frame (m).
+  struct Line {
+    Eigen::Vector2d normal, start, direction;
+    double rho = 0.0, length = 0.0;
+  };
+  std::vector<Line> lines;
+  /// Line of each beam, -1 when none.
+  std::vector<int> beam_line;
+  /// Pseudo-bearing (monotonic in the bearing, [0, 4) over a turn) of every point that
+  /// belongs to a line, sorted, and that line.
+  std::vector<double> bearing;
+  std::vector<int> line_of;
+  /// bin_start[b]: the first sorted entry whose pseudo-bearing is >= b * 4 / (bins).
+  std::vector<int> bin_start;
+  std::vector<std::pair<double, int>> scratch;
+};
+
 /// Refines T_key_curr by robust Gauss-Newton on point-to-line distances: each valid point of
 /// the current scan, moved into the keyframe's frame, is paired with the nearest finite
 /// keyframe segment among those covering the keyframe beams around its bearing (no k-d
@@ -123,10 +146,18 @@ class ScanRefiner {
   /// @param initial starting T_key_curr (the segment match, or a prior)
   RefineResult refine(const Segmentation& keyframe, const Segmentation& current,
                       const Pose2D& initial) const;
+  /// The same against a prepared keyframe (no per-call preparation).
+  RefineResult refine(const RefinementKeyframe& keyframe, const Segmentation& current,
+                      const Pose2D& initial) const;
+
+  /// Prepares `keyframe` for refinements: O(beams).
+  void prepare(const Segmentation& keyframe, RefinementKeyframe& out) const;
 
   /// The inlier ratio of RefineResult at `T_key_curr`, without optimising: the score of a
   /// hypothesis.
   double inlierRatio(const Segmentation& keyframe, const Segmentation& current,
+                     const Pose2D& T_key_curr) const;
+  double inlierRatio(const RefinementKeyframe& keyframe, const Segmentation& current,
                      const Pose2D& T_key_curr) const;
 
   const RefinerParams& params() const { return params_; }

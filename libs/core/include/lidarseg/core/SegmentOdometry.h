@@ -159,6 +159,7 @@ class SegmentOdometry {
   ScanSegmenter segmenter_;
   SegmentMatcher matcher_;
   ScanRefiner refiner_;
+  RefinementKeyframe refine_keyframe_;  // the keyframe prepared for refinements
   CorrelativeSearch search_;
   Segmentation segmentation_[2];  // the keyframe's and the current scan's
   int keyframe_ = 0;
