@@ -44,36 +44,49 @@ struct Workspace {
 }  // namespace
 
 void ScanRefiner::prepare(const Segmentation& keyframe, RefinementKeyframe& ix) const {
+  prepare(std::vector<RefinementMapScan>{{&keyframe, Pose2D{}}}, ix);
+}
+
+void ScanRefiner::prepare(const std::vector<RefinementMapScan>& scans, RefinementKeyframe& ix) const {
   const RefinerParams& P = params_;
-  const SegmentLevel& level = keyframe.level(P.level);
-  const std::size_t beams = keyframe.points.size();
   ix.lines.clear();
-  ix.beam_line.assign(beams, -1);
-  for (const Segment& s : level.segments) {
-    if (s.num_points < P.min_segment_points || !(s.length_m > 0.0)) continue;
-    FiniteLine l;
-    l.normal = s.normal;
-    l.rho = s.rho_m;
-    l.start = s.start;
-    l.length = s.length_m;
-    l.direction = (s.end - s.start) / s.length_m;
-    const int id = static_cast<int>(ix.lines.size());
-    ix.lines.push_back(l);
-    const auto mark = [&](std::size_t b) {
-      if (b < beams) ix.beam_line[b] = id;
-    };
-    if (s.first_beam <= s.last_beam) {
-      for (std::size_t b = s.first_beam; b <= s.last_beam && b < beams; ++b) mark(b);
-    } else {  // across the wrap-around of a full turn
-      for (std::size_t b = s.first_beam; b < beams; ++b) mark(b);
-      for (std::size_t b = 0; b <= s.last_beam && b < beams; ++b) mark(b);
-    }
-  }
   ix.scratch.clear();
-  for (std::size_t b = 0; b < beams; ++b) {
-    const Eigen::Vector2d& p = keyframe.points[b];
-    if (ix.beam_line[b] < 0 || !std::isfinite(p.x()) || !std::isfinite(p.y())) continue;
-    ix.scratch.emplace_back(pseudoBearing(p.x(), p.y()), ix.beam_line[b]);
+  ix.scans = 0;
+  for (const RefinementMapScan& m : scans) {
+    if (m.segmentation == nullptr) continue;
+    ++ix.scans;
+    const Segmentation& scan = *m.segmentation;
+    const Pose2D& T = m.T_key_scan;
+    const double c = std::cos(T.yaw), sn = std::sin(T.yaw);
+    const auto rotate = [&](const Eigen::Vector2d& v) { return Eigen::Vector2d(c * v.x() - sn * v.y(), sn * v.x() + c * v.y()); };
+    const std::size_t beams = scan.points.size();
+    ix.beam_line.assign(beams, -1);
+    for (const Segment& s : scan.level(P.level).segments) {
+      if (s.num_points < P.min_segment_points || !(s.length_m > 0.0)) continue;
+      FiniteLine l;
+      l.normal = rotate(s.normal);
+      l.start = T * s.start;
+      l.rho = l.normal.dot(l.start);  // signed: the distance is n . q - rho either way
+      l.length = s.length_m;
+      l.direction = rotate((s.end - s.start) / s.length_m);
+      const int id = static_cast<int>(ix.lines.size());
+      ix.lines.push_back(l);
+      const auto mark = [&](std::size_t b) {
+        if (b < beams) ix.beam_line[b] = id;
+      };
+      if (s.first_beam <= s.last_beam) {
+        for (std::size_t b = s.first_beam; b <= s.last_beam && b < beams; ++b) mark(b);
+      } else {  // across the wrap-around of a full turn
+        for (std::size_t b = s.first_beam; b < beams; ++b) mark(b);
+        for (std::size_t b = 0; b <= s.last_beam && b < beams; ++b) mark(b);
+      }
+    }
+    for (std::size_t b = 0; b < beams; ++b) {
+      const Eigen::Vector2d& p = scan.points[b];
+      if (ix.beam_line[b] < 0 || !std::isfinite(p.x()) || !std::isfinite(p.y())) continue;
+      const Eigen::Vector2d q = T * p;
+      ix.scratch.emplace_back(pseudoBearing(q.x(), q.y()), ix.beam_line[b]);
+    }
   }
   // Scan order is bearing order up to one wrap-around: rotate, and sort only if that is not
   // enough (a scanner with an unusual layout).
@@ -122,7 +135,7 @@ bool pairPoint(const KeyframeIndex& ix, const RefinerParams& P, const Eigen::Vec
     };
     covered = gap(after, beta) < kCoverage || gap(before, beta) < kCoverage;
   }
-  const long w = static_cast<long>(P.bearing_window);
+  const long w = std::min(n, static_cast<long>(P.bearing_window * (ix.scans > 1 ? 2 : 1)));
   double best = P.max_distance_m;
   bool found = false;
   int last = -1;

@@ -48,6 +48,9 @@ void OdometryParams::validate() const {
   detail::requireNonNegative("scanner_rotation_hz", scanner_rotation_hz);
   detail::requireInRange("doubtful_ratio", doubtful_ratio, 0.0, 1.0);
   detail::requireInRange("prior_preference", prior_preference, 0.0, 10.0);
+  if (local_map_keyframes < 1 || local_map_keyframes > 16) {
+    detail::failKey("local_map_keyframes", "in [1, 16]", static_cast<double>(local_map_keyframes));
+  }
   if (static_cast<std::size_t>(scan_stamp) > 2) {
     detail::failKey("scan_stamp", "0 (first beam), 1 (middle) or 2 (last beam)",
                     static_cast<double>(static_cast<std::size_t>(scan_stamp)));
@@ -72,6 +75,7 @@ void SegmentOdometry::reset() {
   keyframe_pose_ = {};
   history_size_ = 0;
   velocity_ = {};
+  map_.clear();
 }
 
 void SegmentOdometry::segmentInto(const Scan& scan, int slot, const Twist2D& motion, OdometryStep& step) {
@@ -221,8 +225,9 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
     step.first = true;
     step.keyframe = true;
     keyframe_ = slot;
-    if (params_.refiner.enabled) refiner_.prepare(segmentation_[keyframe_], refine_keyframe_);
     keyframe_pose_ = pose_;
+    map_.clear();
+    prepareKeyframe();
     last_stamp_ = scan.stamp_s;
     ++count_;
     step.T_odom_sensor = pose_;
@@ -287,12 +292,27 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   const bool moved = std::hypot(from_key.x, from_key.y) >= params_.keyframe_distance_m ||
                      std::abs(from_key.yaw) >= params_.keyframe_angle_rad;
   if (moved || step.status != TrackStatus::kOk) {
+    // The keyframe being replaced joins the local map (when there is one), unless it was
+    // matched badly itself.
+    if (params_.local_map_keyframes > 1 && step.status != TrackStatus::kLost) {
+      if (map_.size() + 1 >= params_.local_map_keyframes) map_.pop_front();
+      map_.push_back({segmentation_[keyframe_], keyframe_pose_});
+    }
+    if (step.status == TrackStatus::kLost) map_.clear();
     keyframe_ = slot;
-    if (params_.refiner.enabled) refiner_.prepare(segmentation_[keyframe_], refine_keyframe_);
     keyframe_pose_ = pose_;
+    prepareKeyframe();
     step.keyframe = true;
   }
   return step;
+}
+
+void SegmentOdometry::prepareKeyframe() {
+  if (!params_.refiner.enabled) return;
+  map_scans_.clear();
+  map_scans_.push_back({&segmentation_[keyframe_], Pose2D{}});
+  for (const MapKeyframe& k : map_) map_scans_.push_back({&k.segmentation, relative(k.T_odom_sensor, keyframe_pose_)});
+  refiner_.prepare(map_scans_, refine_keyframe_);
 }
 
 void SegmentOdometry::remember(double stamp) {

@@ -75,6 +75,7 @@ struct OdometryKeys {
     visit("doubtful_ratio", p.doubtful_ratio);
     visit("prior_preference", p.prior_preference);
     visit("search_when_doubtful", p.search_when_doubtful);
+    visit("local_map_keyframes", p.local_map_keyframes);
   }
 };
 

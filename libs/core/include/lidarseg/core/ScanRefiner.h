@@ -124,7 +124,15 @@ struct RefinementKeyframe {
   std::vector<int> line_of;
   /// bin_start[b]: the first sorted entry whose pseudo-bearing is >= b * 4 / (bins).
   std::vector<int> bin_start;
+  /// Scans merged (a local map of several keyframes): the bearing window grows with them.
+  std::size_t scans = 0;
   std::vector<std::pair<double, int>> scratch;
+};
+
+/// One scan of a local map: its segmentation and its pose in the reference keyframe's frame.
+struct RefinementMapScan {
+  const Segmentation* segmentation = nullptr;
+  Pose2D T_key_scan;
 };
 
 /// Refines T_key_curr by robust Gauss-Newton on point-to-line distances: each valid point of
@@ -152,6 +160,10 @@ class ScanRefiner {
 
   /// Prepares `keyframe` for refinements: O(beams).
   void prepare(const Segmentation& keyframe, RefinementKeyframe& out) const;
+  /// Prepares a local map: several scans' segments moved into the reference keyframe's
+  /// frame (the points pair with the nearest line around their bearing, whichever scan it
+  /// came from). O(total beams x log).
+  void prepare(const std::vector<RefinementMapScan>& scans, RefinementKeyframe& out) const;
 
   /// The inlier ratio of RefineResult at `T_key_curr`, without optimising: the score of a
   /// hypothesis.
