@@ -43,6 +43,9 @@ int main(int argc, char** argv) {
     TCLAP::ValueArg<std::string> scan_stamp("", "scan-stamp",
                                             "which beam's instant the log's stamps are, for --scanner-hz: first, middle or last",
                                             false, "", "first|middle|last", cmd);
+    TCLAP::ValueArg<double> max_lost("", "max-lost-ratio",
+                                     "share of lost scans above which the run is reported as lost (default 0.01)",
+                                     false, 0.01, "SHARE", cmd);
     TCLAP::SwitchArg quiet("q", "quiet", "no progress on stderr", cmd);
     TCLAP::SwitchArg no_plots("", "no-plots", "do not draw PNG pictures", cmd);
     cmd.parse(argc, argv);
@@ -78,6 +81,11 @@ int main(int argc, char** argv) {
     o.features_out = features_out.getValue();
     o.scanner_rotation_hz = scanner_hz.getValue();
     o.scan_stamp = scan_stamp.getValue();
+    o.max_lost_ratio = max_lost.getValue();
+    if (!(o.max_lost_ratio >= 0.0 && o.max_lost_ratio <= 1.0)) {
+      std::cerr << "lidarseg-odometry: error: --max-lost-ratio must be in [0, 1] (got " << o.max_lost_ratio << ")\n";
+      return 2;
+    }
     o.progress = !quiet.getValue();
     o.plots = !no_plots.getValue();
     o.allow_truncated = allow_truncated.getValue();
