@@ -498,12 +498,12 @@ OdometryReport OdometryApp::run() {
         add(gt ? "ground truth" : "log poses", *reference, 0, 0, 0, {});
       }
       add("lidarseg", report.lidarseg.trajectory, 200, 80, 0, anchor);
-      if (report.icp) add("MRPT ICP (keyframed)", report.icp->trajectory, 0, 0, 220, anchor);
-      if (report.icp_s2s) add("MRPT ICP (scan to scan)", report.icp_s2s->trajectory, 160, 0, 160, anchor);
+      if (report.icp) add("MRPT ICP keyframed", report.icp->trajectory, 0, 0, 220, anchor);
+      if (report.icp_s2s) add("MRPT ICP s2s", report.icp_s2s->trajectory, 160, 0, 160, anchor);
       outputs.add(path("trajectories.png"), plotTrajectoriesPng(series, "Trajectories: " + fs::path(o.input).filename().string()));
       std::vector<PlotSeries> hist;
-      hist.push_back({"lidarseg (segmentation + cascade + matching)", 200, 80, 0, report.lidarseg.time_us, {}, false});
-      if (report.icp) hist.push_back({"MRPT ICP keyframed (points + alignment)", 0, 0, 220, report.icp->time_us, {}, false});
+      hist.push_back({"lidarseg", 200, 80, 0, report.lidarseg.time_us, {}, false});
+      if (report.icp) hist.push_back({"MRPT ICP keyframed", 0, 0, 220, report.icp->time_us, {}, false});
       outputs.add(path("timing.png"), plotHistogramsPng(hist, "Time per scan", "microseconds"));
     }
     report.outputs = {path("lidarseg.tum"), path("timing.csv"), path("summary.json"), path("results.md")};
