@@ -43,8 +43,9 @@ struct OdometryParams {
   bool search_when_doubtful = true;
   /// The refinement pairs the points with the segments of this many keyframes (the current
   /// one and the previous ones, moved into its frame): a local map. 1 = the keyframe alone.
-  /// 3 measured better than 1 on the real logs (decision 40), at about twice the cost.
-  std::size_t local_map_keyframes = 3;
+  /// 2 measured better than 1 on the real logs and the hospital, worse on the 5 Hz maze
+  /// (decision 40), at about 1.5 times the cost.
+  std::size_t local_map_keyframes = 2;
   /// Cascade level whose segments are matched (paper: the high level).
   CascadeLevel level = CascadeLevel::kFusedAgain;
   /// When the match at `level` is degenerate (a corridor), match again at this finer level
