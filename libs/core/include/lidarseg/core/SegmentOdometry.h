@@ -131,7 +131,11 @@ struct OdometryStep {
 /// Laser odometry with the segment matcher. Each scan is segmented once; the keyframe's
 /// segments are kept for the next scans. The prior is the constant-velocity prediction (the previous
 /// increment scaled to the time elapsed), or, when given, the wheel-odometry increment.
-/// When the matcher fails, the prior is used and the step's covariance says so.
+/// Each segment match (paper §III.A) is refined with the scan's points against the local
+/// map's segments (ScanRefiner); when neither it nor a refinement from the prior holds, a
+/// correlative search around the prior (CorrelativeSearch) is refined instead. When all of
+/// them fail the scan is lost: the prior is kept and the step's covariance says so
+/// (OdometryStep::status; docs/architecture.md, "Matching a scan").
 class SegmentOdometry {
  public:
   /// @throws std::invalid_argument for invalid parameters.
