@@ -36,10 +36,14 @@ struct Accumulator {
   std::size_t paired = 0, covered = 0, inliers = 0;
 };
 
-struct Workspace {
-  KeyframeIndex index;
-  std::vector<Eigen::Vector2d> points;  // the current scan's valid points
-};
+// The constrained directions as columns (at most 3, no heap allocation per scan).
+using Basis = Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3>;
+using Reduced = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3>;
+
+// inliers / covered points (0 when nothing pairs).
+double inlierRatioOf(const Accumulator& acc) {
+  return acc.inliers == 0 ? 0.0 : static_cast<double>(acc.inliers) / static_cast<double>(std::max(acc.covered, acc.inliers));
+}
 
 }  // namespace
 
@@ -256,29 +260,11 @@ void collectPoints(const Segmentation& current, std::size_t limit, std::vector<E
 }
 }  // namespace
 
-double ScanRefiner::inlierRatio(const Segmentation& keyframe, const Segmentation& current,
-                                const Pose2D& T_key_curr) const {
-  thread_local Workspace ws;
-  prepare(keyframe, ws.index);
-  return inlierRatio(ws.index, current, T_key_curr);
-}
-
-double ScanRefiner::inlierRatio(const RefinementKeyframe& keyframe, const Segmentation& current,
-                                const Pose2D& T_key_curr) const {
-  thread_local std::vector<Eigen::Vector2d> points;
-  collectPoints(current, params_.max_points, points);
-  if (points.empty()) return 0.0;
-  Accumulator acc;
-  accumulate(keyframe, params_, points, T_key_curr, 1.0, acc);
-  return acc.inliers == 0 ? 0.0
-                          : static_cast<double>(acc.inliers) / static_cast<double>(std::max(acc.covered, acc.inliers));
-}
-
 RefineResult ScanRefiner::refine(const Segmentation& keyframe, const Segmentation& current,
                                  const Pose2D& initial) const {
-  thread_local Workspace ws;
-  prepare(keyframe, ws.index);
-  return refine(ws.index, current, initial);
+  thread_local RefinementKeyframe prepared;
+  prepare(keyframe, prepared);
+  return refine(prepared, current, initial);
 }
 
 RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segmentation& current,
@@ -319,7 +305,7 @@ RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segme
     return lambda(2) > 0.0 && strong_mask.sum() > 0.0;
   };
   const auto strongBasis = [&]() {
-    Eigen::MatrixXd Vs(3, static_cast<Eigen::Index>(strong_mask.sum()));
+    Basis Vs(3, static_cast<Eigen::Index>(strong_mask.sum()));
     Eigen::Index c = 0;
     for (int k = 0; k < 3; ++k) {
       if (strong_mask(k) != 0.0) Vs.col(c++) = V.col(k);
@@ -333,8 +319,8 @@ RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segme
     accumulate(keyframe, P, points, T, D(2), acc);
     if (acc.paired < P.min_points || !decompose(acc.Hu)) return result;
     // Step in the constrained subspace only (the weak directions keep their value).
-    const Eigen::MatrixXd Vs = strongBasis();
-    const Eigen::MatrixXd Hs = Vs.transpose() * acc.H * Vs;
+    const Basis Vs = strongBasis();
+    const Reduced Hs = Vs.transpose() * acc.H * Vs;
     Eigen::Vector3d step = -Vs * Hs.ldlt().solve(Vs.transpose() * acc.g);
     if (!step.allFinite()) return result;
     step = step.cwiseProduct(D);  // back to (m, m, rad)
@@ -347,14 +333,13 @@ RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segme
   result.T_key_curr = T;
   result.inliers = acc.inliers;
   result.covered = acc.covered;
-  result.inlier_ratio =
-      acc.inliers == 0 ? 0.0 : static_cast<double>(acc.inliers) / static_cast<double>(std::max(acc.covered, acc.inliers));
+  result.inlier_ratio = inlierRatioOf(acc);
   result.rms_m = acc.inliers > 0 ? std::sqrt(acc.inlier_r2 / static_cast<double>(acc.inliers)) : 0.0;
   // Residual variance (robustly weighted), floored; information of correlated points shared.
   const double dof = std::max(1.0, acc.wsum - 3.0);
   const double sigma2 = std::max(acc.wr2 / dof, P.min_point_sigma_m * P.min_point_sigma_m);
-  const Eigen::MatrixXd Vs = strongBasis();
-  const Eigen::MatrixXd Hs = Vs.transpose() * acc.H * Vs;
+  const Basis Vs = strongBasis();
+  const Reduced Hs = Vs.transpose() * acc.H * Vs;
   Eigen::Matrix3d cov_scaled = Vs * Hs.inverse() * Vs.transpose() * (sigma2 * P.correlation_length_points);
   for (int k = 0; k < 3; ++k) {
     if (strong_mask(k) == 0.0) cov_scaled += V.col(k) * V.col(k).transpose() * u2;

@@ -75,7 +75,7 @@ void SegmentOdometry::reset() {
   keyframe_pose_ = {};
   history_size_ = 0;
   velocity_ = {};
-  map_.clear();
+  map_size_ = 0;
 }
 
 void SegmentOdometry::segmentInto(const Scan& scan, int slot, const Twist2D& motion, OdometryStep& step) {
@@ -226,7 +226,7 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
     step.keyframe = true;
     keyframe_ = slot;
     keyframe_pose_ = pose_;
-    map_.clear();
+    map_size_ = 0;
     prepareKeyframe();
     last_stamp_ = scan.stamp_s;
     ++count_;
@@ -295,10 +295,16 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
     // The keyframe being replaced joins the local map (when there is one), unless it was
     // matched badly itself.
     if (params_.local_map_keyframes > 1 && step.status != TrackStatus::kLost) {
-      if (map_.size() + 1 >= params_.local_map_keyframes) map_.pop_front();
-      map_.push_back({segmentation_[keyframe_], keyframe_pose_});
+      // A ring of the previous keyframes; copy-assignment reuses each slot's buffers.
+      const std::size_t capacity = params_.local_map_keyframes - 1;
+      if (map_.size() < capacity) map_.resize(capacity);
+      MapKeyframe& slot_k = map_[map_next_];
+      slot_k.segmentation = segmentation_[keyframe_];
+      slot_k.T_odom_sensor = keyframe_pose_;
+      map_next_ = (map_next_ + 1) % capacity;
+      map_size_ = std::min(map_size_ + 1, capacity);
     }
-    if (step.status == TrackStatus::kLost) map_.clear();
+    if (step.status == TrackStatus::kLost) map_size_ = 0;
     keyframe_ = slot;
     keyframe_pose_ = pose_;
     prepareKeyframe();
@@ -311,7 +317,10 @@ void SegmentOdometry::prepareKeyframe() {
   if (!params_.refiner.enabled) return;
   map_scans_.clear();
   map_scans_.push_back({&segmentation_[keyframe_], Pose2D{}});
-  for (const MapKeyframe& k : map_) map_scans_.push_back({&k.segmentation, relative(k.T_odom_sensor, keyframe_pose_)});
+  for (std::size_t i = 0; i < map_size_; ++i) {
+    const MapKeyframe& k = map_[(map_next_ + map_.size() - 1 - i) % map_.size()];  // newest first
+    map_scans_.push_back({&k.segmentation, relative(k.T_odom_sensor, keyframe_pose_)});
+  }
   refiner_.prepare(map_scans_, refine_keyframe_);
 }
 

@@ -165,13 +165,6 @@ class ScanRefiner {
   /// came from). O(total beams x log).
   void prepare(const std::vector<RefinementMapScan>& scans, RefinementKeyframe& out) const;
 
-  /// The inlier ratio of RefineResult at `T_key_curr`, without optimising: the score of a
-  /// hypothesis.
-  double inlierRatio(const Segmentation& keyframe, const Segmentation& current,
-                     const Pose2D& T_key_curr) const;
-  double inlierRatio(const RefinementKeyframe& keyframe, const Segmentation& current,
-                     const Pose2D& T_key_curr) const;
-
   const RefinerParams& params() const { return params_; }
 
  private:

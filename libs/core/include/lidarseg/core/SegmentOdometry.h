@@ -3,7 +3,6 @@
 /// Laser odometry from consecutive scans: segment each scan once, match it with the
 /// previous one, integrate the motion.
 
-#include <deque>
 #include <optional>
 #include <vector>
 
@@ -177,7 +176,9 @@ class SegmentOdometry {
     Segmentation segmentation;
     Pose2D T_odom_sensor;
   };
-  std::deque<MapKeyframe> map_;  // previous keyframes of the local map, oldest first
+  std::vector<MapKeyframe> map_;  // ring of the previous keyframes of the local map
+  std::size_t map_next_ = 0;      // the slot the next one goes to
+  std::size_t map_size_ = 0;      // how many slots hold a keyframe
   std::vector<RefinementMapScan> map_scans_;
   CorrelativeSearch search_;
   Segmentation segmentation_[2];  // the keyframe's and the current scan's
