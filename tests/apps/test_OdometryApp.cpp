@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/apps/SimulateApp.h"
@@ -82,6 +83,12 @@ TEST(OdometryApp, SimulatedRunBothMethodsEveryOutput) {
                           "\"sigma_edtheta_rad\"", "\"final_position_error_m\"", "\"ate_rmse_m\""}) {
     EXPECT_NE(json.find(key), std::string::npos) << key;
   }
+  // It reads back as JSON with the report's figures.
+  const auto parsed = nlohmann::json::parse(json);
+  EXPECT_EQ(parsed.at("frames").get<std::size_t>(), r.frames);
+  EXPECT_EQ(parsed.at("methods").at("lidarseg").at("tracking").get<std::string>(), r.lidarseg.tracking);
+  EXPECT_NEAR(parsed.at("methods").at("icp").at("time_ms").at("median").get<double>(),
+              r.icp->time_summary_us.median * 1e-3, 1e-9);
   EXPECT_EQ(slurp(o.out_dir + "/trajectories.png").substr(1, 3), "PNG");
   // timing.csv: a header and one line per scan.
   std::ifstream csv(o.out_dir + "/timing.csv");

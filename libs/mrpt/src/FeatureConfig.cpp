@@ -2,6 +2,7 @@
 
 #include "ConfigKeys.h"
 #include "KeyTables.h"
+#include "SectionLoaders.h"
 
 namespace lidarseg::mrpt_adapter {
 
@@ -19,13 +20,17 @@ void saveFeatureDetectorParams(const FeatureDetectorParams& params, mrpt::config
   detail::saveKeys(params, cfg, section, detail::FeatureKeys{});
 }
 
-FeatureDetectorParams loadFeatureDetectorParamsFile(const std::string& path) {
-  const detail::LoadedConfig file = detail::readConfigFile(path);
-  FeatureDetectorParams params;
+namespace detail {
+void loadFeatureSection(FeatureDetectorParams& params, const LoadedConfig& file, const std::string& path) {
   if (file.cfg.sectionExists(kFeaturesSection)) {
-    detail::loadKeys(params, file.cfg, kFeaturesSection, path, file.linesOf(kFeaturesSection),
-                     detail::FeatureKeys{});
+    loadKeys(params, file.cfg, kFeaturesSection, path, file.linesOf(kFeaturesSection), FeatureKeys{});
   }
+}
+}  // namespace detail
+
+FeatureDetectorParams loadFeatureDetectorParamsFile(const std::string& path) {
+  FeatureDetectorParams params;
+  detail::loadFeatureSection(params, detail::readConfigFile(path), path);
   return params;
 }
 

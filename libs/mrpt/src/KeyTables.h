@@ -4,6 +4,7 @@
 
 #include "lidarseg/core/FeatureDetector.h"
 #include "lidarseg/core/SegmentOdometry.h"
+#include "lidarseg/core/StampPolicy.h"
 #include "lidarseg/vision/CameraModel.h"
 #include "lidarseg/vision/PeopleDetector.h"
 #include "lidarseg/vision/RegionsOfInterest.h"
@@ -76,6 +77,20 @@ struct OdometryKeys {
     visit("prior_preference", p.prior_preference);
     visit("search_when_doubtful", p.search_when_doubtful);
     visit("local_map_keyframes", p.local_map_keyframes);
+  }
+};
+
+// Every key of the [stamps] section (how a run repairs a log's stamps).
+struct StampKeys {
+  template <typename Params, typename Visitor>
+  void operator()(Params& p, Visitor&& visit) const {
+    visit("max_time_gap_s", p.max_time_gap_s);
+    visit("max_speed_mps", p.max_speed_mps);
+    visit("max_turn_rate_radps", p.max_turn_rate_radps);
+    visit("unusable_step_span_s", p.unusable_step_span_s);
+    visit("min_span_s", p.min_span_s);
+    visit("jump_margin", p.jump_margin);
+    visit("output_nudge_s", p.output_nudge_s);
   }
 };
 

@@ -2,7 +2,6 @@
 
 #include "lidarseg/mrpt/PoseConversion.h"
 
-#include <chrono>
 #include <cmath>
 
 #include <mrpt/math/CMatrixFixed.h>
@@ -38,12 +37,11 @@ void LaserOdometry::reset() {
 }
 
 LaserOdometryStep LaserOdometry::process(const mrpt::obs::CObservation2DRangeScan& obs,
-                                         const std::optional<mrpt::poses::CPose2D>& robot_odometry_increment) {
+                                         const std::optional<mrpt::poses::CPose2D>& robot_odometry_increment,
+                                         std::optional<double> stamp_s) {
   LaserOdometryStep out;
-  const auto t0 = std::chrono::steady_clock::now();
   Scan scan = converter_.convert(obs);
-  scan.stamp_s = mrpt::Clock::toDouble(obs.timestamp);
-  out.conversion_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+  scan.stamp_s = stamp_s ? *stamp_s : mrpt::Clock::toDouble(obs.timestamp);
   const Pose2D S = sensorOnRobot(obs);
   std::optional<Pose2D> prior;
   if (robot_odometry_increment) {

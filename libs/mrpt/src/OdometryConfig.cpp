@@ -2,6 +2,7 @@
 
 #include "ConfigKeys.h"
 #include "KeyTables.h"
+#include "SectionLoaders.h"
 
 namespace lidarseg::mrpt_adapter {
 
@@ -63,10 +64,22 @@ void saveOdometryParams(const OdometryParams& params, mrpt::config::CConfigFileB
   detail::saveKeys(params, cfg, kOdometrySection, detail::OdometryKeys{});
 }
 
+namespace detail {
+void loadOdometrySections(OdometryParams& params, const LoadedConfig& file, const std::string& source) {
+  loadAll(params, file.cfg, source, &file);
+}
+void loadStampSection(StampPolicyParams& params, const LoadedConfig& file, const std::string& source) {
+  if (file.cfg.sectionExists(kStampsSection)) {
+    loadKeys(params, file.cfg, kStampsSection, source, file.linesOf(kStampsSection), StampKeys{});
+  }
+}
+}  // namespace detail
+
+std::vector<std::string> stampKeys() { return detail::keysOf<StampPolicyParams>(detail::StampKeys{}); }
+
 OdometryParams loadOdometryParamsFile(const std::string& path) {
-  const detail::LoadedConfig file = detail::readConfigFile(path);
   OdometryParams params;
-  loadAll(params, file.cfg, path, &file);
+  detail::loadOdometrySections(params, detail::readConfigFile(path), path);
   return params;
 }
 

@@ -6,6 +6,7 @@
 
 #include "ConfigKeys.h"
 #include "KeyTables.h"
+#include "SectionLoaders.h"
 
 namespace lidarseg::mrpt_adapter {
 
@@ -13,20 +14,25 @@ std::vector<std::string> cameraKeys() { return detail::keysOf<vision::CameraPara
 std::vector<std::string> roiKeys() { return detail::keysOf<vision::RoiParams>(detail::RoiKeys{}); }
 std::vector<std::string> peopleKeys() { return detail::keysOf<vision::PeopleDetectorParams>(detail::PeopleKeys{}); }
 
-VisionConfig loadVisionConfigFile(const std::string& path) {
-  const detail::LoadedConfig file = detail::readConfigFile(path);
-  VisionConfig out;
+namespace detail {
+void loadVisionSections(VisionConfig& out, const LoadedConfig& file, const std::string& path) {
   if (file.cfg.sectionExists(kCameraSection)) {
     vision::CameraParams camera;
-    detail::loadKeys(camera, file.cfg, kCameraSection, path, file.linesOf(kCameraSection), detail::CameraKeys{});
+    loadKeys(camera, file.cfg, kCameraSection, path, file.linesOf(kCameraSection), CameraKeys{});
     out.camera = camera;
   }
   if (file.cfg.sectionExists(kRoisSection)) {
-    detail::loadKeys(out.rois, file.cfg, kRoisSection, path, file.linesOf(kRoisSection), detail::RoiKeys{});
+    loadKeys(out.rois, file.cfg, kRoisSection, path, file.linesOf(kRoisSection), RoiKeys{});
   }
   if (file.cfg.sectionExists(kPeopleSection)) {
-    detail::loadKeys(out.people, file.cfg, kPeopleSection, path, file.linesOf(kPeopleSection), detail::PeopleKeys{});
+    loadKeys(out.people, file.cfg, kPeopleSection, path, file.linesOf(kPeopleSection), PeopleKeys{});
   }
+}
+}  // namespace detail
+
+VisionConfig loadVisionConfigFile(const std::string& path) {
+  VisionConfig out;
+  detail::loadVisionSections(out, detail::readConfigFile(path), path);
   return out;
 }
 

@@ -22,8 +22,6 @@ struct LaserOdometryStep {
   mrpt::poses::CPosePDFGaussian robot_pose;
   /// Robot motion since the previous scan with its covariance (robot frame).
   mrpt::poses::CPosePDFGaussian increment;
-  /// Time to convert the observation (microseconds).
-  double conversion_us = 0.0;
 };
 
 /// Feeds `CObservation2DRangeScan`s one at a time to lidarseg::SegmentOdometry (each scan
@@ -40,8 +38,10 @@ class LaserOdometry {
   ///        (robot frame), used as the prior instead of constant velocity.
   /// @throws std::invalid_argument for a scan that cannot be converted (fewer than 2
   ///         beams, bad aperture); the odometry's state is unchanged then.
+  /// @param stamp_s the scan's time for the motion model (s); empty: its own timestamp.
   LaserOdometryStep process(const mrpt::obs::CObservation2DRangeScan& scan,
-                            const std::optional<mrpt::poses::CPose2D>& robot_odometry_increment = {});
+                            const std::optional<mrpt::poses::CPose2D>& robot_odometry_increment = {},
+                            std::optional<double> stamp_s = {});
 
   /// The underlying core odometry (segmentations, velocity).
   const SegmentOdometry& core() const { return odometry_; }

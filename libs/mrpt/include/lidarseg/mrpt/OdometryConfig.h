@@ -16,6 +16,7 @@ inline const std::string kMatcherSection = "matcher";
 inline const std::string kOdometrySection = "odometry";
 inline const std::string kRefinerSection = "refiner";
 inline const std::string kSearchSection = "search";
+inline const std::string kStampsSection = "stamps";
 
 /// Names of every key of the [matcher] and [odometry] sections, in file order.
 std::vector<std::string> matcherKeys();
@@ -23,6 +24,8 @@ std::vector<std::string> odometryKeys();
 /// Names of every key of the [refiner] and [search] sections.
 std::vector<std::string> refinerKeys();
 std::vector<std::string> searchKeys();
+/// Names of every key of the [stamps] section (lidarseg::StampPolicyParams).
+std::vector<std::string> stampKeys();
 
 /// Reads the keys present in `section` into `params`, then validates them.
 /// @throws std::invalid_argument naming source, section and key (unknown key, not a

@@ -1,0 +1,93 @@
+#pragma once
+/// @file RunReport.h
+/// What an odometry run measured: per method, its trajectory, times, statuses and errors;
+/// for the run, what the log and the stamp policy made of the input. One value, written
+/// by every tool through the same writers (TUM, timing CSV, summary JSON, Markdown).
+
+#include <cstddef>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lidarseg/core/Pose2D.h"
+#include "lidarseg/core/Statistics.h"
+#include "lidarseg/eval/Relations.h"
+#include "lidarseg/eval/StampedTrajectory.h"
+#include "lidarseg/eval/TrajectoryMetrics.h"
+
+namespace lidarseg::apps {
+
+/// Figures of one method over a run.
+struct MethodReport {
+  std::string name;
+  eval::StampedTrajectory trajectory;
+  /// Time per scan (microseconds); for lidarseg also the stages.
+  std::vector<double> time_us;
+  Summary time_summary_us;
+  std::vector<double> segmentation_us, cascade_us, matching_us;
+  /// lidarseg, per scan: refinement (and search) time (part of matching_us), the
+  /// refinement's inlier ratio and iterations, and the segment match's status.
+  std::vector<double> refinement_us, inlier_ratio;
+  std::vector<std::size_t> refine_iterations;
+  std::vector<std::string> match_status;
+  /// lidarseg, per scan: the predicted motion since the previous scan (sensor frame).
+  std::vector<Pose2D> prior;
+  /// Per scan: the match status ("first" for the first scan) and the number of couples.
+  std::vector<std::string> scan_status;
+  std::vector<std::size_t> scan_matches;
+  /// lidarseg: scans per tracking status ("ok", "degenerate", "recovered", "lost"); ICP:
+  /// "converged", "not_converged", "skipped".
+  std::map<std::string, std::size_t> status_counts;
+  /// lidarseg: why the segment match failed (too few couples), by its dominant rejection
+  /// ("gated", "over_threshold", "ambiguous", "not_mutual", "outliers", "none"), whatever the
+  /// refinement or the search made of the scan afterwards.
+  std::map<std::string, std::size_t> match_failures;
+  /// lidarseg: the index of every lost scan (the first 1000).
+  std::vector<std::size_t> lost_scans;
+  std::size_t lost = 0;
+  /// "ok", or "lost" when more than OdometryOptions::max_lost_ratio of the scans were lost.
+  std::string tracking = "ok";
+  /// Standard deviations (x, y: m; yaw: rad) of the final pose from the propagated covariance.
+  double final_sigma_x_m = 0.0, final_sigma_y_m = 0.0, final_sigma_yaw_rad = 0.0;
+  /// Scans whose increment's translation 1-sigma exceeded 0.1 m (weakly constrained matches).
+  std::size_t weak_scans = 0;
+  std::optional<eval::TrajectoryErrors> errors;
+  std::optional<eval::RelationErrors> relations;
+  std::optional<eval::RelationErrors> log_relations;
+};
+
+/// Everything a run measured.
+struct OdometryReport {
+  std::string input;
+  std::string format;
+  std::string sensor;
+  std::size_t frames = 0;
+  /// Scans or lines skipped, with where and why (the first 100), and the count.
+  std::vector<std::string> skipped;
+  std::size_t skipped_count = 0;
+  /// Scans whose time did not increase (processed with a synthetic time step).
+  std::size_t non_increasing_stamps = 0;
+  /// Time gaps beyond max_time_gap_s (the prior restarted from rest).
+  std::size_t time_gaps = 0;
+  /// Wheel-odometry increments rejected as implausible (a jump).
+  std::size_t odometry_jumps = 0;
+  std::vector<std::string> warnings;
+  /// With allow_truncated: why the log could not be read to its end ("file, entry N: ...");
+  /// the results cover the scans before it. Empty when the log was read to its end.
+  std::string log_error;
+  std::string gt_path;
+  std::string relations_path;
+  MethodReport lidarseg;
+  /// MRPT ICP keyframed like lidarseg ("icp"), and scan to scan ("icp-s2s").
+  std::optional<MethodReport> icp;
+  std::optional<MethodReport> icp_s2s;
+  /// Median keyframed ICP time / median lidarseg time, measured in the same run.
+  double speedup_median = 0.0;
+  std::vector<std::string> outputs;
+};
+
+/// The name the issue tracker and the docs use for the run's report.
+using RunReport = OdometryReport;
+
+}  // namespace lidarseg::apps

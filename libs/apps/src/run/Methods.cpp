@@ -1,0 +1,105 @@
+#include "Methods.h"
+
+#include <cmath>
+
+#include <mrpt/poses/CPosePDFGaussian.h>
+
+#include "../Timing.h"
+#include "lidarseg/mrpt/PoseConversion.h"
+
+namespace lidarseg::apps::run {
+
+using mrpt_adapter::toMrpt;
+using mrpt_adapter::toPose2D;
+
+LidarsegMethod::LidarsegMethod(const OdometryParams& params) : OdometryMethod("lidarseg"), odometry_(params) {}
+
+void LidarsegMethod::process(const ScanInput& scan) {
+  std::optional<mrpt::poses::CPose2D> prior;
+  if (scan.prior) prior = toMrpt(*scan.prior);
+  last_ = odometry_.process(*scan.record.observation, prior, scan.time.model_stamp_s);
+  record(scan);
+}
+
+void LidarsegMethod::record(const ScanInput& scan) {
+  const OdometryStep& c = last_.core;
+  MethodReport& m = report_;
+  m.trajectory.push_back({scan.time.output_stamp_s, toPose2D(last_.robot_pose.mean)});
+  m.segmentation_us.push_back(c.wall_danielsson_us);
+  m.cascade_us.push_back(c.cascade_us);
+  m.matching_us.push_back(c.matching_us);
+  m.time_us.push_back(c.wall_danielsson_us + c.cascade_us + c.matching_us);
+  m.scan_status.push_back(toString(c.status));
+  m.refinement_us.push_back(c.refinement_us);
+  m.prior.push_back(c.prior);
+  m.inlier_ratio.push_back(c.refine.inlier_ratio);
+  m.refine_iterations.push_back(c.refine.iterations);
+  m.match_status.push_back(c.first ? "first" : toString(c.match.status));
+  m.scan_matches.push_back(c.match.matches.size());
+  if (!c.first) {
+    ++m.status_counts[toString(c.status)];
+    if (c.match.status == MatchStatus::kTooFewMatches) ++m.match_failures[c.match.rejections.dominant()];
+    if (c.status == TrackStatus::kLost) {
+      ++m.lost;
+      if (m.lost_scans.size() < 1000) m.lost_scans.push_back(scan.record.index);
+    }
+    if (std::sqrt(std::max(last_.increment.cov(0, 0), last_.increment.cov(1, 1))) > 0.1) ++m.weak_scans;
+  }
+  m.final_sigma_x_m = std::sqrt(last_.robot_pose.cov(0, 0));
+  m.final_sigma_y_m = std::sqrt(last_.robot_pose.cov(1, 1));
+  m.final_sigma_yaw_rad = std::sqrt(last_.robot_pose.cov(2, 2));
+}
+
+IcpMethod::IcpMethod(std::string name, const mrpt::slam::CICP::TConfigParams& options, bool keyframed,
+                     double keyframe_distance_m, double keyframe_angle_rad)
+    : OdometryMethod(std::move(name)),
+      keyframed_(keyframed),
+      key_distance_(keyframe_distance_m),
+      key_angle_(keyframe_angle_rad) {
+  icp_.options = options;
+}
+
+Pose2D IcpMethod::predictedIncrement(const ScanInput& scan) const {
+  if (scan.prior) return *scan.prior;
+  if (last_dt_ <= 0.0) return {};
+  const double k = scan.time.dt_s / last_dt_;  // constant velocity
+  return {last_increment_.x * k, last_increment_.y * k, last_increment_.yaw * k};
+}
+
+void IcpMethod::process(const ScanInput& scan) {
+  const auto t0 = Clock::now();
+  auto current = std::make_unique<mrpt::maps::CSimplePointsMap>();
+  current->insertionOptions.minDistBetweenLaserPoints = 0.0f;
+  current->loadFromRangeScan(*scan.record.observation);
+  bool renew = !reference_;
+  if (reference_) {
+    // From the reference: T_ref_curr = T_ref_last (+) predicted increment.
+    Pose2D T_ref_curr = compose(relative(pose_, reference_pose_), predictedIncrement(scan));
+    if (current->size() >= 5 && reference_->size() >= 5) {
+      mrpt::slam::CICP::TReturnInfo info;
+      const auto pdf =
+          icp_.AlignPDF(reference_.get(), current.get(), mrpt::poses::CPosePDFGaussian(toMrpt(T_ref_curr)), info);
+      T_ref_curr = toPose2D(pdf->getMeanVal());
+      const bool converged = info.nIterations < icp_.options.maxIterations;
+      ++report_.status_counts[converged ? "converged" : "not_converged"];
+      renew = !converged;
+    } else {
+      ++report_.status_counts["skipped"];
+      renew = true;
+    }
+    const Pose2D new_pose = compose(reference_pose_, T_ref_curr);
+    last_increment_ = relative(new_pose, pose_);
+    last_dt_ = scan.time.dt_s;
+    pose_ = new_pose;
+    renew = renew || !keyframed_ || std::hypot(T_ref_curr.x, T_ref_curr.y) >= key_distance_ ||
+            std::abs(T_ref_curr.yaw) >= key_angle_;
+  }
+  if (renew) {
+    reference_ = std::move(current);
+    reference_pose_ = pose_;
+  }
+  report_.time_us.push_back(microsecondsSince(t0));
+  report_.trajectory.push_back({scan.time.output_stamp_s, pose_});
+}
+
+}  // namespace lidarseg::apps::run

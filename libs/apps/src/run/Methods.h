@@ -1,0 +1,83 @@
+#pragma once
+// Private to lidarseg::apps: the odometry methods a run compares, behind one interface.
+// lidarseg (through the MRPT adapter's LaserOdometry) and MRPT's ICP, keyframed with
+// lidarseg's policy or scan to scan. A new baseline is one more class.
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/slam/CICP.h>
+
+#include "lidarseg/apps/RunReport.h"
+#include "lidarseg/core/StampPolicy.h"
+#include "lidarseg/mrpt/LaserLogReader.h"
+#include "lidarseg/mrpt/LaserOdometry.h"
+
+namespace lidarseg::apps::run {
+
+/// One scan as every method sees it.
+struct ScanInput {
+  const mrpt_adapter::LaserRecord& record;
+  /// The stamp policy's view of the scan's time (model clock, output stamp, gap).
+  StampStep time;
+  /// The robot's motion since the previous scan (robot frame) when known: the plausible
+  /// wheel-odometry increment, or no motion after a time gap; empty: constant velocity.
+  std::optional<Pose2D> prior;
+};
+
+/// An odometry method: robot poses, scan after scan, into its own MethodReport.
+class OdometryMethod {
+ public:
+  virtual ~OdometryMethod() = default;
+  /// Processes the next scan and appends its pose, time and status to report().
+  /// @throws std::invalid_argument when the scan cannot be used (the run then skips it
+  ///         for every method, and this method's state is unchanged).
+  virtual void process(const ScanInput& scan) = 0;
+  MethodReport& report() { return report_; }
+  const MethodReport& report() const { return report_; }
+
+ protected:
+  explicit OdometryMethod(std::string name) { report_.name = std::move(name); }
+  MethodReport report_;
+};
+
+/// lidarseg: segmentation, segment match, refinement, search (SegmentOdometry through the
+/// MRPT adapter, which accounts for the laser's mounting on the robot).
+class LidarsegMethod : public OdometryMethod {
+ public:
+  explicit LidarsegMethod(const OdometryParams& params);
+  void process(const ScanInput& scan) override;
+  /// The last processed scan's step (robot pose, increment, core details).
+  const mrpt_adapter::LaserOdometryStep& lastStep() const { return last_; }
+  const SegmentOdometry& core() const { return odometry_.core(); }
+
+ private:
+  void record(const ScanInput& scan);
+  mrpt_adapter::LaserOdometry odometry_;
+  mrpt_adapter::LaserOdometryStep last_;
+};
+
+/// MRPT ICP as a laser odometry: each scan's points aligned against a reference scan's
+/// (the keyframe's, renewed with lidarseg's policy, or the previous scan's), from the same
+/// kind of prior as lidarseg.
+class IcpMethod : public OdometryMethod {
+ public:
+  /// keyframed: renew the reference when the motion from it exceeds the distances below
+  /// (m, rad) or ICP did not converge; otherwise every scan is the next one's reference.
+  IcpMethod(std::string name, const mrpt::slam::CICP::TConfigParams& options, bool keyframed,
+            double keyframe_distance_m, double keyframe_angle_rad);
+  void process(const ScanInput& scan) override;
+
+ private:
+  Pose2D predictedIncrement(const ScanInput& scan) const;
+  mrpt::slam::CICP icp_;
+  bool keyframed_;
+  double key_distance_, key_angle_;
+  std::unique_ptr<mrpt::maps::CSimplePointsMap> reference_;
+  Pose2D reference_pose_, pose_, last_increment_;
+  double last_dt_ = 0.0;
+};
+
+}  // namespace lidarseg::apps::run

@@ -1,0 +1,70 @@
+#pragma once
+// Private to lidarseg::apps: the one run loop of every tool. Records in (from any log
+// reader), stamps repaired, the prior chosen, every method run on the same scan; the
+// report out. lidarseg-odometry, the batch runner (through it) and the inspector all run
+// this class, so one log gives one trajectory everywhere.
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "Methods.h"
+#include "lidarseg/apps/RunReport.h"
+#include "lidarseg/core/StampPolicy.h"
+#include "lidarseg/mrpt/LidarsegConfig.h"
+
+namespace lidarseg::apps::run {
+
+/// What a run compares and how.
+struct RunSettings {
+  mrpt_adapter::LidarsegConfig config;
+  /// The log's wheel odometry as every method's prior (default: constant velocity).
+  bool use_odometry = false;
+  /// MRPT ICP keyframed with lidarseg's policy ("icp") and scan to scan ("icp-s2s").
+  bool icp_keyframed = false;
+  bool icp_scan_to_scan = false;
+};
+
+/// The outcome of one record.
+struct RunStep {
+  /// False: the scan could not be used (skipped, counted with the reason).
+  bool processed = false;
+  /// The stamp policy's view of it.
+  StampStep time;
+  /// Why it was skipped.
+  std::string error;
+};
+
+class OdometryRun {
+ public:
+  /// @throws std::invalid_argument for invalid parameters.
+  explicit OdometryRun(const RunSettings& settings);
+  /// Processes the next record of the log (records must come in the log's order).
+  RunStep process(const mrpt_adapter::LaserRecord& record);
+  /// lidarseg's method: its last step and segmentation.
+  const LidarsegMethod& lidarseg() const { return *lidarseg_; }
+  /// Counts of the run so far (frames, stamps, jumps, skipped scans, warnings).
+  const OdometryReport& counts() const { return counts_; }
+  /// The poses the log holds beside its scans (CARMEN "corrected" logs), at the output stamps.
+  const eval::StampedTrajectory& logPoses() const { return log_poses_; }
+  /// Median model time step between scans (s); 0.1 before two scans.
+  double medianStep() const;
+  /// Ends the run: the counts with every method's report moved in (lidarseg, then the
+  /// baselines), time summaries computed and the tracking verdict given.
+  OdometryReport finish(double max_lost_ratio);
+
+ private:
+  std::optional<Pose2D> priorOf(const mrpt_adapter::LaserRecord& record, const StampStep& time);
+  void warn(const std::string& message);
+  RunSettings settings_;
+  StampPolicy stamps_;
+  std::unique_ptr<LidarsegMethod> lidarseg_;
+  std::unique_ptr<IcpMethod> icp_, icp_s2s_;
+  std::vector<OdometryMethod*> methods_;
+  OdometryReport counts_;
+  eval::StampedTrajectory log_poses_;
+  std::optional<Pose2D> last_odometry_;
+  std::vector<double> steps_;
+};
+
+}  // namespace lidarseg::apps::run

@@ -1,0 +1,209 @@
+#include "ReportWriters.h"
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+namespace lidarseg::apps::run {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+constexpr double kDegPerRad = 180.0 / M_PI;
+
+// Non-finite numbers become null (nlohmann-json writes them so already; said here).
+Json number(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
+
+Json summaryOf(const Summary& s, double scale) {
+  return Json{{"mean", number(s.mean * scale)},     {"std", number(s.stddev * scale)},
+              {"median", number(s.median * scale)}, {"p99", number(s.p99 * scale)},
+              {"max", number(s.max * scale)},       {"count", s.count}};
+}
+
+Json relationsOf(const eval::RelationErrors& r) {
+  return Json{{"relations", r.relations},
+              {"evaluated", r.evaluated},
+              {"translation_m", summaryOf(r.translation_m, 1.0)},
+              {"rotation_deg", summaryOf(r.rotation_rad, kDegPerRad)}};
+}
+
+Json errorsOf(const MethodReport& m) {
+  const auto& e = *m.errors;
+  return Json{{"associated", e.associated},
+              {"path_length_m", number(e.path_length_m)},
+              {"final_position_error_m", number(e.final_position_error_m)},
+              {"final_yaw_error_rad", number(e.final_yaw_error_rad)},
+              {"ate_rmse_m", number(e.ate_rmse_m)},
+              {"ate_mean_m", number(e.ate_mean_m)},
+              {"ate_max_m", number(e.ate_max_m)},
+              {"table1",
+               {{"t_ms", number(m.time_summary_us.mean * 1e-3)},
+                {"sigma_t_ms", number(m.time_summary_us.stddev * 1e-3)},
+                {"edx_m", number(e.motion.dx_m.mean)},
+                {"sigma_edx_m", number(e.motion.dx_m.stddev)},
+                {"edy_m", number(e.motion.dy_m.mean)},
+                {"sigma_edy_m", number(e.motion.dy_m.stddev)},
+                {"edtheta_rad", number(e.motion.dtheta_rad.mean)},
+                {"sigma_edtheta_rad", number(e.motion.dtheta_rad.stddev)}}}};
+}
+
+Json methodOf(const MethodReport& m) {
+  Json j{{"time_ms", summaryOf(m.time_summary_us, 1e-3)}, {"trajectory", m.name + ".tum"}};
+  j["status"] = Json::object();
+  for (const auto& [k, v] : m.status_counts) j["status"][k] = v;
+  if (m.name == "lidarseg") {
+    j["segmentation_ms"] = summaryOf(summarize(m.segmentation_us), 1e-3);
+    j["cascade_ms"] = summaryOf(summarize(m.cascade_us), 1e-3);
+    j["matching_ms"] = summaryOf(summarize(m.matching_us), 1e-3);
+    j["final_sigma"] = {{"x_m", number(m.final_sigma_x_m)},
+                        {"y_m", number(m.final_sigma_y_m)},
+                        {"yaw_rad", number(m.final_sigma_yaw_rad)}};
+    j["weak_scans"] = m.weak_scans;
+    j["tracking"] = m.tracking;
+    j["lost"] = m.lost;
+    j["lost_scans"] = m.lost_scans;
+    j["match_failures"] = Json::object();
+    for (const auto& [k, v] : m.match_failures) j["match_failures"][k] = v;
+  }
+  if (m.errors) j["errors"] = errorsOf(m);
+  if (m.relations) j["relations"] = relationsOf(*m.relations);
+  if (m.log_relations) j["log_relations"] = relationsOf(*m.log_relations);
+  return j;
+}
+
+std::vector<const MethodReport*> methodsOf(const OdometryReport& r) {
+  std::vector<const MethodReport*> methods = {&r.lidarseg};
+  if (r.icp) methods.push_back(&*r.icp);
+  if (r.icp_s2s) methods.push_back(&*r.icp_s2s);
+  return methods;
+}
+
+}  // namespace
+
+std::string tumText(const eval::StampedTrajectory& t, const std::string& header) {
+  std::ostringstream os;
+  eval::writeTum(os, t, header);
+  return os.str();
+}
+
+std::string timingCsv(const OdometryReport& report) {
+  const MethodReport& l = report.lidarseg;
+  std::ostringstream csv;
+  csv << "index,stamp_s,segmentation_us,cascade_us,matching_us,total_us,status,matches,refinement_us,"
+         "inlier_ratio,refine_iterations,match_status,prior_x_m,prior_y_m,prior_yaw_rad"
+      << (report.icp ? ",icp_total_us" : "") << (report.icp_s2s ? ",icp_s2s_total_us" : "") << "\n";
+  csv << std::setprecision(9);
+  for (std::size_t k = 0; k < l.time_us.size(); ++k) {
+    csv << k << ',' << std::fixed << l.trajectory[k].stamp_s << std::defaultfloat << ',' << l.segmentation_us[k]
+        << ',' << l.cascade_us[k] << ',' << l.matching_us[k] << ',' << l.time_us[k] << ',' << l.scan_status[k] << ','
+        << l.scan_matches[k] << ',' << l.refinement_us[k] << ',' << l.inlier_ratio[k] << ','
+        << l.refine_iterations[k] << ',' << l.match_status[k] << ',' << l.prior[k].x << ',' << l.prior[k].y << ','
+        << l.prior[k].yaw;
+    if (report.icp) csv << ',' << report.icp->time_us[k];
+    if (report.icp_s2s) csv << ',' << report.icp_s2s->time_us[k];
+    csv << '\n';
+  }
+  return csv.str();
+}
+
+std::string summaryJson(const OdometryReport& r) {
+  Json j{{"input", r.input},
+         {"format", r.format},
+         {"sensor", r.sensor},
+         {"frames", r.frames},
+         {"skipped", r.skipped_count},
+         {"skipped_examples", r.skipped},
+         {"non_increasing_stamps", r.non_increasing_stamps},
+         {"time_gaps", r.time_gaps},
+         {"odometry_jumps", r.odometry_jumps}};
+  if (!r.log_error.empty()) j["log_error"] = r.log_error;
+  j["warnings"] = r.warnings;
+  if (!r.gt_path.empty()) j["ground_truth"] = r.gt_path;
+  if (!r.relations_path.empty()) j["relations"] = r.relations_path;
+  j["methods"] = Json::object();
+  for (const auto* m : methodsOf(r)) j["methods"][m->name] = methodOf(*m);
+  if (r.icp) j["speedup_median"] = number(r.speedup_median);
+  return j.dump(1) + "\n";
+}
+
+namespace {
+
+void tableOne(const OdometryReport& r, std::ostream& os) {
+  const bool gt = r.lidarseg.errors.has_value();
+  os << "| method | t (ms) | σt (ms) | median (ms) | p99 (ms) | max (ms)";
+  if (gt) os << " | edx (mm) | σedx (mm) | edy (mm) | σedy (mm) | edθ (mrad) | σedθ (mrad) | final error (m) | ATE RMSE (m)";
+  os << " |\n|---|---:|---:|---:|---:|---:";
+  if (gt) os << "|---:|---:|---:|---:|---:|---:|---:|---:";
+  os << "|\n";
+  for (const auto* m : methodsOf(r)) {
+    const Summary& t = m->time_summary_us;
+    os << "| " << m->name << " | " << std::setprecision(4) << t.mean / 1e3 << " | " << t.stddev / 1e3 << " | "
+       << t.median / 1e3 << " | " << t.p99 / 1e3 << " | " << t.max / 1e3;
+    if (gt && m->errors) {
+      const auto& e = *m->errors;
+      os << std::setprecision(2) << " | " << e.motion.dx_m.mean * 1e3 << " | " << e.motion.dx_m.stddev * 1e3
+         << " | " << e.motion.dy_m.mean * 1e3 << " | " << e.motion.dy_m.stddev * 1e3 << " | "
+         << e.motion.dtheta_rad.mean * 1e3 << " | " << e.motion.dtheta_rad.stddev * 1e3 << " | "
+         << std::setprecision(3) << e.final_position_error_m << " | " << e.ate_rmse_m;
+    }
+    os << " |\n";
+  }
+}
+
+void lidarsegCounts(const OdometryReport& r, std::ostream& os) {
+  os << "\nlidarseg matches:";
+  for (const auto& [k, v] : r.lidarseg.status_counts) os << " " << k << " " << v << ";";
+  os << " scans with a translation 1-sigma above 0.1 m: " << r.lidarseg.weak_scans
+     << ". Final pose 1-sigma from the propagated covariance: " << std::setprecision(3)
+     << r.lidarseg.final_sigma_x_m << " m, " << r.lidarseg.final_sigma_y_m << " m, "
+     << r.lidarseg.final_sigma_yaw_rad * kDegPerRad << " deg.\n";
+  if (!r.lidarseg.match_failures.empty()) {
+    os << "\nSegment matches that failed, by their main reason:";
+    for (const auto& [k, v] : r.lidarseg.match_failures) os << " " << k << " " << v << ";";
+    os << "\n";
+  }
+  if (r.lidarseg.tracking == "lost") {
+    os << "\n**lidarseg lost track**: " << r.lidarseg.lost << " of " << r.frames
+       << " scans lost (the prediction was kept); no speed-up is claimed for this run.\n";
+  } else if (r.icp) {
+    os << "\nSpeed-up (median ICP time / median lidarseg time, same run): " << std::setprecision(1)
+       << r.speedup_median << "x\n";
+  }
+}
+
+template <typename Get>
+void relationTable(const OdometryReport& r, const char* title, Get get, std::ostream& os) {
+  if (!get(r.lidarseg)) return;
+  os << "\n" << title
+     << "\n\n| method | evaluated | trans. mean (m) | trans. median (m) | trans. std (m) | rot. mean (deg) | rot. "
+        "median (deg) | rot. std (deg) |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const auto* m : methodsOf(r)) {
+    const auto& e = *get(*m);
+    os << "| " << m->name << " | " << e.evaluated << "/" << e.relations << std::setprecision(4) << " | "
+       << e.translation_m.mean << " | " << e.translation_m.median << " | " << e.translation_m.stddev << " | "
+       << e.rotation_rad.mean * kDegPerRad << " | " << e.rotation_rad.median * kDegPerRad << " | "
+       << e.rotation_rad.stddev * kDegPerRad << " |\n";
+  }
+}
+
+}  // namespace
+
+std::string markdownTable(const OdometryReport& r) {
+  std::ostringstream os;
+  os << std::fixed;
+  os << "Input: `" << r.input << "` (" << r.format << ", sensor " << r.sensor << "), " << r.frames << " scans";
+  if (!r.gt_path.empty()) os << ", ground truth `" << r.gt_path << "`";
+  os << "\n\n";
+  tableOne(r, os);
+  lidarsegCounts(r, os);
+  relationTable(r, "Relations (Kümmerle et al. 2009):",
+                [](const MethodReport& m) { return m.relations ? &*m.relations : nullptr; }, os);
+  relationTable(r, "Per-scan relative motion against the log's poses:",
+                [](const MethodReport& m) { return m.log_relations ? &*m.log_relations : nullptr; }, os);
+  return os.str();
+}
+
+}  // namespace lidarseg::apps::run
