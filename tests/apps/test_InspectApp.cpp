@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "lidarseg/apps/InspectApp.h"
+#include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/apps/SimulateApp.h"
 #include "lidarseg/apps/inspect/Session.h"
 
@@ -46,6 +47,38 @@ std::size_t pixelsOfColour(const cv::Mat& img, const cv::Vec3b& bgr, int toleran
   }
   return n;
 }
+
+// The inspector runs the same pipeline as lidarseg-odometry: the same poses, scan by scan.
+void expectSamePosesAsTheOdometryApp(const std::string& log, std::size_t scans) {
+  OdometryOptions o;
+  o.input = log;
+  o.config_path = std::string(LIDARSEG_CONFIG_DIR) + "/default.ini";
+  o.max_scans = scans;
+  o.progress = false;
+  o.auto_gt = false;
+  const OdometryReport report = OdometryApp(o).run();
+  ASSERT_EQ(report.lidarseg.trajectory.size(), scans);
+  inspect::Session session(log, "", inspect::InspectorParams::fromFile(o.config_path));
+  const eval::StampedTrajectory poses = session.robotTrajectory(scans - 1);
+  ASSERT_EQ(poses.size(), scans);
+  double moved = 0.0;
+  for (std::size_t k = 0; k < scans; ++k) {
+    const auto& a = report.lidarseg.trajectory[k];
+    EXPECT_DOUBLE_EQ(poses[k].stamp_s, a.stamp_s) << k;
+    EXPECT_NEAR(poses[k].pose.x, a.pose.x, 1e-12) << k;
+    EXPECT_NEAR(poses[k].pose.y, a.pose.y, 1e-12) << k;
+    EXPECT_NEAR(poses[k].pose.yaw, a.pose.yaw, 1e-12) << k;
+    moved = std::max(moved, std::hypot(a.pose.x, a.pose.y));
+  }
+  EXPECT_GT(moved, 0.5);  // the comparison covers a real motion, not a robot at rest
+}
+
+TEST(InspectSession, PosesEqualLidarsegOdometryOnARealLog) {
+  expectSamePosesAsTheOdometryApp(
+      std::string(LIDARSEG_MRPT_DATASETS_DIR) + "/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog", 80);
+}
+
+TEST(InspectSession, PosesEqualLidarsegOdometryOnASimulatedLog) { expectSamePosesAsTheOdometryApp(simulatedLog(), 60); }
 
 TEST(InspectSession, ReadsOnDemandStepsBothWaysAndReprocessesOnNewParameters) {
   inspect::Session s(simulatedLog(), "", {});

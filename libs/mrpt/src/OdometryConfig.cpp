@@ -75,6 +75,10 @@ void loadStampSection(StampPolicyParams& params, const LoadedConfig& file, const
 }
 }  // namespace detail
 
+void saveStampPolicyParams(const StampPolicyParams& params, mrpt::config::CConfigFileBase& cfg) {
+  detail::saveKeys(params, cfg, kStampsSection, detail::StampKeys{});
+}
+
 std::vector<std::string> stampKeys() { return detail::keysOf<StampPolicyParams>(detail::StampKeys{}); }
 
 OdometryParams loadOdometryParamsFile(const std::string& path) {

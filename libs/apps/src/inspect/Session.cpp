@@ -13,6 +13,9 @@
 #include "../CameraRois.h"
 #include "../OutputFiles.h"
 #include "../Timing.h"
+#include "../run/OdometryRun.h"
+#include "lidarseg/mrpt/LidarsegConfig.h"
+#include "lidarseg/mrpt/PoseConversion.h"
 #include "lidarseg/core/ScanSegmenter.h"
 #include "lidarseg/mrpt/FeatureConfig.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
@@ -23,18 +26,30 @@
 namespace lidarseg::apps::inspect {
 
 InspectorParams InspectorParams::fromFile(const std::string& path) {
+  const mrpt_adapter::LidarsegConfig c = mrpt_adapter::LidarsegConfig::loadFile(path);
   InspectorParams p;
-  p.odometry = mrpt_adapter::loadOdometryParamsFile(path);
-  p.features = mrpt_adapter::loadFeatureDetectorParamsFile(path);
-  const mrpt_adapter::VisionConfig v = mrpt_adapter::loadVisionConfigFile(path);
-  p.rois = v.rois;
-  p.camera = v.camera;
+  p.odometry = c.odometry;
+  p.stamps = c.stamps;
+  p.features = c.features;
+  p.rois = c.vision.rois;
+  p.camera = c.vision.camera;
   return p;
 }
+
+namespace {
+// The inspector's run: lidarseg alone, constant-velocity prior, as lidarseg-odometry's default.
+std::unique_ptr<run::OdometryRun> makeRun(const InspectorParams& p) {
+  run::RunSettings settings;
+  settings.config.odometry = p.odometry;
+  settings.config.stamps = p.stamps;
+  return std::make_unique<run::OdometryRun>(settings);
+}
+}  // namespace
 
 void InspectorParams::saveIni(const std::string& path) const {
   mrpt::config::CConfigFileMemory cfg;
   mrpt_adapter::saveOdometryParams(odometry, cfg);
+  mrpt_adapter::saveStampPolicyParams(stamps, cfg);
   mrpt_adapter::saveFeatureDetectorParams(features, cfg);
   mrpt_adapter::VisionConfig v;
   v.rois = rois;
@@ -46,10 +61,11 @@ void InspectorParams::saveIni(const std::string& path) const {
 Session::Session(const std::string& log, const std::string& sensor_label, InspectorParams params)
     : path_(log), params_(std::move(params)) {
   params_.odometry.validate();
+  params_.stamps.validate();
   params_.features.validate();
   params_.rois.validate();
   reader_ = std::make_unique<mrpt_adapter::LaserLogReader>(log, sensor_label);
-  odometry_ = std::make_unique<SegmentOdometry>(params_.odometry);
+  run_ = makeRun(params_);
   if (!readUpTo(0)) throw std::runtime_error(log + ": no laser scan read");
 }
 
@@ -84,36 +100,35 @@ std::size_t Session::indexAtTime(double stamp_s) {
 
 void Session::setParams(const InspectorParams& params) {
   params.odometry.validate();
+  params.stamps.validate();
   params.features.validate();
   params.rois.validate();
   if (params.camera) params.camera->validate();
   params_ = params;
-  odometry_ = std::make_unique<SegmentOdometry>(params_.odometry);
+  run_ = makeRun(params_);
   steps_.clear();
   keyframe_segments_.reset();
   cached_.reset();
 }
 
 void Session::matchUpTo(std::size_t index) {
-  mrpt_adapter::ScanConverter converter;
   while (steps_.size() <= index) {
     const auto& record = *records_[steps_.size()];
     Step s;
-    try {
-      const Scan scan = converter.convert(*record.observation);
-      s.step = odometry_->process(scan);
+    const run::RunStep r = run_->process(record);
+    if (r.processed) {
+      const auto& last = run_->lidarseg().lastStep();
+      s.step = last.core;
+      s.robot_pose = eval::StampedPose{r.time.output_stamp_s, mrpt_adapter::toPose2D(last.robot_pose.mean)};
+      s.keyframe_index = keyframe_index_;
+      s.keyframe_segments = keyframe_segments_;
       if (s.step.keyframe || s.step.first || !keyframe_segments_) {
         // This scan is the keyframe of the next ones; this step matched the previous one.
-        s.keyframe_index = keyframe_index_;
-        s.keyframe_segments = keyframe_segments_;
         keyframe_index_ = steps_.size();
-        keyframe_segments_ = std::make_shared<const Segmentation>(odometry_->lastSegmentation());
-      } else {
-        s.keyframe_index = keyframe_index_;
-        s.keyframe_segments = keyframe_segments_;
+        keyframe_segments_ = std::make_shared<const Segmentation>(run_->lidarseg().core().lastSegmentation());
       }
-    } catch (const std::exception& e) {
-      s.error = e.what();
+    } else {
+      s.error = r.error;
       s.step.index = steps_.size();
       s.step.T_odom_sensor = steps_.empty() ? Pose2D{} : steps_.back().step.T_odom_sensor;
     }
@@ -132,6 +147,16 @@ std::vector<Pose2D> Session::trajectory(std::size_t index) {
   std::vector<Pose2D> out;
   out.reserve(index + 1);
   for (std::size_t i = 0; i <= index; ++i) out.push_back(steps_[i].step.T_odom_sensor);
+  return out;
+}
+
+eval::StampedTrajectory Session::robotTrajectory(std::size_t index) {
+  if (!readUpTo(index)) throw std::out_of_range("scan " + std::to_string(index) + " is past the end of " + path_);
+  matchUpTo(index);
+  eval::StampedTrajectory out;
+  for (std::size_t i = 0; i <= index; ++i) {
+    if (steps_[i].robot_pose) out.push_back(*steps_[i].robot_pose);
+  }
   return out;
 }
 

@@ -8,6 +8,7 @@
 #include <mrpt/config/CConfigFileBase.h>
 
 #include "lidarseg/core/SegmentOdometry.h"
+#include "lidarseg/core/StampPolicy.h"
 #include "lidarseg/mrpt/SegmentationConfig.h"
 
 namespace lidarseg::mrpt_adapter {
@@ -43,6 +44,9 @@ void loadOdometryParams(OdometryParams& params, const mrpt::config::CConfigFileB
                         const std::string& source = "configuration");
 /// Writes the five sections with every key.
 void saveOdometryParams(const OdometryParams& params, mrpt::config::CConfigFileBase& cfg);
+
+/// Writes the [stamps] section with every key.
+void saveStampPolicyParams(const StampPolicyParams& params, mrpt::config::CConfigFileBase& cfg);
 
 /// Loads an INI (or YAML, by extension) file's five sections on top of the defaults,
 /// with errors naming file:line [section] key.

@@ -18,6 +18,7 @@
 #include "lidarseg/core/Feature.h"
 #include "lidarseg/core/FeatureDetector.h"
 #include "lidarseg/core/SegmentOdometry.h"
+#include "lidarseg/core/StampPolicy.h"
 #include "lidarseg/eval/StampedTrajectory.h"
 #include "lidarseg/vision/RegionsOfInterest.h"
 
@@ -26,17 +27,23 @@ class LaserLogReader;
 struct LaserRecord;
 }  // namespace lidarseg::mrpt_adapter
 
+namespace lidarseg::apps::run {
+class OdometryRun;
+}  // namespace lidarseg::apps::run
+
 namespace lidarseg::apps::inspect {
 
 /// Everything the inspector's pipeline can be tuned with.
 struct InspectorParams {
   OdometryParams odometry;
+  /// How the log's stamps are repaired (the same run as lidarseg-odometry's).
+  StampPolicyParams stamps;
   FeatureDetectorParams features;
   vision::RoiParams rois;
   std::optional<vision::CameraParams> camera;  ///< empty: the images' own calibration
 
-  /// Reads [segmentation], [matcher], [odometry], [features], [camera], [rois] (each
-  /// optional). @throws as the loaders do (file:line [section] key).
+  /// Reads [segmentation], [matcher], [refiner], [search], [odometry], [stamps], [features],
+  /// [camera], [rois] (each optional; one LidarsegConfig). @throws as the loaders do (file:line [section] key).
   static InspectorParams fromFile(const std::string& path);
   /// Writes every section the other apps read.
   void saveIni(const std::string& path) const;
@@ -105,6 +112,10 @@ class Session {
   const std::vector<Reference>& references() const { return references_; }
   /// lidarseg's sensor poses (odometry frame) of scans 0..index.
   std::vector<Pose2D> trajectory(std::size_t index);
+  /// lidarseg's robot poses of scans 0..index, stamped: the same run, hence the same poses,
+  /// as lidarseg-odometry's lidarseg.tum (constant-velocity prior). A scan that could not
+  /// be used has none.
+  eval::StampedTrajectory robotTrajectory(std::size_t index);
 
   /// The picture of scan `index` with these layers.
   Drawing draw(std::size_t index, const Layers& layers);
@@ -122,10 +133,11 @@ class Session {
   std::unique_ptr<mrpt_adapter::LaserLogReader> reader_;
   std::vector<std::shared_ptr<mrpt_adapter::LaserRecord>> records_;
   bool complete_ = false;
-  // Odometry run so far (scan by scan, in order).
-  std::unique_ptr<SegmentOdometry> odometry_;
+  // Odometry run so far (scan by scan, in order): the run every tool shares.
+  std::unique_ptr<run::OdometryRun> run_;
   struct Step {
     OdometryStep step;
+    std::optional<eval::StampedPose> robot_pose;
     std::size_t keyframe_index = 0;
     std::shared_ptr<const Segmentation> keyframe_segments;
     std::string error;
