@@ -1,4 +1,4 @@
-// lidarseg-segment: segments every scan of an MRPT rawlog and prints per-level statistics.
+// lidarseg-segment: segments every scan of a laser log (MRPT rawlog or CARMEN) and prints per-level statistics.
 #include <iostream>
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
@@ -7,9 +7,9 @@
 
 int main(int argc, char** argv) {
   try {
-    TCLAP::CmdLine cmd("Wall-Danielsson segmentation and cascade filter statistics of a rawlog",
+    TCLAP::CmdLine cmd("Wall-Danielsson segmentation and cascade filter statistics of a laser log (MRPT rawlog or CARMEN)",
                        ' ', "0.1.0");
-    TCLAP::UnlabeledValueArg<std::string> input("input", "MRPT .rawlog file", true, "", "FILE",
+    TCLAP::UnlabeledValueArg<std::string> input("input", "MRPT .rawlog or CARMEN log (.clf/.log, optionally .gz)", true, "", "FILE",
                                                 cmd);
     TCLAP::ValueArg<std::string> config("c", "config", "INI or YAML parameter file", false, "",
                                         "FILE", cmd);

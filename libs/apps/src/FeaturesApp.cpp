@@ -15,7 +15,7 @@
 #include "Format.h"
 #include "Png.h"
 #include "FeatureCsv.h"
-#include "Json.h"
+#include "JsonText.h"
 #include "OutputFiles.h"
 #include "Plots.h"
 #include "Timing.h"
@@ -23,6 +23,7 @@
 #include "lidarseg/core/ScanSegmenter.h"
 #include "lidarseg/mrpt/FeatureConfig.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
+#include "lidarseg/mrpt/LidarsegConfig.h"
 #include "lidarseg/mrpt/ScanConverter.h"
 #include "lidarseg/mrpt/OdometryConfig.h"
 #include "lidarseg/mrpt/VisionConfig.h"
@@ -41,19 +42,12 @@ FeaturesApp::FeaturesApp(FeaturesOptions options) : options_(std::move(options))
 }
 
 FeaturesReport FeaturesApp::run() {
-  SegmentationParams seg_params;
-  FeatureDetectorParams det_params;
-  if (!options_.config_path.empty()) {
-    const std::string& path = options_.config_path;
-    // Absent sections keep their defaults (the odometry loader reads [segmentation] so).
-    seg_params = mrpt_adapter::loadOdometryParamsFile(path).segmentation;
-    det_params = mrpt_adapter::loadFeatureDetectorParamsFile(path);
-  }
-  mrpt_adapter::VisionConfig vision_config;
-  if (!options_.config_path.empty()) vision_config = mrpt_adapter::loadVisionConfigFile(options_.config_path);
-  const CameraRois camera_rois(options_.input, vision_config.camera, vision_config.rois);
-  const ScanSegmenter segmenter(seg_params);
-  const FeatureDetector detector(det_params);
+  // One configuration, every section optional.
+  mrpt_adapter::LidarsegConfig config;
+  if (!options_.config_path.empty()) config = mrpt_adapter::LidarsegConfig::loadFile(options_.config_path);
+  const CameraRois camera_rois(options_.input, config.vision.camera, config.vision.rois);
+  const ScanSegmenter segmenter(config.odometry.segmentation);
+  const FeatureDetector detector(config.features);
 
   FeaturesReport report;
   report.input = options_.input;
@@ -101,7 +95,7 @@ FeaturesReport FeaturesApp::run() {
       std::vector<cv::Rect> boxes;
       for (const vision::Roi& r : rois) boxes.push_back(r.box);
       const auto& cam = image->cameraParams;
-      const cv::Size size = vision_config.camera ? cv::Size(vision_config.camera->width, vision_config.camera->height)
+      const cv::Size size = config.vision.camera ? cv::Size(config.vision.camera->width, config.vision.camera->height)
                                                  : cv::Size(static_cast<int>(cam.ncols), static_cast<int>(cam.nrows));
       coverage.push_back(vision::coveredFraction(boxes, size));
       report.rois += rois.size();
@@ -184,31 +178,32 @@ FeaturesReport FeaturesApp::run() {
   if (!options_.report_dir.empty()) {
     std::filesystem::create_directories(options_.report_dir);
     outputs.add(options_.report_dir + "/features.md", markdown(report));
-    JsonWriter json;
-    json.beginObject();
-    json.value("input", report.input).value("scans", report.scans);
-    json.value("detect_us_median", report.detect_us.median).value("segment_us_median", report.segment_us.median);
-    json.value("images", report.images).value("images_with_rois", report.images_with_rois).value("rois", report.rois);
-    json.value("roi_coverage_median", report.roi_coverage.median).value("roi_coverage_mean", report.roi_coverage.mean);
+    Json json{{"input", report.input},
+              {"scans", report.scans},
+              {"detect_us_median", finiteOrNull(report.detect_us.median)},
+              {"segment_us_median", finiteOrNull(report.segment_us.median)},
+              {"images", report.images},
+              {"images_with_rois", report.images_with_rois},
+              {"rois", report.rois},
+              {"roi_coverage_median", finiteOrNull(report.roi_coverage.median)},
+              {"roi_coverage_mean", finiteOrNull(report.roi_coverage.mean)}};
     if (report.evaluation) {
       const auto& ev = *report.evaluation;
-      json.value("gate_m", ev.gate());
-      auto counts = [&](const char* key, const eval::DetectionCounts& c) {
-        json.beginObject(key);
-        json.value("truths", c.truths).value("found", c.truths_found).value("recall", c.recall());
-        json.value("detections", c.detections).value("right", c.detections_right).value("precision", c.precision());
-        json.value("visible", c.visible).value("visible_recall", c.visibleRecall());
-        json.endObject();
+      json["gate_m"] = finiteOrNull(ev.gate());
+      const auto counts = [](const eval::DetectionCounts& c) {
+        return Json{{"truths", c.truths},           {"found", c.truths_found},
+                    {"recall", finiteOrNull(c.recall())}, {"detections", c.detections},
+                    {"right", c.detections_right},  {"precision", finiteOrNull(c.precision())},
+                    {"visible", c.visible},         {"visible_recall", finiteOrNull(c.visibleRecall())}};
       };
-      counts("doors", ev.doors());
-      counts("corners", ev.corners());
+      json["doors"] = counts(ev.doors());
+      json["corners"] = counts(ev.corners());
       for (std::size_t k = 0; k < kNumFeatureTypes; ++k) {
-        counts(toString(static_cast<FeatureType>(k)), ev.byType()[k]);
+        json[toString(static_cast<FeatureType>(k))] = counts(ev.byType()[k]);
       }
-      json.value("position_error_median_m", report.position_error_m.median);
+      json["position_error_median_m"] = finiteOrNull(report.position_error_m.median);
     }
-    json.endObject();
-    outputs.add(options_.report_dir + "/features.json", json.str());
+    outputs.add(options_.report_dir + "/features.json", jsonText(json));
   }
   outputs.commit();
   return report;

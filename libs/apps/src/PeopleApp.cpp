@@ -17,11 +17,12 @@
 #include <opencv2/videoio.hpp>
 
 #include "Format.h"
-#include "Json.h"
+#include "JsonText.h"
 #include "OutputFiles.h"
 #include "Png.h"
 #include "Timing.h"
 #include "lidarseg/mrpt/VisionConfig.h"
+#include "lidarseg/mrpt/LidarsegConfig.h"
 #include "lidarseg/vision/PeopleDetector.h"
 #include "lidarseg/vision/RegionsOfInterest.h"
 
@@ -114,7 +115,7 @@ PeopleApp::PeopleApp(PeopleOptions options) : options_(std::move(options)) {
 
 PeopleReport PeopleApp::run() {
   vision::PeopleDetectorParams params;
-  if (!options_.config_path.empty()) params = mrpt_adapter::loadVisionConfigFile(options_.config_path).people;
+  if (!options_.config_path.empty()) params = mrpt_adapter::LidarsegConfig::loadFile(options_.config_path).vision.people;
   const vision::PeopleDetector detector(params);
   RegionTable regions;
   for (const std::string& r : options_.rois) regions.addEveryFrame(parseRegion(r, "--roi"));
@@ -187,17 +188,19 @@ PeopleReport PeopleApp::run() {
   if (!options_.report_dir.empty()) {
     fs::create_directories(options_.report_dir);
     outputs.add(options_.report_dir + "/people.md", markdown(report));
-    JsonWriter json;
-    json.beginObject();
-    json.value("input", report.input).value("frames", report.frames);
-    json.value("full_ms_median", report.full_ms.median).value("rois_ms_median", report.rois_ms.median);
-    json.value("analysed_fraction_median", report.analysed_fraction.median);
-    json.value("time_ratio_median", report.time_ratio.median);
-    json.value("people_full", report.people_full).value("people_in_regions", report.people_in_regions);
-    json.value("people_still_found", report.people_still_found).value("recall_in_regions", report.recallInRegions());
-    json.value("people_rois", report.people_rois).value("people_rois_confirmed", report.people_rois_confirmed);
-    json.endObject();
-    outputs.add(options_.report_dir + "/people.json", json.str());
+    const Json json{{"input", report.input},
+                    {"frames", report.frames},
+                    {"full_ms_median", finiteOrNull(report.full_ms.median)},
+                    {"rois_ms_median", finiteOrNull(report.rois_ms.median)},
+                    {"analysed_fraction_median", finiteOrNull(report.analysed_fraction.median)},
+                    {"time_ratio_median", finiteOrNull(report.time_ratio.median)},
+                    {"people_full", report.people_full},
+                    {"people_in_regions", report.people_in_regions},
+                    {"people_still_found", report.people_still_found},
+                    {"recall_in_regions", finiteOrNull(report.recallInRegions())},
+                    {"people_rois", report.people_rois},
+                    {"people_rois_confirmed", report.people_rois_confirmed}};
+    outputs.add(options_.report_dir + "/people.json", jsonText(json));
   }
   outputs.commit();
   return report;

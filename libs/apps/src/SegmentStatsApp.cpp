@@ -13,7 +13,8 @@
 #include <stdexcept>
 #include <utility>
 
-#include "lidarseg/mrpt/RawlogScanReader.h"
+#include "lidarseg/mrpt/LaserLogReader.h"
+#include "lidarseg/mrpt/LidarsegConfig.h"
 #include "lidarseg/mrpt/ScanConverter.h"
 #include "lidarseg/mrpt/SegmentationConfig.h"
 
@@ -38,10 +39,13 @@ SegmentStatsApp::SegmentStatsApp(SegmentStatsOptions options) : options_(std::mo
 SegmentStatsReport SegmentStatsApp::run() {
   SegmentationParams params;
   if (!options_.config_path.empty()) {
-    params = mrpt_adapter::loadSegmentationParamsFile(options_.config_path, options_.section);
+    // The shared configuration (every section optional), or a section of the user's choice.
+    params = options_.section == mrpt_adapter::kSegmentationSection
+                 ? mrpt_adapter::LidarsegConfig::loadFile(options_.config_path).odometry.segmentation
+                 : mrpt_adapter::loadSegmentationParamsFile(options_.config_path, options_.section);
   }
   const ScanSegmenter segmenter(params);
-  mrpt_adapter::RawlogScanReader reader(options_.input, options_.sensor_label);
+  mrpt_adapter::LaserLogReader reader(options_.input, options_.sensor_label);
   mrpt_adapter::ScanConverter converter;
 
   SegmentStatsReport report;
@@ -50,7 +54,7 @@ SegmentStatsReport SegmentStatsApp::run() {
   std::vector<double> t_wd, t_cascade, t_total, valid_beams;
   double total_valid = 0.0;
   std::ostringstream csv;
-  csv << "scan,entry,stamp_s,valid_beams,level0,level1,level2,level3,wd_us,cascade_us\n";
+  csv << "scan,stamp_s,valid_beams,level0,level1,level2,level3,wd_us,cascade_us\n";
   csv << std::setprecision(12);
 
   Segmentation seg;
@@ -70,8 +74,7 @@ SegmentStatsReport SegmentStatsApp::run() {
       segmenter.cascade().apply(seg);
       cascade_us = microsecondsSince(t1);
     } catch (const std::exception& e) {
-      report.skipped.push_back("scan " + std::to_string(item->scan_index) + " (rawlog entry " +
-                               std::to_string(item->entry_index) + "): " + e.what());
+      report.skipped.push_back(item->where + " (scan " + std::to_string(item->index) + "): " + e.what());
       continue;
     }
     if (report.scans == 0) {
@@ -100,14 +103,14 @@ SegmentStatsReport SegmentStatsApp::run() {
         a.theta_sigmas.push_back(std::sqrt(s.covariance(1, 1)));
       }
     }
-    csv << item->scan_index << ',' << item->entry_index << ',' << scan.stamp_s << ','
-        << seg.num_valid_beams;
+    csv << item->index << ',' << scan.stamp_s << ',' << seg.num_valid_beams;
     for (const auto& level : seg.levels) csv << ',' << level.segments.size();
     csv << ',' << wd_us << ',' << cascade_us << '\n';
   }
-  report.sensor_label = reader.sensorLabel();
+  report.sensor_label = reader.sensor();
+  for (const auto& issue : reader.issues()) report.skipped.push_back(issue);
   if (report.scans == 0 && report.skipped.empty()) {
-    throw std::runtime_error("rawlog '" + options_.input + "' holds no 2D laser scan" +
+    throw std::runtime_error("'" + options_.input + "' holds no 2D laser scan" +
                              (options_.sensor_label.empty()
                                   ? std::string()
                                   : " with sensor label '" + options_.sensor_label + "'"));

@@ -4,18 +4,15 @@
 #include <iomanip>
 #include <sstream>
 
-#include <nlohmann/json.hpp>
+#include "../JsonText.h"
 
 namespace lidarseg::apps::run {
 
 namespace {
 
-using Json = nlohmann::ordered_json;
-
 constexpr double kDegPerRad = 180.0 / M_PI;
 
-// Non-finite numbers become null (nlohmann-json writes them so already; said here).
-Json number(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
+Json number(double v) { return finiteOrNull(v); }
 
 Json summaryOf(const Summary& s, double scale) {
   return Json{{"mean", number(s.mean * scale)},     {"std", number(s.stddev * scale)},
@@ -126,7 +123,7 @@ std::string summaryJson(const OdometryReport& r) {
   j["methods"] = Json::object();
   for (const auto* m : methodsOf(r)) j["methods"][m->name] = methodOf(*m);
   if (r.icp) j["speedup_median"] = number(r.speedup_median);
-  return j.dump(1) + "\n";
+  return jsonText(j);
 }
 
 namespace {

@@ -15,7 +15,7 @@ namespace lidarseg::apps {
 
 /// Command-line options of `lidarseg-segment`.
 struct SegmentStatsOptions {
-  /// MRPT .rawlog to read.
+  /// MRPT .rawlog or CARMEN log (.clf/.log, optionally .gz) to read.
   std::string input;
   /// Optional INI or YAML file with a [segmentation] section; defaults otherwise.
   std::string config_path;
@@ -60,7 +60,7 @@ struct SegmentStatsReport {
   bool levels_never_gain_segments = true;
 };
 
-/// Segments every scan of a rawlog at all cascade levels and summarises the result.
+/// Segments every scan of a laser log at all cascade levels and summarises the result.
 class SegmentStatsApp {
  public:
   explicit SegmentStatsApp(SegmentStatsOptions options);
