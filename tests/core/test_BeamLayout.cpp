@@ -3,11 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include "lidarseg/core/Angles.h"
 #include "lidarseg/core/BeamLayout.h"
 
 namespace lidarseg {
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(BeamLayout, CentredCoversTheFieldOfViewInclusive) {
   const BeamLayout l = BeamLayout::centred(541, 270.0 * kPi / 180.0);

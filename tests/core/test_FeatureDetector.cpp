@@ -12,7 +12,6 @@
 namespace lidarseg {
 namespace {
 using testing::kDeg;
-using testing::kPi;
 
 // A wall y = 2 with an open door, a closed door in a 10 cm recess and a door ajar at 45
 // degrees in front of the sensor (its leaf in sight); rooms behind it (back wall y = 5).

@@ -6,11 +6,11 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include "lidarseg/core/Angles.h"
 #include "lidarseg/core/Segment.h"
 
 namespace lidarseg {
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 Segment segmentFrom(const std::vector<Eigen::Vector2d>& pts, const SensorNoise& noise = {}) {
   Segment s;

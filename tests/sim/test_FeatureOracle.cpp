@@ -7,7 +7,7 @@
 
 namespace lidarseg::sim {
 namespace {
-using lidarseg::testing::kPi;
+using lidarseg::kPi;
 
 int count(const std::vector<Feature>& fs, FeatureType t) {
   return static_cast<int>(std::count_if(fs.begin(), fs.end(), [&](const Feature& f) { return f.type == t; }));

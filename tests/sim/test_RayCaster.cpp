@@ -10,7 +10,7 @@
 
 namespace lidarseg::sim {
 namespace {
-using lidarseg::testing::kPi;
+using lidarseg::kPi;
 
 // The grid must give exactly what testing every wall gives.
 TEST(RayCaster, AgreesWithBruteForceOnRandomRays) {

@@ -11,7 +11,7 @@
 
 namespace lidarseg::sim {
 namespace {
-using lidarseg::testing::kPi;
+using lidarseg::kPi;
 const std::string kWorlds = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/";
 
 TEST(Trajectory, StraightLegsAndRoundedCorner) {

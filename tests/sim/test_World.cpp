@@ -7,7 +7,7 @@
 
 namespace lidarseg::sim {
 namespace {
-using lidarseg::testing::kPi;
+using lidarseg::kPi;
 
 TEST(World, RayCastingGivesExactRanges) {
   World w;

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "lidarseg/core/Angles.h"
 #include "lidarseg/core/Scan.h"
 #include "lidarseg/core/Segmentation.h"
 #include "lidarseg/sim/ScanSimulator.h"
@@ -14,7 +15,6 @@
 
 namespace lidarseg::testing {
 
-inline constexpr double kPi = 3.14159265358979323846;
 inline constexpr double kDeg = kPi / 180.0;
 
 /// A sensor with `num_beams` beams over `fov_deg` degrees centred on x, noise sigma.

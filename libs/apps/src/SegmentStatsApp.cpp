@@ -1,4 +1,5 @@
 #include "lidarseg/apps/SegmentStatsApp.h"
+#include "lidarseg/core/Angles.h"
 
 #include "OutputFiles.h"
 #include "Timing.h"
@@ -22,7 +23,6 @@ namespace lidarseg::apps {
 
 namespace {
 
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 struct LevelAccumulator {
   std::vector<double> counts;

@@ -1,4 +1,5 @@
 #include "lidarseg/apps/SimulateApp.h"
+#include "lidarseg/core/Angles.h"
 
 #include <cmath>
 #include <cstdio>
@@ -29,7 +30,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // A text output written under a temporary name and renamed when the run succeeds.
 class PendingFile {

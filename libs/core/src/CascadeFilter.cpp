@@ -1,4 +1,5 @@
 #include "lidarseg/core/CascadeFilter.h"
+#include "lidarseg/core/Angles.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,6 @@
 namespace lidarseg {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 // Appends `next` (the following segment in scan order) to `into` and re-fits it from the
 // union of the points.

@@ -1,4 +1,5 @@
 #include "lidarseg/core/CorrelativeSearch.h"
+#include "lidarseg/core/Angles.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +10,6 @@ namespace lidarseg {
 
 namespace {
 
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
 struct Grid {
   double x0 = 0.0, y0 = 0.0, res = 0.05;
@@ -141,7 +141,7 @@ SearchResult CorrelativeSearch::search(const std::vector<Eigen::Vector2d>& keyfr
   buildGrid(keyframe_points, P, ws.grid);
   const Grid& g = ws.grid;
   double step = P.angular_step_rad;
-  if (!(step > 0.0)) step = std::clamp(P.resolution_m / std::max(max_range, 1e-3), 0.5 * kDeg, 2.0 * kDeg);
+  if (!(step > 0.0)) step = std::clamp(P.resolution_m / std::max(max_range, 1e-3), 0.5 * kDegToRad, 2.0 * kDegToRad);
   const int A = static_cast<int>(std::floor(P.angular_window_rad / step + 1e-9));
   const int W = static_cast<int>(std::floor(P.linear_window_m / P.resolution_m + 1e-9));
   const int K = static_cast<int>(P.coarse_cells);

@@ -1,4 +1,5 @@
 #include "lidarseg/core/FeatureDetector.h"
+#include "lidarseg/core/Angles.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,8 +12,6 @@ namespace lidarseg {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDegToRad = kPi / 180.0;
 
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 

@@ -1,4 +1,5 @@
 #include "lidarseg/core/Segment.h"
+#include "lidarseg/core/Angles.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +8,6 @@
 namespace lidarseg {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 // Kurtosis of a uniform distribution: sum(u^4) = 9/5 * N * var^2 for points spread evenly
 // along the segment (used by the bearing-noise term only).
 constexpr double kUniformKurtosis = 1.8;

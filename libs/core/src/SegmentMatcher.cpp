@@ -12,7 +12,6 @@ namespace lidarseg {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kMaxWeight = std::numeric_limits<double>::infinity();
 
 // A segment's line and shape, in some frame.

@@ -1,4 +1,5 @@
 #include "lidarseg/core/SegmentOdometry.h"
+#include "lidarseg/core/Angles.h"
 
 #include <chrono>
 #include <cmath>
@@ -187,7 +188,7 @@ const Scan& SegmentOdometry::withBeamTimes(const Scan& scan) {
     timed_stamp_ = params_.scan_stamp;
     const BeamLayout& layout = *scan.layout;
     beam_times_.assign(layout.size(), 0.0);
-    const double period = 1.0 / (2.0 * 3.14159265358979323846 * params_.scanner_rotation_hz);
+    const double period = 1.0 / (2.0 * kPi * params_.scanner_rotation_hz);
     for (std::size_t i = 1; i < layout.size(); ++i) {
       beam_times_[i] = beam_times_[i - 1] + std::abs(layout.angle(i) - layout.angle(i - 1)) * period;
     }

@@ -1,4 +1,5 @@
 #include "lidarseg/logs/CarmenLogReader.h"
+#include "lidarseg/core/Angles.h"
 
 #include <cerrno>
 #include <cmath>
@@ -10,8 +11,6 @@ namespace lidarseg::logs {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
 constexpr std::size_t kMaxBeams = 100000;
 constexpr std::size_t kMaxIssuesKept = 100;
 
@@ -135,8 +134,8 @@ bool CarmenLogReader::parseLaser(const std::string& type, const std::vector<std:
     double res_deg = paramDouble("laser_" + side + "_laser_resolution", 0.0);
     if (!(res_deg > 0.0) && n > 1) res_deg = (n % 2 == 1) ? fov_deg / static_cast<double>(n - 1)
                                                           : fov_deg / static_cast<double>(n);
-    out.angular_resolution_rad = res_deg * kDeg;
-    out.start_angle_rad = -0.5 * fov_deg * kDeg;
+    out.angular_resolution_rad = res_deg * kDegToRad;
+    out.start_angle_rad = -0.5 * fov_deg * kDegToRad;
     double max_range = paramDouble("robot_" + side + "_laser_max", 0.0);
     if (!(max_range > 0.0)) max_range = paramDouble("laser_" + side + "_laser_max_range", 0.0);
     if (!(max_range > 0.0)) max_range = options_.default_max_range_m;

@@ -1,4 +1,5 @@
 #include "lidarseg/sim/FeatureOracle.h"
+#include "lidarseg/core/Angles.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +10,6 @@
 namespace lidarseg::sim {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kSamePoint = 1e-3;        // m: endpoints this close are one corner
 constexpr double kHiddenTolerance = 0.05;  // m
 

@@ -1,4 +1,5 @@
 #include "lidarseg/sim/ScanSimulator.h"
+#include "lidarseg/core/Angles.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -10,9 +11,8 @@ namespace {
 // An evenly spaced sensor centred on x, from its data sheet's figures.
 SensorModel profile(std::size_t beams, double fov_deg, double max_range_m, double min_range_m,
                     double sigma_m, double frequency_hz) {
-  constexpr double kDeg = 3.14159265358979323846 / 180.0;
   SensorModel m;
-  m.layout = std::make_shared<BeamLayout>(BeamLayout::centred(beams, fov_deg * kDeg));
+  m.layout = std::make_shared<BeamLayout>(BeamLayout::centred(beams, fov_deg * kDegToRad));
   m.max_range_m = max_range_m;
   m.min_range_m = min_range_m;
   m.range_sigma_m = sigma_m;
@@ -39,7 +39,7 @@ ScanSimulator::ScanSimulator(const World& world, SensorModel sensor, std::uint64
 }
 
 double ScanSimulator::beamPeriod() const {
-  return sensor_.layout->meanIncrement() / (2.0 * 3.14159265358979323846 * sensor_.frequency_hz);
+  return sensor_.layout->meanIncrement() / (2.0 * kPi * sensor_.frequency_hz);
 }
 
 double ScanSimulator::sweepDuration() const {
@@ -59,7 +59,7 @@ Scan ScanSimulator::scan(const Pose2& first, const Pose2& last) {
   s.ranges_m.resize(n);
   s.time_offsets_s.resize(n);
   const double period = beamPeriod();
-  const double yaw_span = std::remainder(last.yaw - first.yaw, 2.0 * 3.14159265358979323846);
+  const double yaw_span = std::remainder(last.yaw - first.yaw, 2.0 * kPi);
   const double inv = n > 1 ? 1.0 / static_cast<double>(n - 1) : 0.0;
   // The heading turns by a constant step per beam: rotate (cos, sin) instead of calling
   // the trigonometric functions per beam.

@@ -1,4 +1,5 @@
 #include "lidarseg/sim/Simulation.h"
+#include "lidarseg/core/Angles.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -26,7 +27,7 @@ void SimulationParams::validate() const {
   requirePositive("frequency_hz", sensor.frequency_hz);
   requireNonNegative("lidar_z_m", lidar_z_m);
   requireNonNegative("field_of_view_rad", field_of_view_rad);
-  if (field_of_view_rad > 2.0 * 3.14159265358979323846 + 1e-9) {
+  if (field_of_view_rad > 2.0 * kPi + 1e-9) {
     throw std::invalid_argument("field_of_view_rad must be <= 2 pi (got " + std::to_string(field_of_view_rad) + ")");
   }
   if (num_beams == 1) throw std::invalid_argument("num_beams must be 0 (profile) or >= 2");

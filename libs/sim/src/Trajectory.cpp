@@ -1,4 +1,5 @@
 #include "lidarseg/sim/Trajectory.h"
+#include "lidarseg/core/Angles.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -11,7 +12,6 @@
 namespace lidarseg::sim {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 double wrap(double a) { return std::remainder(a, 2.0 * kPi); }
 }  // namespace
 

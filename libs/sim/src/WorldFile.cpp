@@ -1,4 +1,5 @@
 #include "lidarseg/sim/WorldFile.h"
+#include "lidarseg/core/Angles.h"
 
 #include <cerrno>
 #include <cmath>
@@ -12,7 +13,6 @@ namespace lidarseg::sim {
 
 namespace {
 
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 // Shorter than this is "zero length" (m).
 constexpr double kMinLength = 1e-6;
 // Larger magnitudes are refused (m or degrees): far beyond any building, and far from the

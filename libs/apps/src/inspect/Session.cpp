@@ -1,4 +1,5 @@
 #include "lidarseg/apps/inspect/Session.h"
+#include "lidarseg/core/Angles.h"
 
 #include <algorithm>
 #include <cmath>
@@ -258,7 +259,7 @@ Drawing Session::draw(std::size_t index, const Layers& layers) {
     s2 << "; refined " << toString(f.step.refine.status) << ", inliers " << fixed(f.step.refine.inlier_ratio * 100, 0)
        << " %; sd x " << fixed(std::sqrt(std::max(c(0, 0), 0.0)) * 100, 1) << " cm y "
        << fixed(std::sqrt(std::max(c(1, 1), 0.0)) * 100, 1) << " cm yaw "
-       << fixed(std::sqrt(std::max(c(2, 2), 0.0)) * 180 / M_PI, 2) << " deg";
+       << fixed(std::sqrt(std::max(c(2, 2), 0.0)) * kRadToDeg, 2) << " deg";
   }
   s2 << "  |  W-D " << fixed(f.step.wall_danielsson_us, 0) << " us, cascade " << fixed(f.step.cascade_us, 0)
      << " us, match " << fixed(f.step.matching_us, 0) << " us, features " << fixed(f.detect_us, 1) << " us";

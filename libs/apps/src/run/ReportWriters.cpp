@@ -1,4 +1,5 @@
 #include "ReportWriters.h"
+#include "lidarseg/core/Angles.h"
 
 #include <cmath>
 #include <iomanip>
@@ -9,8 +10,6 @@
 namespace lidarseg::apps::run {
 
 namespace {
-
-constexpr double kDegPerRad = 180.0 / M_PI;
 
 Json number(double v) { return finiteOrNull(v); }
 
@@ -24,7 +23,7 @@ Json relationsOf(const eval::RelationErrors& r) {
   return Json{{"relations", r.relations},
               {"evaluated", r.evaluated},
               {"translation_m", summaryOf(r.translation_m, 1.0)},
-              {"rotation_deg", summaryOf(r.rotation_rad, kDegPerRad)}};
+              {"rotation_deg", summaryOf(r.rotation_rad, kRadToDeg)}};
 }
 
 Json errorsOf(const MethodReport& m) {
@@ -156,7 +155,7 @@ void lidarsegCounts(const OdometryReport& r, std::ostream& os) {
   os << " scans with a translation 1-sigma above 0.1 m: " << r.lidarseg.weak_scans
      << ". Final pose 1-sigma from the propagated covariance: " << std::setprecision(3)
      << r.lidarseg.final_sigma_x_m << " m, " << r.lidarseg.final_sigma_y_m << " m, "
-     << r.lidarseg.final_sigma_yaw_rad * kDegPerRad << " deg.\n";
+     << r.lidarseg.final_sigma_yaw_rad * kRadToDeg << " deg.\n";
   if (!r.lidarseg.match_failures.empty()) {
     os << "\nSegment matches that failed, by their main reason:";
     for (const auto& [k, v] : r.lidarseg.match_failures) os << " " << k << " " << v << ";";
@@ -181,8 +180,8 @@ void relationTable(const OdometryReport& r, const char* title, Get get, std::ost
     const auto& e = *get(*m);
     os << "| " << m->name << " | " << e.evaluated << "/" << e.relations << std::setprecision(4) << " | "
        << e.translation_m.mean << " | " << e.translation_m.median << " | " << e.translation_m.stddev << " | "
-       << e.rotation_rad.mean * kDegPerRad << " | " << e.rotation_rad.median * kDegPerRad << " | "
-       << e.rotation_rad.stddev * kDegPerRad << " |\n";
+       << e.rotation_rad.mean * kRadToDeg << " | " << e.rotation_rad.median * kRadToDeg << " | "
+       << e.rotation_rad.stddev * kRadToDeg << " |\n";
   }
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "lidarseg/core/Segmentation.h"
+#include "lidarseg/core/Angles.h"
 #include "lidarseg/core/SensorNoise.h"
 
 namespace lidarseg {
@@ -14,7 +15,7 @@ namespace lidarseg {
 /// aligned (distance d between their lines) and close (gap D between facing endpoints).
 struct FusionParams {
   /// Largest angle between the two lines (rad).
-  double max_angle_rad = 5.0 * 3.14159265358979323846 / 180.0;
+  double max_angle_rad = 5.0 * kDegToRad;
   /// "d": largest distance of the shorter segment's endpoints from the longer one's line (m).
   double max_line_distance_m = 0.04;
   /// "D": largest distance between the end of one segment and the start of the next (m).
@@ -48,7 +49,7 @@ struct CascadeParams {
   ErosionParams erosion;
   /// The second fusion bridges the holes left by eroded segments (a bin or a table foot
   /// against a wall), so it accepts a larger gap by default.
-  FusionParams second_fusion{5.0 * 3.14159265358979323846 / 180.0, 0.05, 0.8, 3.0};
+  FusionParams second_fusion{5.0 * kDegToRad, 0.05, 0.8, 3.0};
 
   void validate() const;
 };

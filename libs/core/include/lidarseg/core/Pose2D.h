@@ -1,4 +1,5 @@
 #pragma once
+#include "lidarseg/core/Angles.h"
 /// @file Pose2D.h
 /// Planar rigid transforms.
 
@@ -35,7 +36,6 @@ struct Twist2D {
 
 /// Angle wrapped to (-pi, pi].
 inline double wrapAngle(double a) {
-  constexpr double kPi = 3.14159265358979323846;
   a = std::remainder(a, 2.0 * kPi);
   return a <= -kPi ? a + 2.0 * kPi : a;
 }
