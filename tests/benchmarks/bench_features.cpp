@@ -19,7 +19,7 @@ std::vector<Segmentation> officeSegmentations(std::size_t beams) {
   const ScanSegmenter segmenter;
   std::vector<Segmentation> out;
   for (int i = 0; i < 32; ++i) {
-    const sim::Pose2 pose{-10.0 + 0.65 * i, 1.0 + 0.3 * std::sin(0.7 * i), 0.25 * std::sin(0.3 * i)};
+    const Pose2D pose{-10.0 + 0.65 * i, 1.0 + 0.3 * std::sin(0.7 * i), 0.25 * std::sin(0.3 * i)};
     out.push_back(segmenter.process(simulate(officeScene(), sensor, pose, 1000 + i)));
   }
   return out;
@@ -48,7 +48,7 @@ void BM_SegmentAndDetect(benchmark::State& state) {
   const auto sensor = makeSensor(static_cast<std::size_t>(state.range(0)), 270, 0.012, 20.0);
   std::vector<Scan> scans;
   for (int i = 0; i < 32; ++i) {
-    const sim::Pose2 pose{-10.0 + 0.65 * i, 1.0 + 0.3 * std::sin(0.7 * i), 0.25 * std::sin(0.3 * i)};
+    const Pose2D pose{-10.0 + 0.65 * i, 1.0 + 0.3 * std::sin(0.7 * i), 0.25 * std::sin(0.3 * i)};
     scans.push_back(simulate(officeScene(), sensor, pose, 1000 + i));
   }
   const ScanSegmenter segmenter;

@@ -17,7 +17,7 @@ std::vector<Scan> officeScans(std::size_t beams, double sigma) {
   const auto sensor = makeSensor(beams, 270, sigma, beams > 600 ? 30.0 : 20.0);
   std::vector<Scan> scans;
   for (int i = 0; i < 32; ++i) {
-    const sim::Pose2 pose{-10.0 + 0.65 * i, 1.0 + 0.3 * std::sin(0.7 * i), 0.25 * std::sin(0.3 * i)};
+    const Pose2D pose{-10.0 + 0.65 * i, 1.0 + 0.3 * std::sin(0.7 * i), 0.25 * std::sin(0.3 * i)};
     scans.push_back(simulate(officeScene(), sensor, pose, 1000 + i));
   }
   return scans;

@@ -21,8 +21,8 @@ void runSimulation(benchmark::State& state, const World& world, SensorModel sens
   double x = 1.0;
   for (auto _ : state) {
     // Along the bottom corridor of both worlds (y = 0), 1 m/s, back and forth.
-    const Pose2 first{x, 0.0, 0.1};
-    const Pose2 last{x + dt, 0.0, 0.1 + 0.5 * dt};
+    const lidarseg::Pose2D first{x, 0.0, 0.1};
+    const lidarseg::Pose2D last{x + dt, 0.0, 0.1 + 0.5 * dt};
     benchmark::DoNotOptimize(sim.scan(first, last).ranges_m.data());
     x = x > 25.0 ? 1.0 : x + 0.02;
   }

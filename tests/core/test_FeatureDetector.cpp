@@ -25,12 +25,12 @@ sim::World wallWithThreeDoors() {
   return w;
 }
 
-Eigen::Vector2d toSensor(const sim::Pose2& pose, const Eigen::Vector2d& world) {
+Eigen::Vector2d toSensor(const Pose2D& pose, const Eigen::Vector2d& world) {
   const Pose2D l = relative({world.x(), world.y(), 0.0}, pose);
   return {l.x, l.y};
 }
 
-std::vector<Feature> detectIn(const sim::World& world, const sim::SensorModel& sensor, const sim::Pose2& pose,
+std::vector<Feature> detectIn(const sim::World& world, const sim::SensorModel& sensor, const Pose2D& pose,
                               std::uint64_t seed = 1, const FeatureDetectorParams& params = {}) {
   const Scan scan = testing::simulate(world, sensor, pose, seed);
   SegmentationParams sp;
@@ -55,7 +55,7 @@ const Feature* nearest(const std::vector<Feature>& fs, const Eigen::Vector2d& p,
 TEST(FeatureDetector, FindsAndClassifiesOpenClosedAndAjarDoors) {
   const sim::World w = wallWithThreeDoors();
   const auto lms = testing::makeSensor(541, 270, 0.012);
-  const sim::Pose2 pose{0.0, 0.0, kPi / 2};
+  const Pose2D pose{0.0, 0.0, kPi / 2};
   for (std::uint64_t seed = 1; seed <= 5; ++seed) {
     const auto fs = detectIn(w, lms, pose, seed);
     int doors = 0;
@@ -97,7 +97,7 @@ TEST(FeatureDetector, GapsOfTheWrongWidthOrWithSomethingInThemAreNoDoors) {
 TEST(FeatureDetector, ConcaveCornersOfARoomWithCovarianceMatchingTheirSpread) {
   const sim::World room = testing::rectangleRoom(6.0, 4.0);
   const auto sensor = testing::makeFullTurnSensor(720, 0.01);
-  const sim::Pose2 pose{2.0, 1.5, 0.3};
+  const Pose2D pose{2.0, 1.5, 0.3};
   const std::vector<Eigen::Vector2d> truth = {{0, 0}, {6, 0}, {6, 4}, {0, 4}};
   // Empirical spread of the detected corner (6, 4) over many noisy scans vs the predicted
   // covariance.
@@ -131,7 +131,7 @@ TEST(FeatureDetector, ConvexCornerOfABoxAgainstAWall) {
   // convex, where its left side meets the wall is concave.
   const sim::World w = testing::wallWithBox(2.0, 1.0);
   const auto lms = testing::makeSensor(541, 270, 0.005);
-  const sim::Pose2 pose{-1.0, -2.0, kPi / 2};
+  const Pose2D pose{-1.0, -2.0, kPi / 2};
   const auto fs = detectIn(w, lms, pose);
   const Feature* convex = nearest(fs, toSensor(pose, {1.5, 1.0}), 0.1);
   ASSERT_NE(convex, nullptr);
@@ -145,7 +145,7 @@ TEST(FeatureDetector, CornersAtADoorsJambsAreNotReported) {
   // The door ajar's leaf meets the wall at the hinge: that is the door, not a corner.
   const sim::World w = wallWithThreeDoors();
   const auto lms = testing::makeSensor(541, 270, 0.0);
-  const sim::Pose2 pose{0.0, 0.0, kPi / 2};
+  const Pose2D pose{0.0, 0.0, kPi / 2};
   const auto fs = detectIn(w, lms, pose);
   for (const Feature& f : fs) {
     if (isDoor(f.type)) continue;

@@ -62,7 +62,7 @@ class RoomNoiseSweep : public ::testing::TestWithParam<double> {};
 TEST_P(RoomNoiseSweep, FourWallsAtLevel3WithSmallErrors) {
   const double sigma = GetParam();
   const sim::World room = rectangleRoom(6, 4);
-  const sim::Pose2 pose{2.6, 1.7, 0.2};
+  const Pose2D pose{2.6, 1.7, 0.2};
   const auto sensor = makeFullTurnSensor(720, sigma);
   const ScanSegmenter segmenter(paramsForNoise(sigma));
   for (std::uint64_t seed = 1; seed <= 5; ++seed) {
@@ -97,7 +97,7 @@ class CornerNoiseSweep : public ::testing::TestWithParam<double> {};
 
 TEST_P(CornerNoiseSweep, TwoSegmentsMeetingAtTheCorner) {
   const double sigma = GetParam();
-  const sim::Pose2 pose{1.5, 2.0, -2.3};
+  const Pose2D pose{1.5, 2.0, -2.3};
   const ScanSegmenter segmenter(paramsForNoise(sigma));
   for (std::uint64_t seed = 1; seed <= 5; ++seed) {
     const Segmentation s =
@@ -137,7 +137,7 @@ TEST_P(RecessedDoors, DoorSegmentSurvivesAtLevels0And1) {
   const DoorCase c = GetParam();
   const std::vector<RecessedDoor> doors{{3.0, 0.9, c.depth}, {5.5, 0.9, c.depth}, {8.0, 0.9, c.depth}};
   const sim::World world = corridorWithDoors(2.0, doors);
-  const sim::Pose2 pose{5.9, 0.8, kPi / 2};
+  const Pose2D pose{5.9, 0.8, kPi / 2};
   const ScanSegmenter segmenter(paramsForNoise(c.sigma));
   int required = 0, found_required = 0, optional = 0, found_optional = 0;
   for (std::uint64_t seed = 1; seed <= 5; ++seed) {
@@ -198,7 +198,7 @@ INSTANTIATE_TEST_SUITE_P(DepthAndNoise, RecessedDoors,
 TEST(ScanSegmenter, WallSidesAroundASmallBoxFuseAtLevel3) {
   const double box_x = 0.6, side = 0.15;
   const sim::World world = wallWithBox(box_x, side);
-  const sim::Pose2 pose{0, 0, kPi / 2};
+  const Pose2D pose{0, 0, kPi / 2};
   const ScanSegmenter segmenter;
   for (std::uint64_t seed = 1; seed <= 5; ++seed) {
     const Segmentation s = segmenter.process(simulate(world, makeSensor(541, 270, 0.012), pose, seed));
@@ -232,7 +232,7 @@ TEST(ScanSegmenter, InvariantsHoldOnRandomClutteredRooms) {
   for (int trial = 0; trial < 60; ++trial) {
     const double w = 3 + 8 * u(rng), h = 2 + 6 * u(rng);
     sim::World world = rectangleRoom(w, h);
-    const sim::Pose2 pose{0.2 * w + 0.6 * w * u(rng), 0.2 * h + 0.6 * h * u(rng), 6.28 * u(rng)};
+    const Pose2D pose{0.2 * w + 0.6 * w * u(rng), 0.2 * h + 0.6 * h * u(rng), 6.28 * u(rng)};
     for (int b = 0; b < 6; ++b) {
       const double x = w * u(rng), y = h * u(rng), s = 0.05 + 0.6 * u(rng);
       // Boxes stand clear of the sensor (0.3 m at least).

@@ -75,7 +75,7 @@ double corridorErrorAlongX(bool refine, std::size_t* degenerate) {
   double x = 0.0;
   OdometryStep step;
   for (int k = 0; k < 80; ++k) {
-    Scan scan = testing::simulate(world, sensor, sim::Pose2{x, 1.0, 0.0}, 500 + k);
+    Scan scan = testing::simulate(world, sensor, Pose2D{x, 1.0, 0.0}, 500 + k);
     scan.stamp_s = 0.02 * k;
     step = odometry.process(scan);
     if (!step.first && step.status == TrackStatus::kDegenerate) ++*degenerate;

@@ -37,7 +37,7 @@ TEST(WallDanielssonSegmenter, NoiselessStraightWallIsOneSegment) {
 TEST(WallDanielssonSegmenter, CornerSplitsIntoTwoSegmentsNearTheCorner) {
   // Walls y = 0 and x = 0; the sensor at (2, 2) looks at the corner.
   const auto sensor = makeSensor(361, 180, 0.0);
-  const sim::Pose2 pose{2, 2, -3 * kPi / 4};
+  const Pose2D pose{2, 2, -3 * kPi / 4};
   const Segmentation s = run(simulate(lCorner(), sensor, pose));
   ASSERT_EQ(level0(s).segments.size(), 2u);
   for (const Segment& seg : level0(s).segments) {
@@ -62,7 +62,7 @@ TEST(WallDanielssonSegmenter, ThresholdDecidesWhetherAStepBreaksTheWall) {
     w.addPolyline({{-8, 2}, {0, 2}, {0, 2 + h}, {8, 2 + h}});
     return w;
   };
-  const sim::Pose2 pose{0, 0, kPi / 2};
+  const Pose2D pose{0, 0, kPi / 2};
   WallDanielssonParams p;
   p.threshold_m = 0.02;
   EXPECT_EQ(level0(run(simulate(stepWorld(0.08), sensor, pose), p)).segments.size(), 2u);

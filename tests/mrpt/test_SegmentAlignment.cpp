@@ -17,7 +17,7 @@ namespace {
 using lidarseg::testing::kDeg;
 
 // The point map of the scan seen by an LMS100-like sensor at `pose` in the office scene.
-mrpt::maps::CSimplePointsMap mapAt(const sim::Pose2& pose, std::uint64_t seed) {
+mrpt::maps::CSimplePointsMap mapAt(const Pose2D& pose, std::uint64_t seed) {
   const auto sensor = lidarseg::testing::makeSensor(541, 270.0, 0.01);
   const Scan scan = lidarseg::testing::simulate(lidarseg::testing::officeScene(), sensor, pose, seed);
   const auto obs = makeRangeScanObservation(scan, "LIDAR", mrpt::poses::CPose3D(), 0.01);
@@ -28,8 +28,8 @@ mrpt::maps::CSimplePointsMap mapAt(const sim::Pose2& pose, std::uint64_t seed) {
 }
 
 TEST(SegmentAlignment, RecoversTheMotionBetweenTwoScansWithItsCovariance) {
-  const sim::Pose2 a{1.0, 1.0, 0.0};
-  const sim::Pose2 b{1.25, 1.08, 4 * kDeg};
+  const Pose2D a{1.0, 1.0, 0.0};
+  const Pose2D b{1.25, 1.08, 4 * kDeg};
   const auto m1 = mapAt(a, 1), m2 = mapAt(b, 2);
   const Pose2D truth = relative(b, a);  // pose of b's frame in a's
   SegmentAlignment align;

@@ -42,7 +42,7 @@ TEST(CameraSimulator, DoorPixelsLieInsideTheGroundTruthBoxes) {
   const CameraSimulator cam(world, PinholeCamera{});
   std::size_t door_pixels = 0, boxes_total = 0;
   for (double t = 0.0; t < traj.duration(); t += 4.0) {
-    const Pose2 pose = traj.poseAt(t);
+    const Pose2D pose = traj.poseAt(t);
     const RgbImage img = cam.render(pose);
     const auto boxes = cam.visibleDoors(pose);
     boxes_total += boxes.size();

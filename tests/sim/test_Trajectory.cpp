@@ -19,15 +19,15 @@ TEST(Trajectory, StraightLegsAndRoundedCorner) {
   // Two legs of 10 m minus 1 m each, plus a quarter circle of radius 1.
   EXPECT_NEAR(t.length(), 18.0 + kPi / 2, 1e-12);
   EXPECT_NEAR(t.duration(), t.length() / 2.0, 1e-12);
-  const Pose2 mid_leg = t.poseAt(2.5);
+  const Pose2D mid_leg = t.poseAt(2.5);
   EXPECT_NEAR(mid_leg.x, 5.0, 1e-12);
   EXPECT_NEAR(mid_leg.yaw, 0.0, 1e-12);
   // Middle of the arc: centre (9, 1), radius 1, heading 45 deg.
-  const Pose2 arc = t.poseAtDistance(9.0 + kPi / 4);
+  const Pose2D arc = t.poseAtDistance(9.0 + kPi / 4);
   EXPECT_NEAR(arc.x, 9.0 + std::sqrt(0.5), 1e-12);
   EXPECT_NEAR(arc.y, 1.0 - std::sqrt(0.5), 1e-12);
   EXPECT_NEAR(arc.yaw, kPi / 4, 1e-12);
-  const Pose2 end = t.poseAt(1e9);
+  const Pose2D end = t.poseAt(1e9);
   EXPECT_NEAR(end.x, 10.0, 1e-12);
   EXPECT_NEAR(end.y, 10.0, 1e-12);
   EXPECT_NEAR(end.yaw, kPi / 2, 1e-12);
@@ -35,9 +35,9 @@ TEST(Trajectory, StraightLegsAndRoundedCorner) {
 
 TEST(Trajectory, PoseIsContinuous) {
   const Trajectory t({{0, 0}, {5, 0}, {5, 3}, {-2, 3}, {-2, -4}}, 1.0, 0.8);
-  Pose2 prev = t.poseAtDistance(0.0);
+  Pose2D prev = t.poseAtDistance(0.0);
   for (double s = 0.01; s <= t.length(); s += 0.01) {
-    const Pose2 p = t.poseAtDistance(s);
+    const Pose2D p = t.poseAtDistance(s);
     EXPECT_NEAR(std::hypot(p.x - prev.x, p.y - prev.y), 0.01, 1e-6) << "s = " << s;
     EXPECT_LT(std::abs(std::remainder(p.yaw - prev.yaw, 2 * kPi)), 0.01 / 0.8 + 1e-9);
     prev = p;
@@ -51,12 +51,12 @@ TEST(Trajectory, ShippedTrajectoriesLoopInFreeSpace) {
     const World world = loadWorldFile(kWorlds + name + ".world");
     const Trajectory t = loadTrajectoryFile(kWorlds + name + ".traj");
     EXPECT_NEAR(t.length(), 108.0, 3.0) << name;
-    const Pose2 start = t.poseAt(0), end = t.poseAt(t.duration());
+    const Pose2D start = t.poseAt(0), end = t.poseAt(t.duration());
     EXPECT_NEAR(std::hypot(start.x, start.y), 0.0, 1e-9) << name;
     EXPECT_NEAR(std::hypot(end.x, end.y), 0.0, 1e-9) << name;
     const RayCaster caster(world);
     for (double s = 0.0; s <= t.length(); s += 0.25) {
-      const Pose2 p = t.poseAtDistance(s);
+      const Pose2D p = t.poseAtDistance(s);
       for (int k = 0; k < 16; ++k) {
         const double a = k * kPi / 8;
         EXPECT_GT(caster.cast({p.x, p.y}, {std::cos(a), std::sin(a)}).range, 0.5)

@@ -82,19 +82,19 @@ sim::World officeScene() {
   return world;
 }
 
-Scan simulate(const sim::World& world, const sim::SensorModel& sensor, const sim::Pose2& pose,
+Scan simulate(const sim::World& world, const sim::SensorModel& sensor, const Pose2D& pose,
               std::uint64_t seed) {
   sim::ScanSimulator simulator(world, sensor, seed);
   return simulator.scan(pose);
 }
 
-Eigen::Vector2d toWorld(const sim::Pose2& pose, const Eigen::Vector2d& p) {
+Eigen::Vector2d toWorld(const Pose2D& pose, const Eigen::Vector2d& p) {
   const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
   return {pose.x + c * p.x() - s * p.y(), pose.y + s * p.x() + c * p.y()};
 }
 
 std::optional<WallMatch> matchWall(const Segment& segment, const sim::World& world,
-                                   const sim::Pose2& pose, double max_distance_m) {
+                                   const Pose2D& pose, double max_distance_m) {
   const Eigen::Vector2d a = toWorld(pose, segment.start);
   const Eigen::Vector2d b = toWorld(pose, segment.end);
   std::optional<WallMatch> best;

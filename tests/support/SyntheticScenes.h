@@ -48,7 +48,7 @@ sim::World wallWithBox(double box_x, double box_side);
 sim::World officeScene();
 
 /// Simulates one scan.
-Scan simulate(const sim::World& world, const sim::SensorModel& sensor, const sim::Pose2& pose,
+Scan simulate(const sim::World& world, const sim::SensorModel& sensor, const Pose2D& pose,
               std::uint64_t seed = 1);
 
 /// How a segment lies against the true walls (sensor-frame segment, world-frame walls).
@@ -62,9 +62,9 @@ struct WallMatch {
 /// The wall that best explains `segment` seen from `pose`, if any wall's line passes within
 /// `max_distance_m` of both endpoints.
 std::optional<WallMatch> matchWall(const Segment& segment, const sim::World& world,
-                                   const sim::Pose2& pose, double max_distance_m);
+                                   const Pose2D& pose, double max_distance_m);
 
 /// Sensor-frame point to world frame.
-Eigen::Vector2d toWorld(const sim::Pose2& pose, const Eigen::Vector2d& p);
+Eigen::Vector2d toWorld(const Pose2D& pose, const Eigen::Vector2d& p);
 
 }  // namespace lidarseg::testing

@@ -58,7 +58,7 @@ class PendingFile {
 };
 
 // TUM trajectory line: time x y z qx qy qz qw (rotation about z only).
-void writeTum(std::ostream& os, double t, const sim::Pose2& p, double z) {
+void writeTum(std::ostream& os, double t, const Pose2D& p, double z) {
   os << std::setprecision(9) << t << ' ' << p.x << ' ' << p.y << ' ' << z << ' ' << 0.0 << ' '
      << 0.0 << ' ' << std::sin(0.5 * p.yaw) << ' ' << std::cos(0.5 * p.yaw) << '\n';
 }

@@ -11,16 +11,6 @@ std::vector<std::string> refinerKeys() { return detail::keysOf<RefinerParams>(de
 std::vector<std::string> searchKeys() { return detail::keysOf<SearchParams>(detail::SearchKeys{}); }
 std::vector<std::string> odometryKeys() { return detail::keysOf<OdometryParams>(detail::OdometryKeys{}); }
 
-void loadMatcherParams(MatcherParams& params, const mrpt::config::CConfigFileBase& cfg,
-                       const std::string& section, const std::string& source) {
-  detail::loadKeys(params, cfg, section, source, {}, detail::MatcherKeys{});
-}
-
-void saveMatcherParams(const MatcherParams& params, mrpt::config::CConfigFileBase& cfg,
-                       const std::string& section) {
-  detail::saveKeys(params, cfg, section, detail::MatcherKeys{});
-}
-
 namespace {
 void loadAll(OdometryParams& params, const mrpt::config::CConfigFileBase& cfg, const std::string& source,
              const detail::LoadedConfig* file) {

@@ -47,10 +47,10 @@ bool CameraSimulator::project(const Eigen::Vector3d& P, Eigen::Vector2d& pixel) 
   return true;
 }
 
-RgbImage CameraSimulator::render(const Pose2& T_world_robot) const {
+RgbImage CameraSimulator::render(const Pose2D& T_world_robot) const {
   const PinholeCamera& c = camera_;
   RgbImage img{c.width, c.height, std::vector<std::uint8_t>(static_cast<std::size_t>(c.width) * c.height * 3)};
-  const Pose2 cam = compose(T_world_robot, {c.x_m, c.y_m, c.yaw_rad});
+  const Pose2D cam = compose(T_world_robot, {c.x_m, c.y_m, c.yaw_rad});
   const Eigen::Vector2d origin(cam.x, cam.y);
   for (int u = 0; u < c.width; ++u) {
     const double xc = (u - c.cx) / c.fx;      // right per unit forward
@@ -94,10 +94,10 @@ RgbImage CameraSimulator::render(const Pose2& T_world_robot) const {
   return img;
 }
 
-std::vector<DoorBox> CameraSimulator::visibleDoors(const Pose2& T_world_robot) const {
+std::vector<DoorBox> CameraSimulator::visibleDoors(const Pose2D& T_world_robot) const {
   std::vector<DoorBox> boxes;
   const PinholeCamera& c = camera_;
-  const Pose2 cam = compose(T_world_robot, {c.x_m, c.y_m, c.yaw_rad});
+  const Pose2D cam = compose(T_world_robot, {c.x_m, c.y_m, c.yaw_rad});
   const Eigen::Vector2d origin(cam.x, cam.y);
   const Eigen::Vector2d axis(std::cos(cam.yaw), std::sin(cam.yaw));
   for (std::size_t i = 0; i < world_->doors().size(); ++i) {
@@ -129,7 +129,7 @@ std::vector<DoorBox> CameraSimulator::visibleDoors(const Pose2& T_world_robot) c
     double u0 = 1e18, v0 = 1e18, u1 = -1e18, v1 = -1e18;
     bool any = false;
     for (const Eigen::Vector2d& w : {a, b}) {
-      const Pose2 local = relative({w.x(), w.y(), 0.0}, T_world_robot);
+      const Pose2D local = relative({w.x(), w.y(), 0.0}, T_world_robot);
       for (double z : {0.0, heights_.door_m}) {
         Eigen::Vector2d px;
         if (!project({local.x, local.y, z}, px)) continue;

@@ -97,9 +97,9 @@ FeatureOracle::FeatureOracle(const World& world, const FeatureOracleParams& para
   }
 }
 
-bool FeatureOracle::inView(const Pose2& T, const BeamLayout& layout, double max_range_m,
+bool FeatureOracle::inView(const Pose2D& T, const BeamLayout& layout, double max_range_m,
                            const Eigen::Vector2d& p, Eigen::Vector2d& local) const {
-  const Pose2 l = relative({p.x(), p.y(), 0.0}, T);
+  const Pose2D l = relative({p.x(), p.y(), 0.0}, T);
   local = {l.x, l.y};
   const double r = local.norm();
   if (r < 1e-6 || r >= max_range_m || layout.size() < 2) return false;
@@ -126,7 +126,7 @@ bool FeatureOracle::seenWithBeams(const Eigen::Vector2d& from, const Eigen::Vect
   return subtended(from, a, b) >= static_cast<double>(min_beams) * step_rad;
 }
 
-std::vector<Feature> FeatureOracle::visible(const Pose2& T, const BeamLayout& layout,
+std::vector<Feature> FeatureOracle::visible(const Pose2D& T, const BeamLayout& layout,
                                             double max_range_m) const {
   std::vector<Feature> out;
   const Eigen::Vector2d origin(T.x, T.y);

@@ -4,14 +4,14 @@
 
 namespace lidarseg::sim {
 
-Pose2 OdometrySimulator::update(const Pose2& true_pose) {
+Pose2D OdometrySimulator::update(const Pose2D& true_pose) {
   if (!started_) {
     started_ = true;
     last_true_ = true_pose;
     odometry_ = true_pose;
     return odometry_;
   }
-  Pose2 delta = relative(true_pose, last_true_);
+  Pose2D delta = relative(true_pose, last_true_);
   last_true_ = true_pose;
   const double dist = std::hypot(delta.x, delta.y);
   const double t_sigma = noise_.translation_per_m * dist;

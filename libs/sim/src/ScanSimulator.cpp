@@ -47,9 +47,9 @@ double ScanSimulator::sweepDuration() const {
   return n > 1 ? beamPeriod() * static_cast<double>(n - 1) : 0.0;
 }
 
-Scan ScanSimulator::scan(const Pose2& T_world_sensor) { return scan(T_world_sensor, T_world_sensor); }
+Scan ScanSimulator::scan(const Pose2D& T_world_sensor) { return scan(T_world_sensor, T_world_sensor); }
 
-Scan ScanSimulator::scan(const Pose2& first, const Pose2& last) {
+Scan ScanSimulator::scan(const Pose2D& first, const Pose2D& last) {
   const BeamLayout& layout = *sensor_.layout;
   const std::size_t n = layout.size();
   Scan s;

@@ -45,7 +45,6 @@ void SimulationParams::validate() const {
   requireNonNegative("odom_rotation_per_m", odometry.rotation_per_m);
 }
 
-std::vector<std::string> sensorProfiles() { return {"lms100", "utm30lx", "sick180"}; }
 
 SensorModel sensorProfile(const std::string& name) {
   if (name == "lms100") return SensorModel::lms100();
@@ -90,8 +89,8 @@ SimulatedFrame Simulation::next() {
                                                                 : 0.0;
   f.stamp_s = params_.start_time_s + t + shift;
   f.T_world_robot = trajectory_->poseAt(t + shift);
-  const Pose2 first = trajectory_->poseAt(t);
-  const Pose2 last = params_.rolling_shutter ? trajectory_->poseAt(t + sweep) : first;
+  const Pose2D first = trajectory_->poseAt(t);
+  const Pose2D last = params_.rolling_shutter ? trajectory_->poseAt(t + sweep) : first;
   f.scan = lidar_.scan(first, last);
   f.scan.stamp_s = f.stamp_s;
   if (!params_.rolling_shutter) {

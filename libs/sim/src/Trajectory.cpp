@@ -55,7 +55,7 @@ Trajectory::Trajectory(std::vector<Eigen::Vector2d> wp, double speed_mps, double
   length_ = s;
 }
 
-Pose2 Trajectory::poseAtDistance(double s) const {
+Pose2D Trajectory::poseAtDistance(double s) const {
   s = std::clamp(s, 0.0, length_);
   auto it = std::upper_bound(pieces_.begin(), pieces_.end(), s,
                              [](double v, const Piece& p) { return v < p.s0; });
@@ -70,7 +70,7 @@ Pose2 Trajectory::poseAtDistance(double s) const {
           p.start.y() - (std::cos(h) - std::cos(p.heading)) / k, wrap(h)};
 }
 
-Pose2 Trajectory::poseAt(double t) const { return poseAtDistance(t * speed_); }
+Pose2D Trajectory::poseAt(double t) const { return poseAtDistance(t * speed_); }
 
 Trajectory loadTrajectoryFile(const std::string& path) {
   std::ifstream in(path);

@@ -148,8 +148,6 @@ class SegmentOdometry {
 
   /// The segmentation of the last scan processed.
   const Segmentation& lastSegmentation() const { return segmentation_[current_]; }
-  /// The segmentation of the current keyframe (the last scan when it became one).
-  const Segmentation& keyframeSegmentation() const { return segmentation_[keyframe_]; }
   const Pose2D& pose() const { return pose_; }
   /// Current velocity estimate, in the sensor frame.
   const Twist2D& velocity() const { return velocity_; }

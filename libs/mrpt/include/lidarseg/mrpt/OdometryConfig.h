@@ -28,15 +28,6 @@ std::vector<std::string> searchKeys();
 /// Names of every key of the [stamps] section (lidarseg::StampPolicyParams).
 std::vector<std::string> stampKeys();
 
-/// Reads the keys present in `section` into `params`, then validates them.
-/// @throws std::invalid_argument naming source, section and key (unknown key, not a
-/// number, out of range) or a missing section.
-void loadMatcherParams(MatcherParams& params, const mrpt::config::CConfigFileBase& cfg,
-                       const std::string& section = kMatcherSection,
-                       const std::string& source = "configuration");
-void saveMatcherParams(const MatcherParams& params, mrpt::config::CConfigFileBase& cfg,
-                       const std::string& section = kMatcherSection);
-
 /// Reads [segmentation], [matcher], [refiner], [search] and [odometry], each when present (absent sections
 /// keep the defaults: a file may hold only some of them), and validates.
 /// @throws std::invalid_argument as above.

@@ -51,12 +51,12 @@ class CameraSimulator {
  public:
   CameraSimulator(const World& world, PinholeCamera camera, SceneHeights heights = {});
 
-  RgbImage render(const Pose2& T_world_robot) const;
+  RgbImage render(const Pose2D& T_world_robot) const;
 
   /// Boxes of the doors at least partly visible from the camera (a point of the doorway, at
   /// 10-90 % of its width, inside the horizontal field of view and not hidden by a wall):
   /// the doorway from the floor to the door height, projected (paper eq. 1) and clipped.
-  std::vector<DoorBox> visibleDoors(const Pose2& T_world_robot) const;
+  std::vector<DoorBox> visibleDoors(const Pose2D& T_world_robot) const;
 
   /// Projects a point of the robot frame to pixels (paper eq. 1, p = K T P); false when the
   /// point is behind the camera.

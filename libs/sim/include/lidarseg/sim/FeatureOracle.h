@@ -79,14 +79,14 @@ class FeatureOracle {
   /// at an angle in range.
   explicit FeatureOracle(const World& world, const FeatureOracleParams& params = {});
 
-  std::vector<Feature> visible(const Pose2& T_world_sensor, const BeamLayout& layout,
+  std::vector<Feature> visible(const Pose2D& T_world_sensor, const BeamLayout& layout,
                                double max_range_m) const;
 
   const std::vector<Corner>& corners() const { return corners_; }
   const FeatureOracleParams& params() const { return params_; }
 
  private:
-  bool inView(const Pose2& T_world_sensor, const BeamLayout& layout, double max_range_m,
+  bool inView(const Pose2D& T_world_sensor, const BeamLayout& layout, double max_range_m,
               const Eigen::Vector2d& p, Eigen::Vector2d& local) const;
   bool reachable(const Eigen::Vector2d& from, const Eigen::Vector2d& to) const;
   /// Seen from `from` over its whole length (both ends and the middle reachable) and

@@ -26,15 +26,15 @@ class OdometrySimulator {
   OdometrySimulator(const OdometryNoise& noise, std::uint64_t seed) : noise_(noise), rng_(seed) {}
 
   /// Feeds the next true pose; returns the odometry pose at that time.
-  Pose2 update(const Pose2& true_pose);
+  Pose2D update(const Pose2D& true_pose);
 
  private:
   OdometryNoise noise_;
   std::mt19937_64 rng_;
   std::normal_distribution<double> unit_{0.0, 1.0};
   bool started_ = false;
-  Pose2 last_true_;
-  Pose2 odometry_;
+  Pose2D last_true_;
+  Pose2D odometry_;
 };
 
 }  // namespace lidarseg::sim

@@ -48,14 +48,14 @@ class ScanSimulator {
 
   /// The scan seen by a sensor standing still at `T_world_sensor`. Beams with no wall
   /// within the maximum range return max_range_m (invalid by the Scan convention).
-  Scan scan(const Pose2& T_world_sensor);
+  Scan scan(const Pose2D& T_world_sensor);
 
   /// The scan of a moving sensor ("rolling shutter", paper IV.A): beam i is measured at
   /// time_offsets_s[i] = i * beam period after the first beam, from the sensor pose
   /// interpolated between `T_world_sensor_first` (first beam) and `T_world_sensor_last`
   /// (last beam). The ranges are those a real spinning scanner reports: each in the
   /// sensor frame of its own instant.
-  Scan scan(const Pose2& T_world_sensor_first, const Pose2& T_world_sensor_last);
+  Scan scan(const Pose2D& T_world_sensor_first, const Pose2D& T_world_sensor_last);
 
   /// Time between consecutive beams (s): beam spacing / (2 pi frequency).
   double beamPeriod() const;

@@ -45,8 +45,6 @@ struct SimulationParams {
   void validate() const;
 };
 
-/// Names of the sensor profiles ("lms100", "utm30lx", "sick180").
-std::vector<std::string> sensorProfiles();
 /// The profile of that name. @throws std::invalid_argument listing the known names.
 SensorModel sensorProfile(const std::string& name);
 
@@ -58,9 +56,9 @@ struct SimulatedFrame {
   double stamp_s = 0.0;
   Scan scan;
   /// True robot pose at stamp_s (world frame).
-  Pose2 T_world_robot;
+  Pose2D T_world_robot;
   /// Wheel odometry pose at stamp_s (drifts from the truth).
-  Pose2 odometry;
+  Pose2D odometry;
   /// Doors and corners the lidar sees, in the robot frame.
   std::vector<Feature> features;
   bool has_image = false;

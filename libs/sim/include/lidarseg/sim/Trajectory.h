@@ -26,9 +26,9 @@ class Trajectory {
   double speed() const { return speed_; }
 
   /// Robot pose at time t (s from the start), t clamped to [0, duration()].
-  Pose2 poseAt(double t) const;
+  Pose2D poseAt(double t) const;
   /// Pose at arc length s (m), clamped to [0, length()].
-  Pose2 poseAtDistance(double s) const;
+  Pose2D poseAtDistance(double s) const;
 
  private:
   struct Piece {

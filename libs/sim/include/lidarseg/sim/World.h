@@ -26,7 +26,6 @@ struct Wall {
 };
 
 /// A 2D pose (m, m, rad): the frame's origin and heading in its parent frame.
-using Pose2 = lidarseg::Pose2D;
 
 /// Kinds of doors a world can hold (the paper's §III.B features).
 enum class DoorKind { kOpen, kClosed, kAjar };
