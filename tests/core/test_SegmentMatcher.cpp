@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <thread>
 #include <vector>
 
@@ -159,6 +160,90 @@ TEST(SegmentMatcher, MaxSegmentsBoundsTheWorkAndKeepsTheCallersIndices) {
   }
   p.max_segments = 1;
   EXPECT_THROW(p.validate(), std::invalid_argument);
+}
+
+// A 1 m segment of the line through `middle` with normal angle theta (rad), noiseless: the
+// matcher's floors min_rho_sigma_m and min_theta_sigma_rad stand for its covariance.
+Segment lineSegment(const Eigen::Vector2d& middle, double theta) {
+  Segment s;
+  s.theta_rad = theta;
+  s.normal = {std::cos(theta), std::sin(theta)};
+  s.rho_m = s.normal.dot(middle);
+  const Eigen::Vector2d along(-s.normal.y(), s.normal.x());
+  s.start = s.first_point = middle - 0.5 * along;
+  s.end = s.last_point = middle + 0.5 * along;
+  s.cog = s.centroid = middle;
+  s.length_m = 1.0;
+  return s;
+}
+
+// The second iteration re-associates, gains a couple whose lines disagree by 0.12 rad, and its
+// outlier test then drops every couple: that iteration is discarded whole. The result is the
+// first iteration's estimate, with the covariance and the couples of that same estimate (the
+// matcher used to return the discarded iteration's pose and covariance with the first one's
+// couples).
+TEST(SegmentMatcher, AnIterationLeftWithoutCouplesGivesBackThePreviousEstimateWhole) {
+  const Pose2D truth{0.3, 0.0, 0.0};  // T_prev_curr: the current sensor is 0.3 m further along x
+  const Pose2D T_curr_prev = inverse(truth);
+  const std::vector<Segment> previous = {lineSegment({5, 0}, 0.0), lineSegment({0, 5}, 0.5 * kPi),
+                                         lineSegment({-5, 0}, kPi)};
+  // The first two walls seen again; the third is another wall, turned by 0.12 rad. From the
+  // prior (identity) its weight is above max_weight; from the first estimate it is not.
+  const std::vector<Segment> current = {
+      lineSegment(T_curr_prev * Eigen::Vector2d(5, 0), 0.0),
+      lineSegment(T_curr_prev * Eigen::Vector2d(0, 5), 0.5 * kPi),
+      lineSegment(T_curr_prev * Eigen::Vector2d(-5, 0), kPi + 0.12)};
+  const MatcherParams params;  // 2 re-association iterations
+  const MatchResult r = SegmentMatcher(params).match(previous, current, Pose2D{});
+  // The case is the one described: the second iteration reached the solve, and its outlier
+  // test dropped its three couples.
+  ASSERT_EQ(r.iterations, 2u);
+  ASSERT_EQ(r.rejections.outliers, 3u);
+
+  const std::vector<std::pair<int, int>> first_couples = {{0, 0}, {1, 1}};
+  EXPECT_EQ(r.status, MatchStatus::kOk);
+  EXPECT_EQ(r.matches, first_couples);
+  // The pose those two couples give: exact, the lines are noiseless.
+  EXPECT_NEAR(r.T_prev_curr.x, truth.x, 1e-9);
+  EXPECT_NEAR(r.T_prev_curr.y, truth.y, 1e-9);
+  EXPECT_NEAR(r.T_prev_curr.yaw, truth.yaw, 1e-9);
+  // Their covariance: the two lines are orthogonal, each fixes one axis alone with its
+  // couple's rho variance 2 min_rho_sigma_m^2; the yaw is the mean of two angle differences
+  // of variance 2 min_theta_sigma_rad^2 each.
+  const double var_rho = 2.0 * params.min_rho_sigma_m * params.min_rho_sigma_m;
+  const double var_theta = 2.0 * params.min_theta_sigma_rad * params.min_theta_sigma_rad;
+  EXPECT_NEAR(r.covariance(0, 0), var_rho, 1e-3 * var_rho);
+  EXPECT_NEAR(r.covariance(1, 1), var_rho, 1e-3 * var_rho);
+  EXPECT_NEAR(r.covariance(2, 2), 0.5 * var_theta, 1e-3 * var_theta);
+  EXPECT_NEAR(r.covariance(0, 1), 0.0, 1e-6 * var_rho);
+
+  // The same as a matcher that stops after the first iteration, field by field.
+  MatcherParams once = params;
+  once.iterations = 0;
+  const MatchResult r1 = SegmentMatcher(once).match(previous, current, Pose2D{});
+  ASSERT_EQ(r1.iterations, 1u);
+  EXPECT_EQ(r.status, r1.status);
+  EXPECT_EQ(r.matches, r1.matches);
+  EXPECT_EQ(r.T_prev_curr.x, r1.T_prev_curr.x);
+  EXPECT_EQ(r.T_prev_curr.y, r1.T_prev_curr.y);
+  EXPECT_EQ(r.T_prev_curr.yaw, r1.T_prev_curr.yaw);
+  EXPECT_EQ(r.covariance, r1.covariance);
+  EXPECT_EQ(r.degenerate_direction, r1.degenerate_direction);
+}
+
+// Couples of lines without a usable covariance (infinite: fitSegment's value for fewer than 2
+// points) give no pose; the result is the prior, and no couples are reported with it.
+TEST(SegmentMatcher, CouplesWithoutAPoseAreNotReported) {
+  std::vector<Segment> lines = {lineSegment({5, 0}, 0.0), lineSegment({0, 5}, 0.5 * kPi)};
+  for (Segment& s : lines) s.covariance.setConstant(std::numeric_limits<double>::infinity());
+  const Pose2D prior{0.01, 0.02, 0.03};
+  const MatchResult r = SegmentMatcher().match(lines, lines, prior);
+  ASSERT_GE(r.iterations, 1u);  // the two couples were found and reached the solve
+  EXPECT_EQ(r.status, MatchStatus::kTooFewMatches);
+  EXPECT_TRUE(r.matches.empty());
+  EXPECT_EQ(r.T_prev_curr.x, prior.x);
+  EXPECT_EQ(r.T_prev_curr.y, prior.y);
+  EXPECT_EQ(r.T_prev_curr.yaw, prior.yaw);
 }
 
 }  // namespace

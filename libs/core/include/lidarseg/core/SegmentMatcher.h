@@ -84,14 +84,17 @@ struct MatchRejections {
   const char* dominant() const;
 };
 
-/// Result of matching two scans.
+/// Result of matching two scans. status, T_prev_curr, covariance, degenerate_direction and
+/// matches all come from one iteration: the last whose outlier test kept at least 2 couples
+/// (an iteration left with fewer is discarded whole); with none, the prior and kTooFewMatches.
 struct MatchResult {
   MatchStatus status = MatchStatus::kTooFewMatches;
   /// Pose of the current sensor frame in the previous one (T_prev_curr).
   Pose2D T_prev_curr;
   /// Covariance of (x, y, yaw) of T_prev_curr (m^2, rad^2).
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
-  /// Couples (previous index, current index) used in the final estimate.
+  /// Couples (previous index, current index) of the final estimate's iteration that passed
+  /// its last outlier test; empty with kTooFewMatches.
   std::vector<std::pair<int, int>> matches;
   /// Unit direction (previous frame) along which the translation is unconstrained.
   Eigen::Vector2d degenerate_direction = Eigen::Vector2d::Zero();
@@ -102,6 +105,7 @@ struct MatchResult {
   std::size_t segments_ignored = 0;
   /// Whether the focused band had to fall back to the full matrix.
   bool used_full_matrix = false;
+  /// Iterations that reached the pose solve, a discarded last one included.
   std::size_t iterations = 0;
   /// Why previous segments found no couple (last association).
   MatchRejections rejections;
@@ -113,7 +117,7 @@ struct MatchResult {
 /// accelerated (gated) weight, (4) keep mutual minima below a threshold that are not
 /// ambiguous, (5) solve the rigid motion from the matched lines: rotation from their
 /// directions, translation by weighted least squares on rho with the segments'
-/// covariances; then re-associate a few times.
+/// covariances, dropping outlier couples; then re-associate a few times about the estimate.
 /// Never throws on data: a failure is a status. O(n * band) weights per iteration.
 class SegmentMatcher {
  public:
