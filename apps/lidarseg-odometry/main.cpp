@@ -6,6 +6,7 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
 #include "lidarseg/apps/OdometryApp.h"
+#include "lidarseg/eval/Csv.h"
 
 int main(int argc, char** argv) {
   try {
@@ -56,9 +57,7 @@ int main(int argc, char** argv) {
     o.sensor = sensor.getValue();
     o.max_scans = max_scans.getValue();
     {
-      std::stringstream names(baseline.getValue());
-      std::string name;
-      while (std::getline(names, name, ',')) {
+      for (const std::string& name : lidarseg::eval::splitCsvLine(baseline.getValue())) {
         if (name == "icp") {
           o.baseline_icp = true;
         } else if (name == "icp-s2s") {

@@ -25,6 +25,7 @@
 #include "lidarseg/core/Statistics.h"
 #include "lidarseg/mrpt/SimulationConfig.h"
 #include "lidarseg/sim/Simulation.h"
+#include "lidarseg/eval/Csv.h"
 
 namespace lidarseg::apps {
 
@@ -69,9 +70,7 @@ std::vector<double> metricsOf(const OdometryReport& r) {
 
 std::vector<std::uint64_t> parseSeeds(const std::string& text) {
   std::vector<std::uint64_t> seeds;
-  std::stringstream ss(text);
-  std::string part;
-  while (std::getline(ss, part, ',')) {
+  for (const std::string& part : eval::splitCsvLine(text)) {
     const auto dash = part.find('-');
     try {
       std::size_t used = 0;
@@ -273,10 +272,8 @@ BatchSummary BatchApp::aggregate(const std::string& out_dir, const std::string& 
     std::string header, line;
     std::getline(in, header);
     if (!std::getline(in, line)) throw std::runtime_error(f.string() + ":2: missing the data line");
-    std::stringstream ss(line);
-    std::string cell;
     std::vector<double> row;
-    while (std::getline(ss, cell, ',')) {
+    for (const std::string& cell : eval::splitCsvLine(line)) {
       char* end = nullptr;
       const double v = std::strtod(cell.c_str(), &end);
       if (end == cell.c_str()) throw std::runtime_error(f.string() + ":2: '" + cell + "' is not a number");

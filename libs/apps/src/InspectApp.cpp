@@ -19,6 +19,7 @@
 #include "OutputFiles.h"
 #include "lidarseg/apps/inspect/Drawing.h"
 #include "lidarseg/eval/StampedTrajectory.h"
+#include "lidarseg/eval/Csv.h"
 
 namespace lidarseg::apps {
 
@@ -57,8 +58,7 @@ Layers InspectApp::parseLayers(const std::string& list) {
   l = Layers{};
   l.raw_points = l.indices = l.predicted = l.matches = l.features = l.trajectory = l.camera = false;
   l.levels = {false, false, false, false};
-  std::stringstream ss(list);
-  for (std::string name; std::getline(ss, name, ',');) {
+  for (const std::string& name : eval::splitCsvLine(list)) {
     if (name == "raw") l.raw_points = true;
     else if (name.size() == 2 && name[0] == 'l' && name[1] >= '0' && name[1] <= '3') l.levels[name[1] - '0'] = true;
     else if (name == "indices") l.indices = true;

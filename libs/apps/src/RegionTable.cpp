@@ -1,4 +1,5 @@
 #include "lidarseg/apps/RegionTable.h"
+#include "lidarseg/eval/Csv.h"
 
 #include <algorithm>
 #include <array>
@@ -11,16 +12,7 @@ namespace lidarseg::apps {
 
 namespace {
 
-std::vector<std::string> splitCsv(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream ss(line);
-  for (std::string c; std::getline(ss, c, ',');) {
-    const auto b = c.find_first_not_of(" \t\r"), e = c.find_last_not_of(" \t\r");
-    cells.push_back(b == std::string::npos ? std::string() : c.substr(b, e - b + 1));
-  }
-  if (!line.empty() && line.back() == ',') cells.emplace_back();
-  return cells;
-}
+using eval::splitCsvLine;
 
 long parseInteger(const std::string& text, const std::string& where) {
   std::size_t used = 0;
@@ -50,7 +42,7 @@ const std::string kBoxRule = "need 0 <= u_min <= u_max <= " + std::to_string(kMa
 }  // namespace
 
 cv::Rect parseRegion(const std::string& text, const std::string& what) {
-  const auto cells = splitCsv(text);
+  const auto cells = splitCsvLine(text);
   if (cells.size() != 4) throw std::invalid_argument(what + " '" + text + "': expected u_min,v_min,u_max,v_max");
   long v[4];
   try {
@@ -72,7 +64,7 @@ void RegionTable::read(const std::string& path) {
 void RegionTable::read(std::istream& in, const std::string& source) {
   std::string line;
   if (!std::getline(in, line)) throw std::runtime_error(source + ": empty (no header)");
-  const auto header = splitCsv(line);
+  const auto header = splitCsvLine(line);
   auto column = [&](const std::string& name) -> std::optional<std::size_t> {
     const auto it = std::find(header.begin(), header.end(), name);
     if (it == header.end()) return std::nullopt;
@@ -90,7 +82,7 @@ void RegionTable::read(std::istream& in, const std::string& source) {
   if (!frame_col && !file_col) throw std::runtime_error(source + ":1: no column 'frame', 'image' or 'file' in the header");
   for (std::size_t n = 2; std::getline(in, line); ++n) {
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    const auto cells = splitCsv(line);
+    const auto cells = splitCsvLine(line);
     const std::string at = source + ":" + std::to_string(n);
     if (cells.size() != header.size()) {
       throw std::runtime_error(at + ": " + std::to_string(cells.size()) + " fields, the header has " +

@@ -1,4 +1,5 @@
 #include "lidarseg/eval/FeatureEvaluation.h"
+#include "lidarseg/eval/Csv.h"
 
 #include <algorithm>
 #include <cmath>
@@ -38,10 +39,7 @@ std::map<std::size_t, std::vector<TrueFeature>> readTrueFeatures(const std::stri
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty() || line[0] == '#') continue;
     if (number == 1 && line.rfind("scan,", 0) == 0) continue;  // header
-    std::vector<std::string> cols;
-    std::stringstream ss(line);
-    std::string c;
-    while (std::getline(ss, c, ',')) cols.push_back(c);
+    const std::vector<std::string> cols = splitCsvLine(line);
     if (cols.size() < 8) fail(path, number, "expected at least 8 columns (scan,t,type,x,y,theta,width,id)");
     auto number_at = [&](std::size_t k) {
       try {
