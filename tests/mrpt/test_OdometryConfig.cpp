@@ -88,3 +88,39 @@ TEST(OdometryConfig, YamlWorksToo) {
 
 }  // namespace
 }  // namespace lidarseg::mrpt_adapter
+
+namespace lidarseg::mrpt_adapter {
+namespace {
+
+TEST(OdometryConfigEnums, LevelsAndStampsAreReadByNameOrNumberAndWrittenByName) {
+  const std::string path = std::string(LIDARSEG_TEST_TMP_DIR) + "/enums.ini";
+  std::ofstream(path) << "[odometry]\nlevel = fused-again\ndegenerate_fallback_level = 0\nscan_stamp = Middle\n"
+                         "[refiner]\nlevel = eroded\n";
+  const OdometryParams p = loadOdometryParamsFile(path);
+  EXPECT_EQ(p.level, CascadeLevel::kFusedAgain);
+  EXPECT_EQ(p.degenerate_fallback_level, CascadeLevel::kWallDanielsson);
+  EXPECT_EQ(p.scan_stamp, ScanStamp::kMiddle);
+  EXPECT_EQ(p.refiner.level, CascadeLevel::kEroded);
+  mrpt::config::CConfigFileMemory cfg;
+  saveOdometryParams(p, cfg);
+  EXPECT_EQ(cfg.read_string("odometry", "level", ""), "fused_again");
+  EXPECT_EQ(cfg.read_string("odometry", "scan_stamp", ""), "middle");
+}
+
+TEST(OdometryConfigEnums, AnUnknownNameIsAnErrorListingTheNames) {
+  const std::string path = std::string(LIDARSEG_TEST_TMP_DIR) + "/bad_enum.ini";
+  std::ofstream(path) << "[odometry]\nkeyframe_distance_m = 1\nlevel = fusd\n";
+  try {
+    loadOdometryParamsFile(path);
+    FAIL() << "accepted 'fusd'";
+  } catch (const std::invalid_argument& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(path + ":3 [odometry] level"), std::string::npos) << m;
+    EXPECT_NE(m.find("fused_again"), std::string::npos) << m;
+  }
+  std::ofstream(path) << "[odometry]\nlevel = 4\n";
+  EXPECT_THROW(loadOdometryParamsFile(path), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace lidarseg::mrpt_adapter

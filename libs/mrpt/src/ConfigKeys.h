@@ -6,6 +6,8 @@
 // number parsing, unknown-key check, validate(), errors naming file:line [section] key),
 // save (full precision) and the list of keys.
 
+#include <array>
+#include <cctype>
 #include <limits>
 #include <map>
 #include <string>
@@ -15,7 +17,42 @@
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include "lidarseg/core/Scan.h"
+#include "lidarseg/core/Segmentation.h"
+
 namespace lidarseg::mrpt_adapter::detail {
+
+/// The names of an enumeration's values in the configuration files, in value order
+/// (specialised for each enum a key table holds).
+template <typename E>
+struct EnumNames;
+template <>
+struct EnumNames<CascadeLevel> {
+  static constexpr std::array<const char*, 4> names = {"wall_danielsson", "fused", "eroded", "fused_again"};
+};
+template <>
+struct EnumNames<ScanStamp> {
+  static constexpr std::array<const char*, 3> names = {"first", "middle", "last"};
+};
+
+/// The value named `text` (case and '-' / '_' ignored), or its number (older files).
+/// @throws std::invalid_argument naming `context` and the accepted names.
+template <typename E>
+E parseEnum(const std::string& text, const std::string& context) {
+  std::string key;
+  for (char c : text) key += c == '-' ? '_' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const auto& names = EnumNames<E>::names;
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    if (key == names[k]) return static_cast<E>(k);
+  }
+  std::string list;
+  for (const char* n : names) list += std::string(list.empty() ? "" : ", ") + n;
+  if (!key.empty() && key.find_first_not_of("0123456789") == std::string::npos && key.size() < 4) {
+    const std::size_t v = std::stoul(key);
+    if (v < names.size()) return static_cast<E>(v);
+  }
+  throw std::invalid_argument(context + ": '" + text + "' is not one of " + list);
+}
 
 /// Line number (1-based) of each key of one section in the source text.
 using LineMap = std::map<std::string, int>;
@@ -90,7 +127,7 @@ void loadKeys(Params& params, const mrpt::config::CConfigFileBase& cfg, const st
       }
       field = v == 1;
     } else if constexpr (std::is_enum_v<Field>) {
-      field = static_cast<Field>(parseCount(text, where(source, lines, section, key)));
+      field = parseEnum<Field>(text, where(source, lines, section, key));
     } else {
       const std::size_t v = parseCount(text, where(source, lines, section, key));
       if (v > static_cast<std::size_t>(std::numeric_limits<Field>::max())) {
@@ -116,7 +153,7 @@ void saveKeys(const Params& params, mrpt::config::CConfigFileBase& cfg, const st
   forEachKey(copy, [&](const char* key, auto& field) {
     using Field = std::decay_t<decltype(field)>;
     if constexpr (std::is_enum_v<Field>) {
-      cfg.write(section, key, formatValue(static_cast<double>(static_cast<std::size_t>(field))));
+      cfg.write(section, key, std::string(EnumNames<Field>::names.at(static_cast<std::size_t>(field))));
     } else {
       cfg.write(section, key, formatValue(static_cast<double>(field)));
     }
