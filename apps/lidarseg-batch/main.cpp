@@ -10,6 +10,7 @@
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
+#include "lidarseg/apps/CommandLine.h"
 #include "lidarseg/apps/BatchApp.h"
 
 namespace {
@@ -32,12 +33,16 @@ int main(int argc, char** argv) {
   using lidarseg::apps::BatchApp;
   if (argc < 2) return usage();
   const std::string command = argv[1];
+  if (command == "--help" || command == "-h") {
+    std::cout << "usage: lidarseg-batch run|one|aggregate [options]   (lidarseg-batch <command> --help)\n";
+    return 0;
+  }
   try {
     TCLAP::CmdLine cmd("lidarseg-batch " + command, ' ', "0.1.0");
     if (command == "aggregate") {
       TCLAP::UnlabeledValueArg<std::string> dir("dir", "results folder", true, "", "DIR", cmd);
       TCLAP::ValueArg<std::string> title("", "title", "title of the table", false, "", "TEXT", cmd);
-      cmd.parse(argc - 1, argv + 1);
+      if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc - 1, argv + 1, "lidarseg-batch " + command)) return *status;
       const auto s = BatchApp::aggregate(dir.getValue(), title.getValue().empty() ? dir.getValue() : title.getValue());
       std::cout << s.table_markdown;
       return 0;
@@ -56,7 +61,7 @@ int main(int argc, char** argv) {
     TCLAP::SwitchArg keep("", "keep-data", "keep the simulated rawlogs", cmd);
     TCLAP::SwitchArg quiet("q", "quiet", "no progress", cmd);
     TCLAP::ValueArg<std::string> title("", "title", "title of the aggregated table", false, "", "TEXT", cmd);
-    cmd.parse(argc - 1, argv + 1);
+    if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc - 1, argv + 1, "lidarseg-batch " + command)) return *status;
 
     lidarseg::apps::BatchJob job;
     job.world_path = world.getValue();

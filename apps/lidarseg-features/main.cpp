@@ -3,6 +3,7 @@
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
+#include "lidarseg/apps/CommandLine.h"
 #include "lidarseg/apps/FeaturesApp.h"
 
 int main(int argc, char** argv) {
@@ -29,7 +30,7 @@ int main(int argc, char** argv) {
                                       false, "", "FILE.csv", cmd);
     TCLAP::ValueArg<std::string> images("", "images-out", "camera images with the ROI boxes drawn (paper Fig. 7)",
                                         false, "", "DIR", cmd);
-    cmd.parse(argc, argv);
+    if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc, argv, "lidarseg-features")) return *status;
 
     lidarseg::apps::FeaturesOptions options;
     options.input = input.getValue();

@@ -3,6 +3,7 @@
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
+#include "lidarseg/apps/CommandLine.h"
 #include "lidarseg/apps/InspectApp.h"
 
 int main(int argc, char** argv) {
@@ -37,7 +38,7 @@ int main(int argc, char** argv) {
     TCLAP::ValueArg<std::string> save("", "save", "where the window's 's' key saves the parameters", false,
                                       "lidarseg-inspect.ini", "FILE.ini", cmd);
     TCLAP::ValueArg<std::size_t> render_frame("", "render", "same as --frame, for --out", false, 0, "N", cmd);
-    cmd.parse(argc, argv);
+    if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc, argv, "lidarseg-inspect")) return *status;
 
     lidarseg::apps::InspectOptions o;
     o.input = input.getValue();

@@ -3,6 +3,7 @@
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
+#include "lidarseg/apps/CommandLine.h"
 #include "lidarseg/apps/PeopleApp.h"
 
 int main(int argc, char** argv) {
@@ -30,7 +31,7 @@ int main(int argc, char** argv) {
                                         cmd);
     TCLAP::ValueArg<std::string> draw("", "draw", "directory for annotated frames", false, "", "DIR", cmd);
     TCLAP::ValueArg<std::size_t> draw_every("", "draw-every", "draw every N-th analysed frame", false, 50, "N", cmd);
-    cmd.parse(argc, argv);
+    if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc, argv, "lidarseg-people")) return *status;
 
     lidarseg::apps::PeopleOptions options;
     options.input = input.getValue();

@@ -3,6 +3,7 @@
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
+#include "lidarseg/apps/CommandLine.h"
 #include "lidarseg/apps/SegmentStatsApp.h"
 
 int main(int argc, char** argv) {
@@ -21,7 +22,7 @@ int main(int argc, char** argv) {
                                            0, "N", cmd);
     TCLAP::ValueArg<std::string> csv("", "csv", "write per-scan counts and times to FILE", false,
                                      "", "FILE", cmd);
-    cmd.parse(argc, argv);
+    if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc, argv, "lidarseg-segment")) return *status;
 
     lidarseg::apps::SegmentStatsOptions options;
     options.input = input.getValue();

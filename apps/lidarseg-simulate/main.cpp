@@ -4,6 +4,7 @@
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
+#include "lidarseg/apps/CommandLine.h"
 #include "lidarseg/apps/SimulateApp.h"
 
 int main(int argc, char** argv) {
@@ -20,7 +21,7 @@ int main(int argc, char** argv) {
     TCLAP::SwitchArg no_rs("", "no-rolling-shutter", "measure every beam of a scan from one pose", cmd);
     TCLAP::ValueArg<long> camera("", "camera-every", "an image every N scans (0: no camera)", false, -1, "N", cmd);
     TCLAP::SwitchArg carmen("", "carmen", "also write PREFIX.carmen.log (ROBOTLASER1/ODOM)", cmd);
-    cmd.parse(argc, argv);
+    if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc, argv, "lidarseg-simulate")) return *status;
 
     lidarseg::apps::SimulateOptions o;
     o.world_path = world.getValue();

@@ -1,0 +1,22 @@
+#pragma once
+/// @file CommandLine.h
+/// How every lidarseg tool parses its command line (MRPT's TCLAP): a usage error is a
+/// message and exit status 2 with nothing run; --help and --version print and exit 0.
+
+#include <optional>
+#include <string>
+
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+
+namespace lidarseg::apps {
+
+/// Exit status of a usage error (a bad flag or value, a missing argument).
+inline constexpr int kUsageError = 2;
+
+/// Parses `argv` into `cmd`'s arguments.
+/// @return std::nullopt when the tool should run; otherwise the status to exit with:
+///         0 after --help or --version (printed on stdout), kUsageError after a usage error
+///         (one line "TOOL: usage error: ..." on stderr).
+std::optional<int> parseCommandLine(TCLAP::CmdLine& cmd, int argc, char** argv, const std::string& tool);
+
+}  // namespace lidarseg::apps
