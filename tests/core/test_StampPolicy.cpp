@@ -56,6 +56,18 @@ TEST(StampPolicy, AGapIsFlaggedAndItsStepIsNotTheNextRepairStep) {
   EXPECT_NEAR(s[3].dt_s, 0.1, 1e-12);  // the last good step, not the gap
 }
 
+TEST(StampPolicy, AClockJumpingBackADayIsAGapNotARepeatedStamp) {
+  StampPolicy p;
+  const auto s = run(p, {86400.0, 86400.1, 0.2, 0.3});
+  EXPECT_TRUE(s[2].clock_jump);
+  EXPECT_TRUE(s[2].gap);
+  EXPECT_FALSE(s[2].non_increasing);
+  EXPECT_NEAR(s[2].dt_s, 0.1, 1e-9);  // the model's clock goes on by the last good step
+  EXPECT_FALSE(s[3].gap || s[3].non_increasing);
+  EXPECT_NEAR(s[3].dt_s, 0.1, 1e-9);  // and the log's steps count again from the new clock
+  for (std::size_t k = 1; k < s.size(); ++k) EXPECT_GT(s[k].output_stamp_s, s[k - 1].output_stamp_s);
+}
+
 TEST(StampPolicy, NothingChangesUntilAccepted) {
   StampPolicy p;
   run(p, {0.0, 0.1});

@@ -209,6 +209,7 @@ void OdometryApp::collectReaderCounts(const mrpt_adapter::LaserLogReader& reader
   }
   report.skipped_count += reader.skipped();
   for (const auto& s : reader.unknownTypes()) report.warnings.push_back(s);
+  for (const auto& s : reader.warnings()) report.warnings.push_back(s);
 }
 
 // Every method against ground truth, relations and the log's own poses.
@@ -293,7 +294,7 @@ std::string OdometryApp::summaryJson(const OdometryReport& report) { return run:
 void OdometryApp::print(const OdometryReport& r, std::ostream& os) {
   os << markdownTable(r);
   os << "\nskipped: " << r.skipped_count << ", non-increasing stamps: " << r.non_increasing_stamps
-     << ", time gaps: " << r.time_gaps << ", odometry jumps: " << r.odometry_jumps << "\n";
+     << ", time gaps: " << r.time_gaps << ", clock jumps: " << r.clock_jumps << ", odometry jumps: " << r.odometry_jumps << "\n";
   os << "lidarseg status:";
   for (const auto& [k, v] : r.lidarseg.status_counts) os << " " << k << "=" << v;
   os << "\n";

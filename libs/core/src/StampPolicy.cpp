@@ -28,7 +28,11 @@ StampStep StampPolicy::next(double log_stamp_s) const {
     s.first = false;
     s.log_step_s = log_stamp_s - last_log_;
     double step = s.log_step_s;
-    if (!(s.log_step_s > 0.0)) {
+    if (s.log_step_s < -params_.max_time_gap_s) {
+      s.clock_jump = true;
+      s.gap = true;
+      step = last_dt_;
+    } else if (!(s.log_step_s > 0.0)) {
       s.non_increasing = true;
       step = last_dt_;
     } else if (s.log_step_s > params_.max_time_gap_s) {

@@ -13,6 +13,7 @@ namespace {
 
 constexpr std::size_t kMaxBeams = 100000;
 constexpr std::size_t kMaxIssuesKept = 100;
+constexpr std::size_t kMaxUnknownTypes = 100;  // distinct unknown line types counted by name
 
 std::vector<std::string> split(const std::string& line) {
   std::vector<std::string> out;
@@ -180,7 +181,11 @@ std::optional<CarmenLaser> CarmenLogReader::next() {
       }
       return laser;
     }
-    if (ignoredTypes().count(type) == 0) ++unknown_[type];
+    if (ignoredTypes().count(type) == 0) {
+      // Distinct types are counted up to a bound; beyond it they share one entry.
+      const bool known = unknown_.count(type) != 0 || unknown_.size() < kMaxUnknownTypes;
+      ++unknown_[known ? type : std::string("(other types)")];
+    }
   }
   return std::nullopt;
 }

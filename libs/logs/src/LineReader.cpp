@@ -16,28 +16,57 @@ LineReader::~LineReader() {
   if (file_ != nullptr) gzclose(static_cast<gzFile>(file_));
 }
 
-bool LineReader::next(std::string& line) {
-  line.clear();
-  auto* f = static_cast<gzFile>(file_);
-  char buffer[4096];
-  bool any = false;
-  while (true) {
-    if (gzgets(f, buffer, sizeof buffer) == nullptr) {
-      int code = Z_OK;
-      const char* message = gzerror(f, &code);
-      if (code != Z_OK && code != Z_STREAM_END) {
-        throw std::runtime_error(path_ + ":" + std::to_string(line_ + 1) +
-                                 ": corrupt or truncated compressed data (" +
-                                 (message ? message : "zlib error") + ")");
-      }
-      break;  // end of file
-    }
-    any = true;
-    line += buffer;
-    if (!line.empty() && line.back() == '\n') break;
+bool LineReader::fill() {
+  if (eof_) return false;
+  if (begin_ > 0) {
+    buffer_.erase(0, begin_);
+    begin_ = 0;
   }
-  if (!any) return false;
-  while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
+  char chunk[1 << 16];
+  const int n = gzread(static_cast<gzFile>(file_), chunk, sizeof chunk);
+  int code = Z_OK;
+  const char* message = gzerror(static_cast<gzFile>(file_), &code);
+  const bool failed = n < 0 || (code != Z_OK && code != Z_STREAM_END);
+  if (failed && n > 0) {
+    // The bytes before the damage are lines too: return them, fail at the next read.
+    buffer_.append(chunk, static_cast<std::size_t>(n));
+    return true;
+  }
+  if (failed) {
+    throw std::runtime_error(path_ + ":" + std::to_string(line_ + 1) + ": corrupt or truncated compressed data (" +
+                             (message ? message : "zlib error") + ")");
+  }
+  if (n == 0) {
+    eof_ = true;
+    return false;
+  }
+  buffer_.append(chunk, static_cast<std::size_t>(n));
+  return true;
+}
+
+bool LineReader::next(std::string& line) {
+  std::size_t scanned = begin_;
+  while (true) {
+    const std::size_t eol = buffer_.find('\n', scanned);
+    if (eol != std::string::npos) {
+      line.assign(buffer_, begin_, eol - begin_);
+      begin_ = eol + 1;
+      break;
+    }
+    if (buffer_.size() - begin_ > kMaxLineBytes) {
+      throw std::runtime_error(path_ + ":" + std::to_string(line_ + 1) + ": a line longer than " +
+                               std::to_string(kMaxLineBytes >> 20) + " MiB (not a text log?)");
+    }
+    const std::size_t kept = buffer_.size() - begin_;
+    if (!fill()) {
+      if (kept == 0) return false;
+      line.assign(buffer_, begin_, std::string::npos);  // a last line without '\n'
+      begin_ = buffer_.size();
+      break;
+    }
+    scanned = kept;  // fill() moved the unreturned bytes to the front
+  }
+  while (!line.empty() && (line.back() == '\r' || line.back() == '\n')) line.pop_back();
   ++line_;
   return true;
 }

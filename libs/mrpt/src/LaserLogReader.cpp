@@ -6,6 +6,7 @@
 
 #include <mrpt/system/datetime.h>
 
+#include "lidarseg/core/Angles.h"
 #include "lidarseg/logs/CarmenLogReader.h"
 #include "lidarseg/mrpt/PoseConversion.h"
 #include "lidarseg/mrpt/RawlogScanReader.h"
@@ -42,7 +43,76 @@ mrpt::obs::CObservation2DRangeScan::Ptr toObservation(const logs::CarmenLaser& l
   return obs;
 }
 
+// The largest tilt (pitch or roll, rad) of a scan plane taken as horizontal: 0.6 deg, a
+// range error below 0.01 %.
+constexpr double kMaxTiltRad = 0.01;
+constexpr std::size_t kMaxBeams = 100000;
+
+bool finitePose(const mrpt::poses::CPose3D& p) {
+  return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()) && std::isfinite(p.yaw()) &&
+         std::isfinite(p.pitch()) && std::isfinite(p.roll());
+}
+
+// What makes a rawlog scan unusable ("" when nothing). A laser mounted upside down is
+// rewritten in place as the same scan seen by an upright laser (beams in the other order).
+std::string checkRawlogScan(mrpt::obs::CObservation2DRangeScan& obs) {
+  const double stamp = mrpt::Clock::toDouble(obs.timestamp);
+  if (!std::isfinite(stamp) || stamp < 0.0) return "timestamp is not a valid time";
+  const std::size_t n = obs.getScanSize();
+  if (n < 2 || n > kMaxBeams) return std::to_string(n) + " beams (need 2 to " + std::to_string(kMaxBeams) + ")";
+  if (!std::isfinite(obs.aperture) || !(obs.aperture > 0.0f) || obs.aperture > 2.0f * static_cast<float>(kPi) + 1e-3f) {
+    return "aperture " + std::to_string(obs.aperture) + " rad is not in (0, 2 pi]";
+  }
+  if (!std::isfinite(obs.maxRange) || !(obs.maxRange > 0.0f)) return "maximum range is not finite and > 0";
+  if (!finitePose(obs.sensorPose)) return "sensor pose is not finite";
+  const auto R = obs.sensorPose.getRotationMatrix();
+  const double up = R(2, 2);  // the sensor's z axis, in the robot's z
+  if (std::abs(up) < std::cos(kMaxTiltRad)) {
+    return "scan plane tilted by " + std::to_string(std::acos(std::min(1.0, std::abs(up))) * kRadToDeg) +
+           " deg (the planar pipeline needs it within " + std::to_string(kMaxTiltRad * kRadToDeg) + " deg of horizontal)";
+  }
+  const double yaw = std::atan2(R(1, 0), R(0, 0));  // where the sensor's x axis points
+  if (up < 0.0) {
+    // Upside down: the beams sweep the other way round the robot's z axis.
+    obs.rightToLeft = !obs.rightToLeft;
+  }
+  const auto& p = obs.sensorPose;
+  obs.sensorPose = mrpt::poses::CPose3D(p.x(), p.y(), p.z(), yaw, 0.0, 0.0);
+  return "";
+}
+
 }  // namespace
+
+void LaserLogReader::watchGeometry(LaserRecord& r) {
+  const auto& o = *r.observation;
+  if (r.odometry && !(std::isfinite(r.odometry->x) && std::isfinite(r.odometry->y) && std::isfinite(r.odometry->yaw))) {
+    warn(r.where + ": wheel odometry is not finite; not used");
+    r.odometry.reset();
+  }
+  const Geometry g{o.getScanSize(), o.aperture, o.rightToLeft, o.sensorPose.x(), o.sensorPose.y(), o.sensorPose.yaw()};
+  if (!geometry_) {
+    geometry_ = g;
+  } else if (!geometry_changed_ && !(g == *geometry_)) {
+    geometry_changed_ = true;
+    warn(r.where + ": the laser '" + o.sensorLabel + "' changes its beam count, aperture or mounting (" +
+         std::to_string(geometry_->beams) + " -> " + std::to_string(g.beams) + " beams); each scan is taken as it is");
+  }
+}
+
+std::vector<std::string> LaserLogReader::warnings() const {
+  std::vector<std::string> out = warnings_;
+  if (rawlog_) {
+    for (const auto& m : rawlog_->droppedOdometry()) out.push_back(m);
+    if (rawlog_->droppedOdometryCount() > rawlog_->droppedOdometry().size()) {
+      out.push_back(path_ + ": " + std::to_string(rawlog_->droppedOdometryCount()) + " non-finite odometry values in all");
+    }
+  }
+  return out;
+}
+
+void LaserLogReader::warn(const std::string& message) {
+  if (warnings_.size() < 100) warnings_.push_back(message);
+}
 
 LogFormat detectLogFormat(const std::string& path) {
   if (endsWith(path, ".rawlog") || endsWith(path, ".rawlog.gz")) return LogFormat::kRawlog;
@@ -94,16 +164,25 @@ std::vector<std::string> LaserLogReader::unknownTypes() const {
 
 std::optional<LaserRecord> LaserLogReader::next() {
   if (rawlog_) {
-    auto scan = rawlog_->next();
-    if (!scan) return std::nullopt;
-    LaserRecord r;
-    r.index = returned_++;
-    r.where = path_ + ", entry " + std::to_string(scan->entry_index);
-    r.stamp_s = mrpt::Clock::toDouble(scan->observation->timestamp);
-    r.observation = scan->observation;
-    if (scan->odometry) r.odometry = toPose2D(*scan->odometry);
-    r.companions = std::move(scan->companions);
-    return r;
+    while (true) {
+      auto scan = rawlog_->next();
+      if (!scan) return std::nullopt;
+      const std::string where = path_ + ", entry " + std::to_string(scan->entry_index);
+      const std::string problem = checkRawlogScan(*scan->observation);
+      if (!problem.empty()) {
+        note(where + ": " + problem + "; scan skipped");
+        continue;
+      }
+      LaserRecord r;
+      r.where = where;
+      r.stamp_s = mrpt::Clock::toDouble(scan->observation->timestamp);
+      r.observation = scan->observation;
+      if (scan->odometry) r.odometry = toPose2D(*scan->odometry);
+      r.companions = std::move(scan->companions);
+      watchGeometry(r);
+      r.index = returned_++;
+      return r;
+    }
   }
   while (true) {
     const std::size_t malformed_before = carmen_->malformedLines();
@@ -128,6 +207,7 @@ std::optional<LaserRecord> LaserLogReader::next() {
     // rewrite the laser line's odometry fields), else the laser line's own fields.
     r.odometry = carmen_->lastOdometry() ? *carmen_->lastOdometry() : laser->robot_pose;
     r.log_pose = compose(laser->laser_pose, inverse(laser->laser_on_robot));
+    watchGeometry(r);
     return r;
   }
 }

@@ -92,6 +92,14 @@ void RawlogScanReader::checkCompressedEnd() const {
 
 RawlogScanReader::~RawlogScanReader() = default;
 
+void RawlogScanReader::dropOdometry(const char* what) {
+  ++dropped_odometry_count_;
+  if (dropped_odometry_.size() < 100) {
+    dropped_odometry_.push_back("rawlog '" + path_ + "', entry " + std::to_string(entries_read_ - 1) + ": " + what +
+                                " is not finite; not used");
+  }
+}
+
 bool RawlogScanReader::accept(const mrpt::obs::CObservation2DRangeScan::Ptr& scan) {
   if (!scan) return false;
   if (std::find(labels_seen_.begin(), labels_seen_.end(), scan->sensorLabel) ==
@@ -105,7 +113,13 @@ bool RawlogScanReader::accept(const mrpt::obs::CObservation2DRangeScan::Ptr& sca
 void RawlogScanReader::take(const mrpt::obs::CObservation::Ptr& obs) {
   if (!obs) return;
   if (auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(obs)) {
-    odometry_ = odo->odometry;
+    const auto& p = odo->odometry;
+    // A non-finite reading is not kept: it would poison every later odometry pose.
+    if (std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.phi())) {
+      odometry_ = p;
+    } else {
+      dropOdometry("an odometry reading");
+    }
   }
   auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs);
   if (!accept(scan)) {
@@ -160,7 +174,12 @@ std::optional<RawlogScan> RawlogScanReader::next() {
     } else if (auto actions = std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(object)) {
       if (auto move = actions->getBestMovementEstimation()) {
         const mrpt::poses::CPose2D increment = move->poseChange->getMeanVal();
-        odometry_ = odometry_ ? *odometry_ + increment : increment;
+        // A non-finite increment is dropped: summed, it would poison every later pose.
+        if (std::isfinite(increment.x()) && std::isfinite(increment.y()) && std::isfinite(increment.phi())) {
+          odometry_ = odometry_ ? *odometry_ + increment : increment;
+        } else {
+          dropOdometry("a robot movement");
+        }
       }
     } else if (auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation>(object)) {
       take(obs);

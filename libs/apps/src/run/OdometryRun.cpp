@@ -57,7 +57,11 @@ RunStep OdometryRun::process(const mrpt_adapter::LaserRecord& record) {
     if (m != lidarseg_.get()) m->process(input);
   }
   if (out.time.non_increasing) ++counts_.non_increasing_stamps;
-  if (out.time.gap) {
+  if (out.time.clock_jump) {
+    ++counts_.clock_jumps;
+    warn(record.where + ": the clock jumps back by " + std::to_string(-out.time.log_step_s) +
+         " s; the motion prior restarts from rest");
+  } else if (out.time.gap) {
     ++counts_.time_gaps;
     warn(record.where + ": time gap of " + std::to_string(out.time.log_step_s) +
          " s; the motion prior restarts from rest");

@@ -114,6 +114,7 @@ std::string summaryJson(const OdometryReport& r) {
          {"skipped_examples", r.skipped},
          {"non_increasing_stamps", r.non_increasing_stamps},
          {"time_gaps", r.time_gaps},
+         {"clock_jumps", r.clock_jumps},
          {"odometry_jumps", r.odometry_jumps}};
   if (!r.log_error.empty()) j["log_error"] = r.log_error;
   j["warnings"] = r.warnings;

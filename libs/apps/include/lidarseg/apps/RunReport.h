@@ -70,6 +70,8 @@ struct OdometryReport {
   std::size_t non_increasing_stamps = 0;
   /// Time gaps beyond max_time_gap_s (the prior restarted from rest).
   std::size_t time_gaps = 0;
+  /// Clock jumps backwards by more than max_time_gap_s (the prior restarted from rest).
+  std::size_t clock_jumps = 0;
   /// Wheel-odometry increments rejected as implausible (a jump).
   std::size_t odometry_jumps = 0;
   std::vector<std::string> warnings;

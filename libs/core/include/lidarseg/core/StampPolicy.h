@@ -42,10 +42,14 @@ struct StampStep {
   double output_stamp_s = 0.0;
   /// Model time since the previous scan (s); 0 for the first scan.
   double dt_s = 0.0;
-  /// The log's step did not increase: dt_s is the last good step.
+  /// The log's step did not increase (by at most max_time_gap_s back): dt_s is the last good step.
   bool non_increasing = false;
-  /// The log's step exceeded max_time_gap_s: the prior restarts from rest.
+  /// The log's step exceeded max_time_gap_s, or the clock jumped back by more than that:
+  /// the prior restarts from rest.
   bool gap = false;
+  /// The clock jumped backwards by more than max_time_gap_s (a discontinuity, not a repeated
+  /// stamp): also a gap; dt_s is the last good step.
+  bool clock_jump = false;
   /// The log's own stamp and step since the previous accepted scan (s).
   double log_stamp_s = 0.0;
   double log_step_s = 0.0;

@@ -8,9 +8,13 @@
 namespace lidarseg::logs {
 
 /// Line-by-line reader of a plain or gzip-compressed text file (detected from its first
-/// bytes, not its name). Lines of any length; a final line without '\n' is returned too.
+/// bytes, not its name). A final line without '\n' is returned too; a NUL byte is kept in
+/// its line (never ends it); a line longer than kMaxLineBytes is an error.
 class LineReader {
  public:
+  /// The longest line accepted (bytes): a CARMEN laser line of 100,000 beams is under 2 MiB.
+  static constexpr std::size_t kMaxLineBytes = std::size_t{16} << 20;
+
   /// @throws std::runtime_error naming the file when it cannot be opened.
   explicit LineReader(const std::string& path);
   ~LineReader();
@@ -20,7 +24,7 @@ class LineReader {
   /// Reads the next line (without its end-of-line characters) into `line`.
   /// @return false at the end of the file.
   /// @throws std::runtime_error naming the file and line for a corrupt or truncated gzip
-  /// stream or a read error.
+  /// stream, a read error or a line longer than kMaxLineBytes.
   bool next(std::string& line);
 
   /// 1-based number of the last line returned.
@@ -31,6 +35,10 @@ class LineReader {
   std::string path_;
   void* file_ = nullptr;  // gzFile
   std::size_t line_ = 0;
+  std::string buffer_;      // bytes read but not yet returned
+  std::size_t begin_ = 0;   // first unreturned byte of buffer_
+  bool eof_ = false;
+  bool fill();              // reads more into buffer_; false at the end
 };
 
 }  // namespace lidarseg::logs

@@ -66,9 +66,28 @@ class LaserLogReader {
   std::size_t skipped() const { return skipped_; }
   /// Messages about line types that were not understood ("UNKNOWN: 12 lines").
   std::vector<std::string> unknownTypes() const;
+  /// What was read but is worth a word (non-finite odometry dropped, a laser whose beam
+  /// count, aperture or mounting changes), with its place; the first 100.
+  std::vector<std::string> warnings() const;
 
  private:
   void note(const std::string& message);
+  void warn(const std::string& message);
+  // Checks a record's odometry and whether the laser's geometry changed.
+  void watchGeometry(LaserRecord& record);
+  struct Geometry {
+    std::size_t beams;
+    float aperture;
+    bool right_to_left;
+    double x, y, yaw;
+    bool operator==(const Geometry& o) const {
+      return beams == o.beams && aperture == o.aperture && right_to_left == o.right_to_left && x == o.x && y == o.y &&
+             yaw == o.yaw;
+    }
+  };
+  std::optional<Geometry> geometry_;
+  bool geometry_changed_ = false;
+  std::vector<std::string> warnings_;
   std::string path_;
   LogFormat format_ = LogFormat::kRawlog;
   std::unique_ptr<RawlogScanReader> rawlog_;

@@ -61,6 +61,10 @@ class RawlogScanReader {
   const std::vector<std::string>& labelsSeen() const { return labels_seen_; }
   /// Number of top-level rawlog entries read so far.
   std::size_t entriesRead() const { return entries_read_; }
+  /// Odometry readings or movements dropped because a value was not finite ("entry N: ..."),
+  /// the first 100, and how many.
+  const std::vector<std::string>& droppedOdometry() const { return dropped_odometry_; }
+  std::size_t droppedOdometryCount() const { return dropped_odometry_count_; }
 
  private:
   class CountingStream;
@@ -81,6 +85,9 @@ class RawlogScanReader {
   std::vector<std::string> labels_seen_;
   std::size_t entries_read_ = 0;
   std::size_t scans_returned_ = 0;
+  std::vector<std::string> dropped_odometry_;
+  std::size_t dropped_odometry_count_ = 0;
+  void dropOdometry(const char* what);
 };
 
 }  // namespace lidarseg::mrpt_adapter

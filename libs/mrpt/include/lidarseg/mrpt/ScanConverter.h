@@ -31,6 +31,8 @@ class ScanConverter {
   /// non-finite aperture.
   Scan convert(const mrpt::obs::CObservation2DRangeScan& obs);
 
+  /// Layouts kept at most (one per beam count, aperture and direction met).
+  static constexpr std::size_t kMaxCachedLayouts = 16;
   /// The layout for a sensor with this geometry (cached).
   std::shared_ptr<const BeamLayout> layoutFor(std::size_t num_beams, double aperture_rad,
                                               bool right_to_left);

@@ -1,0 +1,206 @@
+// Issue 16, class 2 and 3 at the reader: every numeric field of a record is checked; a bad
+// record is skipped with its place, nothing non-finite reaches an output, sizes are capped.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include "lidarseg/apps/OdometryApp.h"
+#include "lidarseg/core/Angles.h"
+#include "lidarseg/logs/LineReader.h"
+#include "lidarseg/mrpt/LaserLogReader.h"
+
+namespace lidarseg {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/records";
+
+// The range of beam angle a (sensor frame) from (x, 0) in the room [-3, 5] x [-4, 4] with a
+// pillar-free rectangular outline and a 0.3 m recess in the +y wall at x in [1, 1.5].
+double roomRange(double x, double a, double yaw = 0.0) {
+  a += yaw;
+  double r = 1e9;
+  const double c = std::cos(a), s = std::sin(a);
+  if (c > 1e-9) r = std::min(r, (5.0 - x) / c);
+  if (c < -1e-9) r = std::min(r, (-3.0 - x) / c);
+  if (s > 1e-9) {
+    const double t = 4.0 / s, hit = x + t * c;
+    r = std::min(r, hit >= 1.0 && hit <= 1.5 ? 4.3 / s : t);
+  }
+  if (s < -1e-9) r = std::min(r, -4.0 / s);
+  return r;
+}
+
+struct ScanSpec {
+  double x = 0.0;
+  double odo_x = 0.0;
+  bool upside_down = false;
+  double pitch = 0.0;
+  std::size_t beams = 181;
+  double yaw = 0.0;
+};
+
+mrpt::obs::CObservation2DRangeScan::Ptr scanAt(const ScanSpec& sp, double t) {
+  auto obs = mrpt::obs::CObservation2DRangeScan::Create();
+  obs->sensorLabel = "LASER";
+  obs->timestamp = mrpt::Clock::fromDouble(t);
+  obs->aperture = static_cast<float>(kPi);
+  obs->rightToLeft = true;
+  obs->maxRange = 30.0f;
+  obs->resizeScan(sp.beams);
+  for (std::size_t i = 0; i < sp.beams; ++i) {
+    const double a = -kPi / 2 + kPi * static_cast<double>(i) / static_cast<double>(sp.beams - 1);
+    // Upside down, beam i sweeps the mirrored direction -a.
+    const float r = static_cast<float>(roomRange(sp.x, sp.upside_down ? -a : a, sp.yaw));
+    obs->setScanRange(i, r);
+    obs->setScanRangeValidity(i, true);
+  }
+  obs->sensorPose = mrpt::poses::CPose3D(0, 0, 0.3, 0.0, sp.pitch, sp.upside_down ? kPi : 0.0);
+  return obs;
+}
+
+std::string writeRawlog(const std::string& name, const std::vector<ScanSpec>& specs) {
+  fs::create_directories(kTmp);
+  const std::string path = kTmp + "/" + name + ".rawlog";
+  mrpt::io::CFileGZOutputStream out(path);
+  auto archive = mrpt::serialization::archiveFrom(out);
+  double t = 100.0;
+  for (const ScanSpec& sp : specs) {
+    mrpt::obs::CSensoryFrame frame;
+    auto odo = mrpt::obs::CObservationOdometry::Create();
+    odo->timestamp = mrpt::Clock::fromDouble(t);
+    odo->odometry = mrpt::poses::CPose2D(sp.odo_x, 0.0, sp.yaw);
+    frame.insert(odo);
+    frame.insert(scanAt(sp, t));
+    archive << frame;
+    t += 0.1;
+  }
+  return path;
+}
+
+apps::OdometryReport runOn(const std::string& path, bool use_odometry) {
+  apps::OdometryOptions o;
+  o.input = path;
+  o.progress = false;
+  o.plots = false;
+  o.auto_gt = false;
+  o.use_odometry = use_odometry;
+  return apps::OdometryApp(o).run();
+}
+
+bool allFinite(const eval::StampedTrajectory& t) {
+  for (const auto& p : t) {
+    if (!(std::isfinite(p.stamp_s) && std::isfinite(p.pose.x) && std::isfinite(p.pose.y) && std::isfinite(p.pose.yaw))) {
+      return false;
+    }
+  }
+  return true;
+}
+
+TEST(RecordValidation, ANaNWheelOdometryReadingIsDroppedAndNoPoseIsNaN) {
+  std::vector<ScanSpec> specs;
+  for (int k = 0; k < 30; ++k) specs.push_back({0.05 * k, 0.05 * k});
+  specs[10].odo_x = std::numeric_limits<double>::quiet_NaN();
+  const apps::OdometryReport r = runOn(writeRawlog("nan_odometry", specs), true);
+  EXPECT_EQ(r.frames, 30u);
+  EXPECT_TRUE(allFinite(r.lidarseg.trajectory));
+  EXPECT_NEAR(r.lidarseg.trajectory.back().pose.x, 0.05 * 29, 0.05);
+  bool named = false;
+  for (const auto& w : r.warnings) {
+    named = named || (w.find("entry 10:") != std::string::npos && w.find("odometry reading is not finite") != std::string::npos);
+  }
+  EXPECT_TRUE(named) << "no warning names the bad reading's entry";
+}
+
+TEST(RecordValidation, AnUpsideDownLaserGivesTheSameTrajectoryAsAnUprightOne) {
+  std::vector<ScanSpec> upright, flipped;
+  // Moving and turning left: a mirrored scan would turn the estimate right.
+  for (int k = 0; k < 25; ++k) {
+    upright.push_back({0.04 * k, 0.04 * k, false, 0.0, 181, 0.01 * k});
+    flipped.push_back({0.04 * k, 0.04 * k, true, 0.0, 181, 0.01 * k});
+  }
+  const auto a = runOn(writeRawlog("upright", upright), false);
+  const auto b = runOn(writeRawlog("upside_down", flipped), false);
+  ASSERT_EQ(a.lidarseg.trajectory.size(), b.lidarseg.trajectory.size());
+  for (std::size_t k = 0; k < a.lidarseg.trajectory.size(); ++k) {
+    // The beams come in the other order, so the segmentation may round differently.
+    EXPECT_NEAR(a.lidarseg.trajectory[k].pose.x, b.lidarseg.trajectory[k].pose.x, 2e-3) << k;
+    EXPECT_NEAR(a.lidarseg.trajectory[k].pose.y, b.lidarseg.trajectory[k].pose.y, 2e-3) << k;
+    EXPECT_NEAR(a.lidarseg.trajectory[k].pose.yaw, b.lidarseg.trajectory[k].pose.yaw, 1e-3) << k;
+  }
+  EXPECT_NEAR(b.lidarseg.trajectory.back().pose.x, 0.04 * 24, 0.03);
+  EXPECT_NEAR(b.lidarseg.trajectory.back().pose.yaw, 0.01 * 24, 0.01);
+}
+
+TEST(RecordValidation, ATiltedScanPlaneIsRefusedWithItsEntryNotFlattened) {
+  std::vector<ScanSpec> specs;
+  for (int k = 0; k < 10; ++k) specs.push_back({0.05 * k, 0.05 * k});
+  specs[4].pitch = 0.2;
+  mrpt_adapter::LaserLogReader reader(writeRawlog("tilted", specs));
+  std::size_t n = 0;
+  while (reader.next()) ++n;
+  EXPECT_EQ(n, 9u);
+  EXPECT_EQ(reader.skipped(), 1u);
+  ASSERT_FALSE(reader.issues().empty());
+  EXPECT_NE(reader.issues()[0].find("entry 4"), std::string::npos) << reader.issues()[0];
+  EXPECT_NE(reader.issues()[0].find("tilted"), std::string::npos) << reader.issues()[0];
+}
+
+TEST(RecordValidation, ALaserThatChangesItsBeamCountIsWarnedAbout) {
+  std::vector<ScanSpec> specs;
+  for (int k = 0; k < 10; ++k) specs.push_back({0.05 * k, 0.05 * k, false, 0.0, k < 5 ? 181u : 361u});
+  mrpt_adapter::LaserLogReader reader(writeRawlog("beams_change", specs));
+  while (reader.next()) {
+  }
+  ASSERT_EQ(reader.warnings().size(), 1u);
+  EXPECT_NE(reader.warnings()[0].find("181 -> 361"), std::string::npos) << reader.warnings()[0];
+}
+
+TEST(RecordValidation, ANulByteStaysInItsLineAndTheNextLineIsIntact) {
+  fs::create_directories(kTmp);
+  const std::string path = kTmp + "/nul.txt";
+  {
+    std::ofstream out(path, std::ios::binary);
+    out << "first" << '\0' << "tail\nsecond\n";
+  }
+  logs::LineReader reader(path);
+  std::string line;
+  ASSERT_TRUE(reader.next(line));
+  EXPECT_EQ(line, std::string("first\0tail", 10));
+  ASSERT_TRUE(reader.next(line));
+  EXPECT_EQ(line, "second");
+  EXPECT_EQ(reader.lineNumber(), 2u);
+  EXPECT_FALSE(reader.next(line));
+}
+
+TEST(RecordValidation, AnEndlessLineIsAnErrorNamingFileAndLineNotAnAllocationFailure) {
+  fs::create_directories(kTmp);
+  const std::string path = kTmp + "/long.txt";
+  {
+    std::ofstream out(path, std::ios::binary);
+    out << "ok\n";
+    const std::string chunk(1 << 20, 'x');
+    for (std::size_t k = 0; k <= (logs::LineReader::kMaxLineBytes >> 20); ++k) out << chunk;
+  }
+  logs::LineReader reader(path);
+  std::string line;
+  ASSERT_TRUE(reader.next(line));
+  try {
+    reader.next(line);
+    FAIL() << "an endless line was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ":2"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace lidarseg
