@@ -94,5 +94,115 @@ TEST(SegmentAlignment, ParametersLoadLikeCicpsAndRejectBadKeys) {
   EXPECT_THROW(p.loadFromConfigFile(cfg, "align"), std::invalid_argument);
 }
 
+// CICP's TConfigParams reads every key with its current value as the default, so a file
+// without the algorithm's section leaves the options as they are; MRPT code relies on it.
+TEST(SegmentAlignment, MissingSectionKeepsTheDefaultsLikeCicp) {
+  const SegmentAlignment::TConfigParams defaults;
+  mrpt::config::CConfigFileMemory ini;
+  ini.setContent(std::string("[segmentation]\nwd_threshold_m = 0.03\n[matcher]\nmax_weight = 2\n"));
+  SegmentAlignment::TConfigParams p;
+  EXPECT_NO_THROW(p.loadFromConfigFile(ini, "segment_alignment"));
+  EXPECT_EQ(p.segmentation.wall_danielsson.threshold_m,
+            defaults.segmentation.wall_danielsson.threshold_m);
+  EXPECT_EQ(p.matcher.max_weight, defaults.matcher.max_weight);
+  EXPECT_EQ(p.matcher.iterations, defaults.matcher.iterations);
+  EXPECT_EQ(p.level, defaults.level);
+
+  // (MRPT 2.5's setContentFromYAML throws on a section of a single key: two keys each.)
+  mrpt::config::CConfigFileMemory yaml;
+  yaml.setContentFromYAML(std::string("matcher:\n  max_weight: 2\n  iterations: 3\n"));
+  EXPECT_NO_THROW(p.loadFromConfigFile(yaml, "segment_alignment"));
+  EXPECT_EQ(p.matcher.max_weight, defaults.matcher.max_weight);
+
+  // As with CICP, values set before are kept (they are the defaults only of a fresh object).
+  p.matcher.iterations = 5;
+  p.loadFromConfigFile(mrpt::config::CConfigFileMemory(), "segment_alignment");
+  EXPECT_EQ(p.matcher.iterations, 5u);
+
+  // The section, when present, is read as before.
+  yaml.setContentFromYAML(std::string("segment_alignment:\n  max_weight: 2\n  level: 1\n"));
+  p.loadFromConfigFile(yaml, "segment_alignment");
+  EXPECT_DOUBLE_EQ(p.matcher.max_weight, 2.0);
+  EXPECT_EQ(p.level, CascadeLevel::kFused);
+}
+
+// A present key with a bad value is still an error, whose message names the key, and the
+// options are left unchanged.
+TEST(SegmentAlignment, BadValueInThePresentSectionIsRejectedNamingTheKey) {
+  const struct {
+    const char* text;
+    const char* key;
+  } cases[] = {
+      {"[segment_alignment]\ncog_gate_m = -1\n", "cog_gate_m"},
+      {"[segment_alignment]\nmax_weight = abc\n", "max_weight"},
+      {"[segment_alignment]\nlevel = 7\n", "level"},
+      {"[segment_alignment]\nwd_min_points = 2.5\n", "wd_min_points"},
+  };
+  for (const auto& c : cases) {
+    mrpt::config::CConfigFileMemory cfg;
+    cfg.setContent(std::string(c.text));
+    SegmentAlignment::TConfigParams p;
+    try {
+      p.loadFromConfigFile(cfg, "segment_alignment");
+      ADD_FAILURE() << "accepted: " << c.text;
+    } catch (const std::invalid_argument& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(c.key), std::string::npos) << what;
+      EXPECT_NE(what.find("segment_alignment"), std::string::npos) << what;
+    }
+    EXPECT_EQ(p.level, SegmentAlignment::TConfigParams().level);
+    EXPECT_EQ(p.matcher.cog_gate_m, MatcherParams().cog_gate_m);
+  }
+  mrpt::config::CConfigFileMemory yaml;
+  yaml.setContentFromYAML(std::string("segment_alignment:\n  level: 1\n  outlier_sigmas: 0\n"));
+  SegmentAlignment::TConfigParams p;
+  try {
+    p.loadFromConfigFile(yaml, "segment_alignment");
+    FAIL() << "outlier_sigmas = 0 accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("outlier_sigmas"), std::string::npos) << e.what();
+  }
+}
+
+// goodness and nIterations, like CICP's, are written on every call: a success, then a
+// failure with the same info object, then a success again.
+TEST(SegmentAlignment, GoodnessAndIterationsAreFilledOnEveryCall) {
+  const auto m1 = mapAt({1.0, 1.0, 0.0}, 1), m2 = mapAt({1.25, 1.08, 4 * kDeg}, 2);
+  SegmentAlignment align;
+  const unsigned int max_rounds = static_cast<unsigned int>(align.options.matcher.iterations) + 1;
+  SegmentAlignment::TReturnInfo info;
+  info.goodness = -1.0;
+  info.nIterations = 999;
+  align.AlignPDF(&m1, &m2, mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D()), info);
+  ASSERT_EQ(info.status, MatchStatus::kOk);
+  EXPECT_GE(info.nIterations, 1u);
+  EXPECT_LE(info.nIterations, max_rounds);
+  // Walls make most of the office scene: most of m2's points lie on matched segments.
+  EXPECT_GT(info.goodness, 0.5);
+  EXPECT_LE(info.goodness, 1.0);
+  const double good = info.goodness;
+  const unsigned int rounds = info.nIterations;
+
+  // 50 m off: every couple is beyond the COG gate, nothing matches.
+  align.AlignPDF(&m1, &m2, mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D(50.0, 50.0, 0.0)),
+                 info);
+  EXPECT_EQ(info.status, MatchStatus::kTooFewMatches);
+  EXPECT_EQ(info.matches, 0u);
+  EXPECT_EQ(info.goodness, 0.0);
+  EXPECT_EQ(info.nIterations, 0u);
+
+  // Through Align3DPDF, the same figures as the planar call.
+  align.Align3DPDF(&m1, &m2, mrpt::poses::CPose3DPDFGaussian(mrpt::poses::CPose3D()), info);
+  EXPECT_EQ(info.status, MatchStatus::kOk);
+  EXPECT_DOUBLE_EQ(info.goodness, good);
+  EXPECT_EQ(info.nIterations, rounds);
+
+  // A map aligned with itself: every segment matched, goodness is the segmented fraction.
+  align.AlignPDF(&m1, &m1, mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D()), info);
+  EXPECT_EQ(info.matches, info.segments_m1);
+  EXPECT_GT(info.goodness, good);
+  EXPECT_LE(info.goodness, 1.0);
+}
+
 }  // namespace
 }  // namespace lidarseg::mrpt_adapter

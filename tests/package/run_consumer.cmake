@@ -1,7 +1,10 @@
 # Installs the lidarseg build tree into a scratch prefix, then configures, builds and runs a
-# separate project that uses it through find_package(lidarseg).
+# separate project that uses it through find_package(lidarseg): the segmentation of a
+# synthetic corner, and the README's SegmentAlignment example, which fails unless it agrees
+# with mrpt::slam::CICP on two scans of RAWLOG (MRPT's Telecom Faculty log), loading its
+# options from OPTIONS (an INI file).
 cmake_minimum_required(VERSION 3.16)
-foreach(var LIDARSEG_BUILD_DIR CONSUMER_SOURCE_DIR WORK_DIR)
+foreach(var LIDARSEG_BUILD_DIR CONSUMER_SOURCE_DIR WORK_DIR RAWLOG OPTIONS)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "run_consumer.cmake: ${var} is not set")
   endif()
@@ -27,8 +30,18 @@ run(${CMAKE_COMMAND} -S "${CONSUMER_SOURCE_DIR}" -B "${WORK_DIR}/build"
     -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_BUILD_TYPE=Release
     "-DCMAKE_CXX_FLAGS=${CONSUMER_CXX_FLAGS}" "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_CXX_FLAGS}")
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/build")
-run("${WORK_DIR}/build/lidarseg_consumer")
-message(STATUS "consumer says: ${last_output}")
+run("${WORK_DIR}/build/lidarseg_consumer_corner")
+message(STATUS "corner consumer says: ${last_output}")
 if(NOT last_output MATCHES "corner: 2 segments")
-  message(FATAL_ERROR "unexpected consumer output: ${last_output}")
+  message(FATAL_ERROR "unexpected corner consumer output: ${last_output}")
+endif()
+
+if(NOT EXISTS "${RAWLOG}")
+  message(FATAL_ERROR "missing ${RAWLOG} (Debian package mrpt-common; ./run.sh deps)")
+endif()
+# run() fails on the non-zero exit of a disagreement, printing both results.
+run("${WORK_DIR}/build/lidarseg_consumer" "${RAWLOG}" "${OPTIONS}")
+message(STATUS "alignment consumer says:\n${last_output}")
+if(NOT last_output MATCHES "SegmentAlignment .*CICP .*difference ")
+  message(FATAL_ERROR "unexpected alignment consumer output: ${last_output}")
 endif()

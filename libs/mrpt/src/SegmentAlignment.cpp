@@ -1,5 +1,6 @@
 #include "lidarseg/mrpt/SegmentAlignment.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -66,6 +67,10 @@ void SegmentAlignment::TConfigParams::validate() const {
 
 void SegmentAlignment::TConfigParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
                                                          const std::string& section) {
+  // CICP's contract, which MRPT code relies on (one file, optional sections per algorithm):
+  // an absent section leaves every field as it is. lidarseg's own loaders still require
+  // theirs (decision 43); a section that is present gets the same strict checks.
+  if (!source.sectionExists(section)) return;
   detail::loadKeys(*this, source, section, "configuration", {}, AlignmentKeys{});
 }
 
@@ -99,6 +104,17 @@ mrpt::poses::CPosePDF::Ptr SegmentAlignment::AlignPDF(
       info->matches = r.matches.size();
       info->segments_m1 = g1.level(options.level).segments.size();
       info->segments_m2 = g2.level(options.level).segments.size();
+      info->nIterations = static_cast<unsigned int>(r.iterations);
+      // Couples are one-to-one: no point of m2 is counted twice.
+      const auto& segments2 = g2.level(options.level).segments;
+      std::size_t matched_points = 0;
+      for (const auto& couple : r.matches) {
+        matched_points += segments2[static_cast<std::size_t>(couple.second)].num_points;
+      }
+      const std::size_t points2 = s2.ranges_m.size();
+      info->goodness = points2 == 0 ? 0.0
+                                    : std::min(1.0, static_cast<double>(matched_points) /
+                                                        static_cast<double>(points2));
     }
   }
   return out;

@@ -20,40 +20,85 @@ namespace lidarseg::mrpt_adapter {
 /// The maps must hold the points of one scan each, in scan order (as
 /// `CSimplePointsMap::insertObservation` or `loadFromRangeScan` leave them), both in the
 /// same robot-fixed convention; `AlignPDF(m1, m2, prior)` returns the pose of m2's frame in
-/// m1's as a `CPosePDFGaussian` whose covariance comes from the line least squares (large
-/// along an unconstrained direction: see TReturnInfo::status).
+/// m1's (T_m1_m2, m and rad) as a `CPosePDFGaussian` whose covariance comes from the line
+/// least squares (large along an unconstrained direction: see TReturnInfo::status).
+///
+/// Used like CICP: options from a config section (TConfigParams), results of a call in a
+/// TReturnInfo with CICP's `nIterations` and `goodness`. Unlike CICP it does not refine
+/// with the points: its estimate rests on the matched segments only. O(beams) for the
+/// segmentation plus the matcher's O(segments x band) per iteration.
 class SegmentAlignment : public mrpt::slam::CMetricMapsAlignmentAlgorithm {
  public:
   /// Parameters, loadable like CICP::TConfigParams: one section holding the
-  /// [segmentation] keys, the [matcher] keys and `level` (cascade level 0..3).
+  /// [segmentation] keys, the [matcher] keys and `level` (cascade level 0..3), with the
+  /// names and units of config/default.ini (see its comments).
   struct TConfigParams : public mrpt::config::CLoadableOptions {
+    /// How each map's points are cut into segments (the [segmentation] keys).
     SegmentationParams segmentation;
+    /// How the two maps' segments are matched (the [matcher] keys).
     MatcherParams matcher;
+    /// Cascade level whose segments are matched (key `level`, 0..3).
     CascadeLevel level = CascadeLevel::kFusedAgain;
-    /// @throws std::invalid_argument naming the section and key for an unknown key, a
-    /// value that is not a number or one out of range.
+
+    /// Reads the keys present in `section`; a key that is absent keeps its current value.
+    /// A missing section is not an error: every field keeps its value (the defaults, for
+    /// a default-constructed object), as CICP::TConfigParams::loadFromConfigFile does, so a
+    /// misspelt section name also gives the defaults. Works for INI and YAML sources
+    /// (`CConfigFileMemory::setContentFromYAML`). The fields only change when the whole
+    /// section is valid.
+    /// @throws std::invalid_argument naming the section and key for an unknown key in the
+    /// section, a value that is not a number, or one out of range.
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
                             const std::string& section) override;
+    /// Writes every key to `section`, full precision (loading it back gives equal fields).
     void saveToConfigFile(mrpt::config::CConfigFileBase& target,
                           const std::string& section) const override;
+    /// @throws std::invalid_argument naming the first key out of range.
     void validate() const;
   };
 
-  /// Extra results of an alignment.
+  /// Results of one alignment, the analogue of CICP::TReturnInfo. Every field is written
+  /// on every AlignPDF() / Align3DPDF() call that is given one, whatever the outcome.
+  /// `nIterations` and `goodness` keep CICP's names so that code reading them compiles
+  /// with either algorithm.
   struct TReturnInfo : public mrpt::slam::TMetricMapAlignmentResult {
+    /// How the segment match ended: kOk, kDegenerate (translation unconstrained along one
+    /// direction, where the initial estimate is kept) or kTooFewMatches (the initial
+    /// estimate is returned unchanged).
     MatchStatus status = MatchStatus::kTooFewMatches;
+    /// Segment couples (m1, m2) the final estimate rests on (0 for kTooFewMatches).
     std::size_t matches = 0;
+    /// Segments of m1 at the cascade level used (before MatcherParams::max_segments).
     std::size_t segments_m1 = 0;
+    /// Segments of m2 at the cascade level used (before MatcherParams::max_segments).
     std::size_t segments_m2 = 0;
+    /// Association-and-solve rounds of the segment matcher (MatchResult::iterations): a
+    /// round counts when its association found at least two couples to solve from.
+    /// 0 .. matcher.iterations + 1; 0 only with kTooFewMatches. Like CICP's nIterations a
+    /// measure of the work done, but counted in segment re-associations, not in
+    /// point-to-point ICP steps (a few here where CICP takes tens).
+    unsigned int nIterations = 0;
+    /// Quality of the alignment in [0, 1]: the fraction of m2's points that belong to a
+    /// segment of the final couples (each m2 segment is in at most one couple). 0 for
+    /// kTooFewMatches or an empty m2. CICP's goodness is the analogous fraction of m2's
+    /// points with a point correspondence; this one is lower on the same scans, since
+    /// points on clutter and on unmatched short segments never count.
+    double goodness = 0.0;
   };
 
+  /// Default parameters (the defaults of SegmentationParams and MatcherParams).
   SegmentAlignment() = default;
   /// @throws std::invalid_argument for invalid parameters.
   explicit SegmentAlignment(const TConfigParams& params);
 
+  /// Parameters used by the next call; validated at every call.
   TConfigParams options;
 
-  /// @throws std::invalid_argument when a map is not a point map.
+  /// Pose of m2's frame in m1's (T_m1_m2), starting from the mean of
+  /// `initialEstimationPDF` (its covariance is not used). Never throws on data: a failed
+  /// match returns the initial estimate with a large covariance and says so in `outInfo`
+  /// (a TReturnInfo, or a plain TMetricMapAlignmentResult for the execution time only).
+  /// @throws std::invalid_argument when a map is not a point map, or for invalid options.
   mrpt::poses::CPosePDF::Ptr AlignPDF(
       const mrpt::maps::CMetricMap* m1, const mrpt::maps::CMetricMap* m2,
       const mrpt::poses::CPosePDFGaussian& initialEstimationPDF,
@@ -61,6 +106,7 @@ class SegmentAlignment : public mrpt::slam::CMetricMapsAlignmentAlgorithm {
 
   /// The planar case of a 3D alignment: the initial estimate must have z, pitch and roll
   /// of 0 (within 1e-6); z, pitch and roll of the result are 0 with a tiny variance.
+  /// `outInfo` is filled as by AlignPDF().
   /// @throws std::invalid_argument otherwise (segment matching is planar).
   mrpt::poses::CPose3DPDF::Ptr Align3DPDF(
       const mrpt::maps::CMetricMap* m1, const mrpt::maps::CMetricMap* m2,
