@@ -1,11 +1,13 @@
 #include "lidarseg/apps/InspectApp.h"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
@@ -33,6 +35,33 @@ bool endsWith(const std::string& s, const std::string& e) {
   return s.size() >= e.size() && s.compare(s.size() - e.size(), e.size(), e) == 0;
 }
 
+// A layer: its name in --layers, the window key that shows or hides it, and its flag.
+struct LayerSwitch {
+  const char* name;
+  int key;
+  bool& (*flag)(Layers&);
+};
+const LayerSwitch kLayerSwitches[] = {
+    {"raw", 'R', [](Layers& l) -> bool& { return l.raw_points; }},
+    {"l0", 'Z', [](Layers& l) -> bool& { return l.levels[0]; }},
+    {"l1", 'X', [](Layers& l) -> bool& { return l.levels[1]; }},
+    {"l2", 'C', [](Layers& l) -> bool& { return l.levels[2]; }},
+    {"l3", 'V', [](Layers& l) -> bool& { return l.levels[3]; }},
+    {"indices", 'I', [](Layers& l) -> bool& { return l.indices; }},
+    {"predicted", 'K', [](Layers& l) -> bool& { return l.predicted; }},
+    {"matches", 'M', [](Layers& l) -> bool& { return l.matches; }},
+    {"features", 'F', [](Layers& l) -> bool& { return l.features; }},
+    {"trajectory", 'O', [](Layers& l) -> bool& { return l.trajectory; }},
+    {"camera", 'A', [](Layers& l) -> bool& { return l.camera; }},
+};
+
+// Every layer on, or every layer off.
+Layers allLayers(bool on) {
+  Layers l;
+  for (const LayerSwitch& s : kLayerSwitches) s.flag(l) = on;
+  return l;
+}
+
 }  // namespace
 
 InspectApp::InspectApp(InspectOptions options) : options_(std::move(options)) {
@@ -53,27 +82,20 @@ InspectApp::InspectApp(InspectOptions options) : options_(std::move(options)) {
 }
 
 Layers InspectApp::parseLayers(const std::string& list) {
-  Layers l;
-  if (list.empty()) return l;
-  l = Layers{};
-  l.raw_points = l.indices = l.predicted = l.matches = l.features = l.trajectory = l.camera = false;
-  l.levels = {false, false, false, false};
+  if (list.empty()) return Layers{};
+  Layers l = allLayers(false);
   for (const std::string& name : eval::splitCsvLine(list)) {
-    if (name == "raw") l.raw_points = true;
-    else if (name.size() == 2 && name[0] == 'l' && name[1] >= '0' && name[1] <= '3') l.levels[name[1] - '0'] = true;
-    else if (name == "indices") l.indices = true;
-    else if (name == "predicted") l.predicted = true;
-    else if (name == "matches") l.matches = true;
-    else if (name == "features") l.features = true;
-    else if (name == "trajectory") l.trajectory = true;
-    else if (name == "camera") l.camera = true;
-    else if (name == "all") {
-      l.raw_points = l.indices = l.predicted = l.matches = l.features = l.trajectory = l.camera = true;
-      l.levels = {true, true, true, true};
-    } else {
+    if (name == "all") {
+      l = allLayers(true);
+      continue;
+    }
+    const auto s = std::find_if(std::begin(kLayerSwitches), std::end(kLayerSwitches),
+                                [&](const LayerSwitch& x) { return name == x.name; });
+    if (s == std::end(kLayerSwitches)) {
       throw std::invalid_argument("--layers: unknown layer '" + name +
                                   "' (raw, l0, l1, l2, l3, indices, predicted, matches, features, trajectory, camera, all)");
     }
+    s->flag(l) = true;
   }
   return l;
 }
@@ -107,8 +129,7 @@ std::unique_ptr<Session> InspectApp::open() {
 
 int InspectApp::run() {
   auto session = open();
-  std::size_t frame = options_.frame;
-  if (options_.time_s) frame = session->indexAtTime(session->frame(0).stamp_s + *options_.time_s);
+  if (options_.time_s) options_.frame = session->indexAtTime(session->frame(0).stamp_s + *options_.time_s);
   if (!options_.report_dir.empty()) {
     const InspectReport r = writeReport(*session);
     std::cout << "report: " << options_.report_dir << "/index.html (" << r.scans << " scans, " << r.gallery.size()
@@ -116,18 +137,22 @@ int InspectApp::run() {
     if (options_.render_out.empty() && options_.screenshot_out.empty()) return 0;
   }
   if (!options_.render_out.empty()) {
-    const inspect::Drawing d = session->draw(frame, parseLayers(options_.layers));
-    const cv::Size size(options_.width, options_.height);
-    writeFileAtomically(options_.render_out, endsWith(options_.render_out, ".svg") ? inspect::renderSvg(d, size)
-                                                                                   : encodePng(inspect::renderPng(d, size)));
-    std::cout << "scan " << frame << " drawn to " << options_.render_out << "\n";
+    render(*session);
     if (options_.screenshot_out.empty()) return 0;
   }
-  options_.frame = frame;
   return window(*session);
 }
 
+void InspectApp::render(Session& session) {
+  const inspect::Drawing d = session.draw(options_.frame, parseLayers(options_.layers));
+  const cv::Size size(options_.width, options_.height);
+  writeFileAtomically(options_.render_out, endsWith(options_.render_out, ".svg") ? inspect::renderSvg(d, size)
+                                                                                 : encodePng(inspect::renderPng(d, size)));
+  std::cout << "scan " << options_.frame << " drawn to " << options_.render_out << "\n";
+}
+
 namespace {
+
 // MRPT's window lives on a GUI thread that can still be drawing when the window object is
 // destroyed at exit (a rare crash in its teardown under Xvfb). Everything the inspector
 // writes is already on disk by then, so the process leaves without running the teardown.
@@ -137,176 +162,249 @@ namespace {
   std::fflush(nullptr);
   std::_Exit(code);
 }
+
+// The interactive window on one session: the scan it shows and the keys of keyHelp().
+class InspectorWindow {
+ public:
+  // Opens the window at options.frame.
+  InspectorWindow(Session& session, const InspectOptions& options);
+  // Shows the scan, writes what the window shows to options.screenshot_out, leaves.
+  [[noreturn]] void screenshot();
+  // Follows the keys until q, Esc or the window is closed, then leaves.
+  [[noreturn]] void loop();
+
+ private:
+  // Draws the scan with the zoom, the number being typed, the message and the keys.
+  void show();
+  // One capture of the window; false if there is none yet or it is all black.
+  bool grab(mrpt::img::CImage& grabbed);
+  // Reads one key and acts on it; true for a digit of a number being typed.
+  bool onKey();
+  // r z x c v i k m f o a: shows or hides a layer; false for any other key.
+  bool toggleLayer(int k);
+  // n b Left Right Home End g t: goes to another scan; false for any other key.
+  bool navigate(int k, long long step);
+  // [ ] ; ' , . - =: a parameter times 1/1.1 or 1.1; false for any other key.
+  bool tuneKey(int k);
+  // Space u d h s q Esc: play, zoom, help, save, quit.
+  void command(int k);
+  // Goes to scan `target`, clamped to the log; an unreadable scan stops playing and says why.
+  void go(long long target);
+  // Changes the parameters (the scan is processed again) and says `what`, or why not.
+  void tune(const std::function<void(inspect::InspectorParams&)>& change, const std::string& what);
+  // Writes the parameters as INI to options.save_path.
+  void saveParams();
+
+  Session& session_;
+  const InspectOptions& options_;
+  Layers layers_;
+  mrpt::gui::CDisplayWindow3D win_;
+  std::size_t index_;
+  double zoom_ = 1.0;
+  bool playing_ = false, help_ = false, dirty_ = true;
+  std::string number_, message_;
+  cv::Mat shown_;
+};
+
+InspectorWindow::InspectorWindow(Session& session, const InspectOptions& options)
+    : session_(session),
+      options_(options),
+      layers_(InspectApp::parseLayers(options.layers)),
+      win_("lidarseg-inspect: " + fs::path(options.input).filename().string(), static_cast<unsigned>(options.width),
+           static_cast<unsigned>(options.height)),
+      index_(options.frame) {
+  win_.wait_for_GL_context(5.0);
+}
+
+void InspectorWindow::screenshot() {
+  show();
+  // Give the window time to draw, then capture what it shows.
+  win_.captureImagesStart();
+  mrpt::img::CImage grabbed;
+  bool got = false;
+  for (int i = 0; i < 50 && !got; ++i) got = grab(grabbed);
+  // Stop grabbing and let the GUI thread finish its frame before the window goes away.
+  win_.captureImagesStop();
+  win_.forceRepaint();
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  if (got) {
+    writeFileAtomically(options_.screenshot_out, encodePng(grabbed.asCvMat<cv::Mat>(mrpt::img::DEEP_COPY)));
+    std::cout << "screenshot of the window (scan " << index_ << ") written to " << options_.screenshot_out << "\n";
+    leave(0);
+  }
+  std::cerr << "lidarseg-inspect: the GL driver gave no window image; writing the picture the window shows\n";
+  writeFileAtomically(options_.screenshot_out, encodePng(shown_));
+  leave(0);
+}
+
+bool InspectorWindow::grab(mrpt::img::CImage& grabbed) {
+  win_.forceRepaint();
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  if (!win_.getLastWindowImage(grabbed) || grabbed.getWidth() == 0) return false;
+  cv::Scalar mean, sd;
+  cv::meanStdDev(grabbed.asCvMat<cv::Mat>(mrpt::img::SHALLOW_COPY), mean, sd);
+  return sd[0] + sd[1] + sd[2] > 1.0;  // an all-black grab (some GL drivers) is no screenshot
+}
+
+void InspectorWindow::loop() {
+  auto last_play = std::chrono::steady_clock::now();
+  while (win_.isOpen()) {
+    if (dirty_) show();
+    if (win_.keyHit() && onKey()) continue;  // a digit: show it at once
+    if (playing_ && std::chrono::steady_clock::now() - last_play > std::chrono::milliseconds(100)) {
+      last_play = std::chrono::steady_clock::now();
+      go(static_cast<long long>(index_) + 1);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(15));
+  }
+  leave(0);
+}
+
+void InspectorWindow::show() {
+  inspect::Drawing d = session_.draw(index_, layers_);
+  d.view_half_width_m *= zoom_;
+  if (!number_.empty()) d.status.push_back("> " + number_);
+  if (!message_.empty()) d.status.push_back(message_);
+  if (help_) {
+    for (const std::string& k : InspectApp::keyHelp()) d.status.push_back(k);
+  } else {
+    d.status.push_back("h: keys");
+  }
+  shown_ = inspect::renderPng(d, cv::Size(options_.width, options_.height));
+  win_.setImageView(mrpt::img::CImage(shown_, mrpt::img::DEEP_COPY));
+  win_.forceRepaint();
+  dirty_ = false;
+}
+
+bool InspectorWindow::onKey() {
+  mrpt::gui::mrptKeyModifier mod = mrpt::gui::MRPTKMOD_NONE;
+  const int key = win_.getPushedKey(&mod);
+  const long long step = (mod & mrpt::gui::MRPTKMOD_SHIFT) != 0 ? 10 : 1;
+  message_.clear();
+  if (key >= '0' && key <= '9' && number_.size() < 12) {
+    number_ += static_cast<char>(key);
+    dirty_ = true;
+    return true;
+  }
+  const int k = (key < 256) ? std::toupper(key) : key;
+  if (!toggleLayer(k) && !navigate(k, step) && !tuneKey(k)) command(k);
+  return false;
+}
+
+bool InspectorWindow::toggleLayer(int k) {
+  for (const LayerSwitch& s : kLayerSwitches) {
+    if (s.key != k) continue;
+    s.flag(layers_) = !s.flag(layers_);
+    dirty_ = true;
+    return true;
+  }
+  return false;
+}
+
+bool InspectorWindow::navigate(int k, long long step) {
+  const auto here = static_cast<long long>(index_);
+  switch (k) {
+    case 'N': case mrpt::gui::MRPTK_RIGHT: go(here + step); return true;
+    case 'B': case mrpt::gui::MRPTK_LEFT: go(here - step); return true;
+    case mrpt::gui::MRPTK_HOME: go(0); return true;
+    case mrpt::gui::MRPTK_END: go(static_cast<long long>(session_.countAll()) - 1); return true;
+    case 'G': if (!number_.empty()) go(std::stoll(number_)); number_.clear(); return true;
+    case 'T':
+      if (!number_.empty()) go(static_cast<long long>(session_.indexAtTime(session_.frame(0).stamp_s + std::stod(number_))));
+      number_.clear();
+      return true;
+    default: return false;
+  }
+}
+
+bool InspectorWindow::tuneKey(int k) {
+  const auto factor = [k](int up) { return k == up ? 1.1 : 1 / 1.1; };
+  const auto times = [k](int up) { return std::string(k == up ? "x1.1" : "x1/1.1"); };
+  switch (k) {
+    case '[': case ']': {
+      const double f = factor(']');
+      const double wd_m = session_.params().odometry.segmentation.wall_danielsson.threshold_m * f;
+      tune([f](auto& p) { p.odometry.segmentation.wall_danielsson.threshold_m *= f; },
+           "W-D threshold " + std::to_string(wd_m) + " m");
+      return true;
+    }
+    case ';': case '\'':
+      tune([f = factor('\'')](auto& p) {
+        p.odometry.segmentation.cascade.first_fusion.max_line_distance_m *= f;
+        p.odometry.segmentation.cascade.second_fusion.max_line_distance_m *= f;
+      }, "fusion line distance " + times('\''));
+      return true;
+    case ',': case '.':
+      tune([f = factor('.')](auto& p) { p.odometry.segmentation.cascade.erosion.min_length_m *= f; },
+           "erosion length " + times('.'));
+      return true;
+    case '-': case '=':
+      tune([f = factor('=')](auto& p) { p.odometry.matcher.cog_gate_m *= f; }, "matcher COG gate " + times('='));
+      return true;
+    default: return false;
+  }
+}
+
+void InspectorWindow::command(int k) {
+  switch (k) {
+    case ' ': playing_ = !playing_; break;
+    case 'U': zoom_ = std::max(0.1, zoom_ / 1.25); break;
+    case 'D': zoom_ = std::min(10.0, zoom_ * 1.25); break;
+    case 'H': help_ = !help_; break;
+    case 'S': saveParams(); break;
+    case 'Q': case mrpt::gui::MRPTK_ESCAPE:
+      std::cout << "quit at scan " << index_ << "\n";
+      leave(0);
+    default: return;
+  }
+  dirty_ = true;
+}
+
+void InspectorWindow::go(long long target) {
+  if (target < 0) target = 0;
+  try {
+    session_.frame(static_cast<std::size_t>(target));
+    index_ = static_cast<std::size_t>(target);
+  } catch (const std::out_of_range&) {
+    index_ = session_.scansRead() - 1;
+    playing_ = false;
+  } catch (const std::exception& e) {  // an unreadable part of the log: say so, stay
+    message_ = e.what();
+    playing_ = false;
+  }
+  dirty_ = true;
+}
+
+void InspectorWindow::tune(const std::function<void(inspect::InspectorParams&)>& change, const std::string& what) {
+  inspect::InspectorParams p = session_.params();
+  change(p);
+  try {
+    session_.setParams(p);
+    message_ = what;
+  } catch (const std::invalid_argument& e) {
+    message_ = std::string("rejected: ") + e.what();
+  }
+  dirty_ = true;
+}
+
+void InspectorWindow::saveParams() {
+  try {
+    session_.params().saveIni(options_.save_path);
+    message_ = "parameters saved to " + options_.save_path;
+  } catch (const std::exception& e) {
+    message_ = std::string("not saved: ") + e.what();
+  }
+}
+
 }  // namespace
 
 int InspectApp::window(Session& session) {
   if (std::getenv("DISPLAY") == nullptr) {
     throw std::runtime_error("no display (DISPLAY unset): use --render FRAME --out FILE.png, or run under xvfb-run");
   }
-  Layers layers = parseLayers(options_.layers);
-  mrpt::gui::CDisplayWindow3D win("lidarseg-inspect: " + fs::path(options_.input).filename().string(),
-                                  static_cast<unsigned>(options_.width), static_cast<unsigned>(options_.height));
-  win.wait_for_GL_context(5.0);
-  std::size_t index = options_.frame;
-  double zoom = 1.0;
-  bool playing = false, help = false, dirty = true;
-  std::string number, message;
-  cv::Mat shown;
-  const auto show = [&] {
-    inspect::Drawing d = session.draw(index, layers);
-    d.view_half_width_m *= zoom;
-    if (!number.empty()) d.status.push_back("> " + number);
-    if (!message.empty()) d.status.push_back(message);
-    if (help) {
-      for (const std::string& k : keyHelp()) d.status.push_back(k);
-    } else {
-      d.status.push_back("h: keys");
-    }
-    shown = inspect::renderPng(d, cv::Size(options_.width, options_.height));
-    win.setImageView(mrpt::img::CImage(shown, mrpt::img::DEEP_COPY));
-    win.forceRepaint();
-    dirty = false;
-  };
-  const auto go = [&](long long target) {
-    if (target < 0) target = 0;
-    try {
-      session.frame(static_cast<std::size_t>(target));
-      index = static_cast<std::size_t>(target);
-    } catch (const std::out_of_range&) {
-      index = session.scansRead() - 1;
-      playing = false;
-    } catch (const std::exception& e) {  // an unreadable part of the log: say so, stay
-      message = e.what();
-      playing = false;
-    }
-    dirty = true;
-  };
-  const auto tune = [&](auto&& change, const std::string& what) {
-    inspect::InspectorParams p = session.params();
-    change(p);
-    try {
-      session.setParams(p);
-      message = what;
-    } catch (const std::invalid_argument& e) {
-      message = std::string("rejected: ") + e.what();
-    }
-    dirty = true;
-  };
-
-  if (!options_.screenshot_out.empty()) {
-    show();
-    // Give the window time to draw, then capture what it shows.
-    win.captureImagesStart();
-    mrpt::img::CImage grabbed;
-    bool got = false;
-    for (int i = 0; i < 50 && !got; ++i) {
-      win.forceRepaint();
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-      got = win.getLastWindowImage(grabbed) && grabbed.getWidth() > 0;
-      if (got) {
-        cv::Mat m = grabbed.asCvMat<cv::Mat>(mrpt::img::SHALLOW_COPY);
-        cv::Scalar mean, sd;
-        cv::meanStdDev(m, mean, sd);
-        got = sd[0] + sd[1] + sd[2] > 1.0;  // an all-black grab (some GL drivers) is no screenshot
-      }
-    }
-    // Stop grabbing and let the GUI thread finish its frame before the window goes away.
-    win.captureImagesStop();
-    win.forceRepaint();
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    if (got) {
-      cv::Mat rgb = grabbed.asCvMat<cv::Mat>(mrpt::img::DEEP_COPY);
-      writeFileAtomically(options_.screenshot_out, encodePng(rgb));
-      std::cout << "screenshot of the window (scan " << index << ") written to " << options_.screenshot_out << "\n";
-      leave(0);
-    }
-    std::cerr << "lidarseg-inspect: the GL driver gave no window image; writing the picture the window shows\n";
-    writeFileAtomically(options_.screenshot_out, encodePng(shown));
-    leave(0);
-  }
-
-  auto last_play = std::chrono::steady_clock::now();
-  while (win.isOpen()) {
-    if (dirty) show();
-    if (win.keyHit()) {
-      mrpt::gui::mrptKeyModifier mod = mrpt::gui::MRPTKMOD_NONE;
-      const int key = win.getPushedKey(&mod);
-      const bool shift = (mod & mrpt::gui::MRPTKMOD_SHIFT) != 0;
-      const long long step = shift ? 10 : 1;
-      message.clear();
-      if (key >= '0' && key <= '9' && number.size() < 12) {
-        number += static_cast<char>(key);
-        dirty = true;
-        continue;
-      }
-      const int k = (key < 256) ? std::toupper(key) : key;
-      switch (k) {
-        case 'N': case mrpt::gui::MRPTK_RIGHT: go(static_cast<long long>(index) + step); break;
-        case 'B': case mrpt::gui::MRPTK_LEFT: go(static_cast<long long>(index) - step); break;
-        case mrpt::gui::MRPTK_HOME: go(0); break;
-        case mrpt::gui::MRPTK_END: go(static_cast<long long>(session.countAll()) - 1); break;
-        case 'G': if (!number.empty()) go(std::stoll(number)); number.clear(); break;
-        case 'T':
-          if (!number.empty()) go(static_cast<long long>(session.indexAtTime(session.frame(0).stamp_s + std::stod(number))));
-          number.clear();
-          break;
-        case ' ': playing = !playing; dirty = true; break;
-        case 'R': layers.raw_points = !layers.raw_points; dirty = true; break;
-        case 'Z': layers.levels[0] = !layers.levels[0]; dirty = true; break;
-        case 'X': layers.levels[1] = !layers.levels[1]; dirty = true; break;
-        case 'C': layers.levels[2] = !layers.levels[2]; dirty = true; break;
-        case 'V': layers.levels[3] = !layers.levels[3]; dirty = true; break;
-        case 'I': layers.indices = !layers.indices; dirty = true; break;
-        case 'K': layers.predicted = !layers.predicted; dirty = true; break;
-        case 'M': layers.matches = !layers.matches; dirty = true; break;
-        case 'F': layers.features = !layers.features; dirty = true; break;
-        case 'O': layers.trajectory = !layers.trajectory; dirty = true; break;
-        case 'A': layers.camera = !layers.camera; dirty = true; break;
-        case 'U': zoom = std::max(0.1, zoom / 1.25); dirty = true; break;
-        case 'D': zoom = std::min(10.0, zoom * 1.25); dirty = true; break;
-        case 'H': help = !help; dirty = true; break;
-        case '[': case ']':
-          tune([&](auto& p) { p.odometry.segmentation.wall_danielsson.threshold_m *= (k == ']' ? 1.1 : 1 / 1.1); },
-               "W-D threshold " + std::to_string(session.params().odometry.segmentation.wall_danielsson.threshold_m *
-                                                 (k == ']' ? 1.1 : 1 / 1.1)) + " m");
-          break;
-        case ';': case '\'':
-          tune([&](auto& p) {
-            const double f = k == '\'' ? 1.1 : 1 / 1.1;
-            p.odometry.segmentation.cascade.first_fusion.max_line_distance_m *= f;
-            p.odometry.segmentation.cascade.second_fusion.max_line_distance_m *= f;
-          }, "fusion line distance x" + std::string(k == '\'' ? "1.1" : "1/1.1"));
-          break;
-        case ',': case '.':
-          tune([&](auto& p) { p.odometry.segmentation.cascade.erosion.min_length_m *= (k == '.' ? 1.1 : 1 / 1.1); },
-               "erosion length x" + std::string(k == '.' ? "1.1" : "1/1.1"));
-          break;
-        case '-': case '=':
-          tune([&](auto& p) { p.odometry.matcher.cog_gate_m *= (k == '=' ? 1.1 : 1 / 1.1); },
-               "matcher COG gate x" + std::string(k == '=' ? "1.1" : "1/1.1"));
-          break;
-        case 'S':
-          try {
-            session.params().saveIni(options_.save_path);
-            message = "parameters saved to " + options_.save_path;
-          } catch (const std::exception& e) {
-            message = std::string("not saved: ") + e.what();
-          }
-          dirty = true;
-          break;
-        case 'Q': case mrpt::gui::MRPTK_ESCAPE:
-          std::cout << "quit at scan " << index << "\n";
-          leave(0);
-        default: break;
-      }
-    }
-    if (playing && std::chrono::steady_clock::now() - last_play > std::chrono::milliseconds(100)) {
-      last_play = std::chrono::steady_clock::now();
-      go(static_cast<long long>(index) + 1);
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(15));
-  }
-  leave(0);
+  InspectorWindow win(session, options_);
+  if (!options_.screenshot_out.empty()) win.screenshot();
+  win.loop();
 }
 
 }  // namespace lidarseg::apps

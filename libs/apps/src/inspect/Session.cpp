@@ -216,6 +216,9 @@ namespace {
 
 const Rgb kLevelColours[kNumCascadeLevels] = {{230, 120, 0}, {0, 110, 220}, {150, 60, 190}, {0, 150, 120}};
 
+// A cascade level as the pictures name it: L0 to L3.
+std::string levelName(std::size_t l) { return "L" + std::to_string(l); }
+
 // A reference trajectory in the frame of the current sensor: aligned on lidarseg's first
 // pose at the time of the first scan, up to the current time.
 // References are robot poses; lidarseg's are the laser's: each reference pose is moved to
@@ -233,119 +236,148 @@ std::vector<Eigen::Vector2d> referencePath(const eval::StampedTrajectory& ref, d
   return out;
 }
 
+// A path drawn as one line from each point to the next.
+LineLayer polyline(const std::vector<Eigen::Vector2d>& path, const Rgb& colour, int width_px) {
+  LineLayer layer{{}, colour, width_px};
+  for (std::size_t i = 1; i < path.size(); ++i) layer.lines.push_back({path[i - 1], path[i]});
+  return layer;
+}
+
+// First status line: which scan (of `last`), when, segments per level, features and ROIs.
+std::string scanLine(const Frame& f, const std::string& last) {
+  std::ostringstream s;
+  s << "scan " << f.index << " / " << last << "  t=" << fixed(f.stamp_s, 3) << " s  segments";
+  for (std::size_t l = 0; l < kNumCascadeLevels; ++l) {
+    s << ' ' << levelName(l) << '=' << f.segmentation.levels[l].segments.size();
+  }
+  s << "  features " << f.features.size();
+  if (!f.camera.empty()) s << "  ROIs " << f.rois;
+  return s.str();
+}
+
+// Second status line: the match against the keyframe, its uncertainty, the times.
+std::string matchLine(const Frame& f) {
+  const MatchResult& m = f.step.match;
+  std::ostringstream s;
+  if (f.step.first) {
+    s << "first scan";
+  } else {
+    const Eigen::Matrix3d& c = f.step.increment_covariance;
+    s << toString(f.step.status) << " vs " << f.keyframe_index << ": segment match " << toString(m.status) << ", "
+      << m.matches.size() << " pairs";
+    if (m.status == MatchStatus::kTooFewMatches) s << " (mostly " << m.rejections.dominant() << ")";
+    s << "; refined " << toString(f.step.refine.status) << ", inliers " << fixed(f.step.refine.inlier_ratio * 100, 0)
+      << " %; sd x " << fixed(std::sqrt(std::max(c(0, 0), 0.0)) * 100, 1) << " cm y "
+      << fixed(std::sqrt(std::max(c(1, 1), 0.0)) * 100, 1) << " cm yaw "
+      << fixed(std::sqrt(std::max(c(2, 2), 0.0)) * kRadToDeg, 2) << " deg";
+  }
+  s << "  |  W-D " << fixed(f.step.wall_danielsson_us, 0) << " us, cascade " << fixed(f.step.cascade_us, 0)
+    << " us, match " << fixed(f.step.matching_us, 0) << " us, features " << fixed(f.detect_us, 1) << " us";
+  return s.str();
+}
+
+// Half-width of a view holding 95 % of the points; `otherwise` without any.
+double viewHalfWidth(const std::vector<Eigen::Vector2d>& points, double otherwise) {
+  std::vector<double> r;
+  for (const auto& p : points) {
+    if (std::isfinite(p.x())) r.push_back(std::max(std::abs(p.x()), std::abs(p.y())));
+  }
+  if (r.empty()) return otherwise;
+  std::nth_element(r.begin(), r.begin() + static_cast<long>(r.size() * 95 / 100), r.end());
+  return std::clamp(r[r.size() * 95 / 100] * 1.1, 2.0, 40.0);
+}
+
+// The scan's valid points.
+PointLayer rawPoints(const std::vector<Eigen::Vector2d>& points) {
+  PointLayer layer{{}, {90, 90, 90}, 2};
+  for (const auto& p : points) {
+    if (std::isfinite(p.x())) layer.points.push_back(p);
+  }
+  return layer;
+}
+
+// The segments of the levels shown, each level in its colour, with their indices if asked.
+void drawLevels(const Segmentation& segmentation, const Layers& layers, Drawing& d) {
+  for (std::size_t l = 0; l < kNumCascadeLevels; ++l) {
+    if (!layers.levels[l]) continue;
+    LineLayer segs{{}, kLevelColours[l], l == 0 ? 1 : 2};
+    const auto& level = segmentation.levels[l].segments;
+    for (std::size_t i = 0; i < level.size(); ++i) {
+      segs.lines.push_back({level[i].start, level[i].end});
+      if (layers.indices) d.labels.push_back({level[i].cog, levelName(l) + ":" + std::to_string(i), kLevelColours[l]});
+    }
+    d.lines.push_back(std::move(segs));
+  }
+}
+
+// The keyframe's segments of `level` moved into this scan's frame by the prior (the
+// prediction); prior_from_keyframe is T_keyframe_current.
+LineLayer predictedSegments(const Frame& f, CascadeLevel level) {
+  const Pose2D to_prior = inverse(f.step.prior_from_keyframe);
+  LineLayer pred{{}, {240, 170, 0}, 1};
+  for (const Segment& sg : f.keyframe_segments->level(level).segments) {
+    pred.lines.push_back({to_prior * sg.start, to_prior * sg.end});
+  }
+  return pred;
+}
+
+// The matched pairs: the keyframe segment's centre moved by the match result (T_keyframe_current)
+// to the current one's. The pairs index the matched level's segments (the degenerate
+// fallback's when kept).
+LineLayer matchedPairs(const Frame& f) {
+  const Pose2D to_match = inverse(f.step.match.T_prev_curr);
+  const auto& key = f.keyframe_segments->level(f.step.matched_level).segments;
+  const auto& current = f.segmentation.level(f.step.matched_level).segments;
+  LineLayer pairs{{}, {220, 0, 160}, 1};
+  for (const auto& [a, b] : f.step.match.matches) {
+    if (a < 0 || b < 0 || static_cast<std::size_t>(a) >= key.size() || static_cast<std::size_t>(b) >= current.size()) {
+      continue;
+    }
+    pairs.lines.push_back({to_match * key[static_cast<std::size_t>(a)].cog, current[static_cast<std::size_t>(b)].cog});
+  }
+  return pairs;
+}
+
+// Doors (red) and corners (green): a circle and the type's name.
+void drawFeatures(const std::vector<Feature>& features, Drawing& d) {
+  for (const Feature& ft : features) {
+    const Rgb colour = isDoor(ft.type) ? Rgb{220, 20, 20} : Rgb{20, 170, 20};
+    d.circles.push_back({ft.position, isDoor(ft.type) ? 0.35 : 0.25, colour});
+    d.labels.push_back({ft.position, toString(ft.type), colour});
+  }
+}
+
 }  // namespace
+
+void Session::drawTrajectories(const Frame& f, Drawing& d) {
+  const Pose2D T_sensor_odom = inverse(f.step.T_odom_sensor);
+  std::vector<Eigen::Vector2d> mine;
+  for (const Pose2D& p : trajectory(f.index)) {
+    const Pose2D q = compose(T_sensor_odom, p);
+    mine.emplace_back(q.x, q.y);
+  }
+  d.lines.push_back(polyline(mine, {200, 40, 40}, 2));
+  const Rgb ref_colours[] = {{30, 160, 30}, {120, 120, 120}, {200, 140, 0}};
+  for (std::size_t k = 0; k < references_.size(); ++k) {
+    const auto path = referencePath(references_[k].poses, records_.front()->stamp_s, f.stamp_s, T_sensor_odom,
+                                    mountOfFirstScan());
+    d.lines.push_back(polyline(path, ref_colours[k % 3], 1));
+  }
+}
 
 Drawing Session::draw(std::size_t index, const Layers& layers) {
   const Frame& f = frame(index);
   Drawing d;
-  const auto level_name = [](std::size_t l) { return "L" + std::to_string(l); };
-  // Status line: where, time, segments per level, match, times.
-  std::ostringstream s1, s2;
-  s1 << "scan " << f.index << (complete_ ? " / " + std::to_string(records_.size() - 1) : std::string(" / ?"))
-     << "  t=" << fixed(f.stamp_s, 3) << " s  segments";
-  for (std::size_t l = 0; l < kNumCascadeLevels; ++l) {
-    s1 << ' ' << level_name(l) << '=' << f.segmentation.levels[l].segments.size();
-  }
-  s1 << "  features " << f.features.size();
-  if (!f.camera.empty()) s1 << "  ROIs " << f.rois;
-  const MatchResult& m = f.step.match;
-  if (f.step.first) {
-    s2 << "first scan";
-  } else {
-    const Eigen::Matrix3d& c = f.step.increment_covariance;
-    s2 << toString(f.step.status) << " vs " << f.keyframe_index << ": segment match " << toString(m.status) << ", "
-       << m.matches.size() << " pairs";
-    if (m.status == MatchStatus::kTooFewMatches) s2 << " (mostly " << m.rejections.dominant() << ")";
-    s2 << "; refined " << toString(f.step.refine.status) << ", inliers " << fixed(f.step.refine.inlier_ratio * 100, 0)
-       << " %; sd x " << fixed(std::sqrt(std::max(c(0, 0), 0.0)) * 100, 1) << " cm y "
-       << fixed(std::sqrt(std::max(c(1, 1), 0.0)) * 100, 1) << " cm yaw "
-       << fixed(std::sqrt(std::max(c(2, 2), 0.0)) * kRadToDeg, 2) << " deg";
-  }
-  s2 << "  |  W-D " << fixed(f.step.wall_danielsson_us, 0) << " us, cascade " << fixed(f.step.cascade_us, 0)
-     << " us, match " << fixed(f.step.matching_us, 0) << " us, features " << fixed(f.detect_us, 1) << " us";
-  d.status = {s1.str(), s2.str()};
+  d.status = {scanLine(f, complete_ ? std::to_string(records_.size() - 1) : "?"), matchLine(f)};
   if (!f.error.empty()) d.status.push_back("error at " + f.where + ": " + f.error);
-
-  // View: enough to hold 95 % of the points.
-  std::vector<double> r;
-  for (const auto& p : f.segmentation.points) {
-    if (std::isfinite(p.x())) r.push_back(std::max(std::abs(p.x()), std::abs(p.y())));
-  }
-  if (!r.empty()) {
-    std::nth_element(r.begin(), r.begin() + static_cast<long>(r.size() * 95 / 100), r.end());
-    d.view_half_width_m = std::clamp(r[r.size() * 95 / 100] * 1.1, 2.0, 40.0);
-  }
-
-  const Pose2D T_sensor_odom = inverse(f.step.T_odom_sensor);
-  if (layers.trajectory) {
-    LineLayer mine{{}, {200, 40, 40}, 2};
-    const auto traj = trajectory(index);
-    for (std::size_t i = 1; i < traj.size(); ++i) {
-      const Pose2D a = compose(T_sensor_odom, traj[i - 1]), b = compose(T_sensor_odom, traj[i]);
-      mine.lines.push_back({{a.x, a.y}, {b.x, b.y}});
-    }
-    d.lines.push_back(std::move(mine));
-    const Rgb ref_colours[] = {{30, 160, 30}, {120, 120, 120}, {200, 140, 0}};
-    for (std::size_t k = 0; k < references_.size(); ++k) {
-      const auto path = referencePath(references_[k].poses, records_.front()->stamp_s, f.stamp_s, T_sensor_odom,
-                                      mountOfFirstScan());
-      LineLayer ref{{}, ref_colours[k % 3], 1};
-      for (std::size_t i = 1; i < path.size(); ++i) ref.lines.push_back({path[i - 1], path[i]});
-      d.lines.push_back(std::move(ref));
-    }
-  }
-  if (layers.raw_points) {
-    PointLayer pts{{}, {90, 90, 90}, 2};
-    for (const auto& p : f.segmentation.points) {
-      if (std::isfinite(p.x())) pts.points.push_back(p);
-    }
-    d.points.push_back(std::move(pts));
-  }
-  for (std::size_t l = 0; l < kNumCascadeLevels; ++l) {
-    if (!layers.levels[l]) continue;
-    LineLayer segs{{}, kLevelColours[l], l == 0 ? 1 : 2};
-    const auto& level = f.segmentation.levels[l].segments;
-    for (std::size_t i = 0; i < level.size(); ++i) {
-      segs.lines.push_back({level[i].start, level[i].end});
-      if (layers.indices) d.labels.push_back({level[i].cog, level_name(l) + ":" + std::to_string(i), kLevelColours[l]});
-    }
-    d.lines.push_back(std::move(segs));
-  }
-  if (f.keyframe_segments && !f.step.first) {
-    // The keyframe's segments moved into this scan's frame by the prior (the prediction)
-    // and by the match result.
-    // prior_from_keyframe and the match are T_keyframe_current.
-    const Pose2D to_prior = inverse(f.step.prior_from_keyframe);
-    const Pose2D to_match = inverse(m.T_prev_curr);
-    const auto& key = f.keyframe_segments->level(f.step.matched_level).segments;
-    if (layers.predicted) {
-      LineLayer pred{{}, {240, 170, 0}, 1};
-      for (const Segment& sg : f.keyframe_segments->level(params_.odometry.level).segments) {
-        pred.lines.push_back({to_prior * sg.start, to_prior * sg.end});
-      }
-      d.lines.push_back(std::move(pred));
-    }
-    if (layers.matches) {
-      // The pairs index the matched level's segments (the degenerate fallback's when kept).
-      const auto& current = f.segmentation.level(f.step.matched_level).segments;
-      LineLayer pairs{{}, {220, 0, 160}, 1};
-      for (const auto& [a, b] : m.matches) {
-        if (a < 0 || b < 0 || static_cast<std::size_t>(a) >= key.size() ||
-            static_cast<std::size_t>(b) >= current.size()) {
-          continue;
-        }
-        pairs.lines.push_back({to_match * key[static_cast<std::size_t>(a)].cog, current[static_cast<std::size_t>(b)].cog});
-      }
-      d.lines.push_back(std::move(pairs));
-    }
-  }
-  if (layers.features) {
-    for (const Feature& ft : f.features) {
-      const Rgb colour = isDoor(ft.type) ? Rgb{220, 20, 20} : Rgb{20, 170, 20};
-      d.circles.push_back({ft.position, isDoor(ft.type) ? 0.35 : 0.25, colour});
-      d.labels.push_back({ft.position, toString(ft.type), colour});
-    }
-  }
+  d.view_half_width_m = viewHalfWidth(f.segmentation.points, d.view_half_width_m);
+  if (layers.trajectory) drawTrajectories(f, d);
+  if (layers.raw_points) d.points.push_back(rawPoints(f.segmentation.points));
+  drawLevels(f.segmentation, layers, d);
+  const bool matched = f.keyframe_segments && !f.step.first;
+  if (matched && layers.predicted) d.lines.push_back(predictedSegments(f, params_.odometry.level));
+  if (matched && layers.matches) d.lines.push_back(matchedPairs(f));
+  if (layers.features) drawFeatures(f.features, d);
   if (layers.camera) d.camera = f.camera;
   return d;
 }

@@ -70,6 +70,8 @@ class InspectApp {
 
  private:
   std::unique_ptr<inspect::Session> open();
+  // Draws options_.frame headless to options_.render_out (PNG or SVG).
+  void render(inspect::Session& session);
   int window(inspect::Session& session);
 
   InspectOptions options_;

@@ -127,6 +127,8 @@ class Session {
  private:
   bool readUpTo(std::size_t index);
   void matchUpTo(std::size_t index);
+  // draw(): lidarseg's path and the references' up to `f`, in f's sensor frame.
+  void drawTrajectories(const Frame& f, Drawing& d);
 
   std::string path_;
   InspectorParams params_;
