@@ -1,4 +1,5 @@
-#include "lidarseg/mrpt/SegmentAlignment.h"
+#include "lidarseg/core/Angles.h"
+#include "lidarseg//mrpt/SegmentAlignment.h"
 
 #include <algorithm>
 #include <chrono>
@@ -47,8 +48,8 @@ Scan scanOf(const mrpt::maps::CMetricMap* map, const char* which) {
   }
   // Bearings may wrap past +-pi (a 360-degree scan): keep them continuous.
   for (std::size_t i = 1; i < angles.size(); ++i) {
-    while (angles[i] - angles[i - 1] > M_PI) angles[i] -= 2.0 * M_PI;
-    while (angles[i] - angles[i - 1] < -M_PI) angles[i] += 2.0 * M_PI;
+    while (angles[i] - angles[i - 1] > kPi) angles[i] -= 2.0 * kPi;
+    while (angles[i] - angles[i - 1] < -kPi) angles[i] += 2.0 * kPi;
   }
   scan.layout = std::make_shared<const BeamLayout>(std::move(angles));
   return scan;
