@@ -408,3 +408,23 @@ TEST(BadInputs, AFailedRunLeavesAnEarlierRunsOutputsIntact) {
 
 }  // namespace
 }  // namespace lidarseg
+
+namespace lidarseg {
+namespace {
+
+TEST(BadOutputs, AnOutputThatIsTheInputIsRefusedAndTheInputKept) {
+  const std::string input = smallRun() + ".rawlog";
+  const std::string before = slurp(input);
+  OdometryOptions o = optionsFor(input, "");
+  o.write_rawlog = input;
+  const std::string e = errorOf(o);
+  EXPECT_NE(e.find("--write-rawlog"), std::string::npos) << e;
+  EXPECT_NE(e.find("is the input"), std::string::npos) << e;
+  o.write_rawlog.clear();
+  o.features_out = kTmp + "/../" + fs::path(kTmp).filename().string() + "/" + fs::path(input).filename().string();
+  EXPECT_NE(errorOf(o).find("--features-out"), std::string::npos);
+  EXPECT_EQ(slurp(input), before);
+}
+
+}  // namespace
+}  // namespace lidarseg

@@ -60,8 +60,8 @@ namespace {
 class RawlogOutput {
  public:
   RawlogOutput(const std::string& path, OutputSet& outputs) {
-    outputs.addWritten(path);
-    if (!out_.open(path + ".tmp", 0)) throw std::runtime_error("cannot write '" + path + ".tmp'");
+    const std::string tmp = outputs.addWritten(path);
+    if (!out_.open(tmp, 0)) throw std::runtime_error("cannot write '" + tmp + "'");
   }
   void write(const mrpt_adapter::LaserRecord& record, const mrpt_adapter::LaserOdometryStep& step,
              const std::vector<Feature>& features) {
@@ -127,15 +127,28 @@ OdometryReport OdometryApp::run() {
   const OdometryOptions& o = options_;
   const run::RunSettings settings = settingsOf(o);
   References refs = readReferences();
+  OutputSet outputs;
+  claimOutputs(outputs);
   mrpt_adapter::LaserLogReader reader(o.input, o.sensor);
   run::OdometryRun odometry(settings);
-  OutputSet outputs;
   processLog(reader, odometry, settings, outputs);
   OdometryReport report = odometry.finish(o.max_lost_ratio);
   collectReaderCounts(reader, report);
   evaluateAll(odometry, refs, report);
   writeOutputs(report, refs, odometry.logPoses(), outputs);
   return report;
+}
+
+// Every output refused when it is the input, its folder locked against a second run, and
+// temporary files removed on SIGINT/SIGTERM.
+void OdometryApp::claimOutputs(OutputSet& outputs) const {
+  const OdometryOptions& o = options_;
+  installCleanupOnSignals();
+  refuseOverwritingInput(o.write_rawlog, o.input, "--write-rawlog");
+  refuseOverwritingInput(o.features_out, o.input, "--features-out");
+  if (!o.out_dir.empty()) outputs.claim((fs::path(o.out_dir) / "summary.json").string());
+  if (!o.write_rawlog.empty()) outputs.claim(o.write_rawlog);
+  if (!o.features_out.empty()) outputs.claim(o.features_out);
 }
 
 // Ground truth (PREFIX.gt.tum beside the input unless given) and relations files.

@@ -1,12 +1,55 @@
 #include "OutputFiles.h"
 
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cerrno>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 namespace lidarseg::apps {
 
+namespace fs = std::filesystem;
+
 namespace {
+
+// Temporary files a signal must remove: fixed slots, so that the handler only reads
+// memory that never moves (async-signal-safe: atomics and unlink()).
+constexpr std::size_t kSlots = 256;
+constexpr std::size_t kPathBytes = 4096;
+struct Slot {
+  std::atomic<bool> used{false};
+  char path[kPathBytes];
+};
+std::array<Slot, kSlots> g_slots;
+
+void registerTemporary(const std::string& temporary) {
+  if (temporary.size() >= kPathBytes) return;  // not removable on a signal; still removed otherwise
+  for (Slot& s : g_slots) {
+    bool expected = false;
+    if (!s.used.load() && s.used.compare_exchange_strong(expected, true)) {
+      std::memcpy(s.path, temporary.c_str(), temporary.size() + 1);
+      return;
+    }
+  }
+}
+
+extern "C" void removeTemporariesAndDie(int sig) {
+  for (Slot& s : g_slots) {
+    if (s.used.load()) ::unlink(s.path);
+  }
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
+
 void writeTemporary(const std::string& tmp, const std::string& content) {
   std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
   if (!out) throw std::runtime_error("cannot write '" + tmp + "'");
@@ -15,40 +58,120 @@ void writeTemporary(const std::string& tmp, const std::string& content) {
   if (!out) {
     out.close();
     std::remove(tmp.c_str());
-    throw std::runtime_error("error while writing '" + tmp + "'");
+    throw std::runtime_error("error while writing '" + tmp + "' (disk full?)");
   }
 }
+
+std::string folderOf(const std::string& path) {
+  const fs::path parent = fs::path(path).parent_path();
+  return parent.empty() ? std::string(".") : parent.string();
+}
+
 }  // namespace
 
-void writeFileAtomically(const std::string& path, const std::string& content) {
-  const std::string tmp = path + ".tmp";
-  writeTemporary(tmp, content);
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error("cannot rename '" + tmp + "' to '" + path + "'");
+std::string uniqueTemporary(const std::string& path) {
+  static std::atomic<unsigned long> counter{0};
+  const std::string tmp = path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
+  registerTemporary(tmp);
+  return tmp;
+}
+
+void releaseTemporary(const std::string& temporary) {
+  for (Slot& s : g_slots) {
+    if (s.used.load() && temporary == s.path) {
+      s.used.store(false);
+      return;
+    }
   }
+}
+
+void installCleanupOnSignals() {
+  std::signal(SIGINT, removeTemporariesAndDie);
+  std::signal(SIGTERM, removeTemporariesAndDie);
+}
+
+void writeFileAtomically(const std::string& path, const std::string& content) {
+  const std::string tmp = uniqueTemporary(path);
+  try {
+    writeTemporary(tmp, content);
+  } catch (...) {
+    releaseTemporary(tmp);
+    throw;
+  }
+  const bool renamed = std::rename(tmp.c_str(), path.c_str()) == 0;
+  if (!renamed) std::remove(tmp.c_str());
+  releaseTemporary(tmp);
+  if (!renamed) throw std::runtime_error("cannot rename '" + tmp + "' to '" + path + "'");
+}
+
+void refuseOverwritingInput(const std::string& output, const std::string& input, const std::string& option) {
+  if (output.empty() || input.empty()) return;
+  std::error_code ec;
+  const bool same = fs::exists(output, ec) && fs::equivalent(output, input, ec);
+  if (same || fs::weakly_canonical(output, ec) == fs::weakly_canonical(input, ec)) {
+    throw std::invalid_argument(option + " '" + output + "' is the input '" + input +
+                                "': an output never overwrites its input");
+  }
+}
+
+void OutputSet::claim(const std::string& path) {
+  const std::string folder = folderOf(path);
+  std::error_code ec;
+  const std::string key = fs::weakly_canonical(folder, ec).string();
+  if (std::find(locked_folders_.begin(), locked_folders_.end(), key) != locked_folders_.end()) return;
+  const bool created = !fs::exists(folder, ec);
+  fs::create_directories(folder, ec);
+  const std::string lock = (fs::path(folder) / ".lidarseg.lock").string();
+  const int fd = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) throw std::runtime_error("cannot create the lock '" + lock + "': " + std::strerror(errno));
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd);
+    throw std::runtime_error("another run is writing into '" + folder + "' (lock '" + lock +
+                             "' held); wait for it or choose another output");
+  }
+  locked_folders_.push_back(key);
+  lock_fds_.push_back(fd);
+  if (created) created_folders_.push_back(folder);
 }
 
 void OutputSet::add(const std::string& path, std::string content) {
-  pending_.push_back(path);  // registered first: removed on failure
-  writeTemporary(path + ".tmp", content);
+  claim(path);
+  const std::string tmp = uniqueTemporary(path);
+  pending_.push_back({path, tmp});  // registered first: removed on failure
+  writeTemporary(tmp, content);
 }
 
-void OutputSet::addWritten(const std::string& path) { pending_.push_back(path); }
+std::string OutputSet::addWritten(const std::string& path) {
+  claim(path);
+  const std::string tmp = uniqueTemporary(path);
+  pending_.push_back({path, tmp});
+  return tmp;
+}
 
 void OutputSet::commit() {
-  for (const auto& path : pending_) {
-    const std::string tmp = path + ".tmp";
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-      throw std::runtime_error("cannot rename '" + tmp + "' to '" + path + "'");
+  for (const auto& p : pending_) {
+    if (std::rename(p.temporary.c_str(), p.path.c_str()) != 0) {
+      throw std::runtime_error("cannot rename '" + p.temporary + "' to '" + p.path + "'");
     }
+    releaseTemporary(p.temporary);
   }
   committed_ = true;
 }
 
 OutputSet::~OutputSet() {
-  if (committed_) return;
-  for (const auto& path : pending_) std::remove((path + ".tmp").c_str());
+  for (const auto& p : pending_) {
+    if (!committed_) std::remove(p.temporary.c_str());
+    releaseTemporary(p.temporary);
+  }
+  // A run that published nothing leaves no folder of its own behind.
+  if (!committed_) {
+    for (const auto& folder : created_folders_) {
+      std::error_code ec;
+      fs::remove(fs::path(folder) / ".lidarseg.lock", ec);
+      fs::remove(folder, ec);  // only when empty
+    }
+  }
+  for (const int fd : lock_fds_) ::close(fd);  // closing releases the flock
 }
 
 }  // namespace lidarseg::apps

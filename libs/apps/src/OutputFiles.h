@@ -1,31 +1,58 @@
 #pragma once
-// Private to lidarseg::apps: writing outputs without ever leaving a partial file.
+// Private to lidarseg::apps: writing outputs without ever leaving a partial file, a file
+// another run is writing, or a temporary file after an interruption.
 
 #include <string>
 #include <vector>
 
 namespace lidarseg::apps {
 
-/// Writes `content` to `path` through a temporary file and a rename, so that a failure
-/// never leaves a partial file behind.
+/// A temporary name for `path`, unique to this process and call ("path.tmp.PID.N"), and
+/// removed by the SIGINT/SIGTERM handler until released (see installCleanupOnSignals()).
+std::string uniqueTemporary(const std::string& path);
+/// `temporary` was renamed or removed: the signal handler forgets it.
+void releaseTemporary(const std::string& temporary);
+/// SIGINT and SIGTERM remove every registered temporary file, then end the process with
+/// the signal's default action. Idempotent; the tools call it first thing.
+void installCleanupOnSignals();
+
+/// Writes `content` to `path` through a unique temporary file and a rename, so that a
+/// failure never leaves a partial file behind.
 /// @throws std::runtime_error naming the file.
 void writeFileAtomically(const std::string& path, const std::string& content);
 
-/// A set of outputs prepared in memory (or under temporary names) and put in place
-/// together by commit(); destroyed without commit(), it removes its temporary files.
+/// @throws std::invalid_argument when `output` is the same file as `input` (an output must
+/// never overwrite its input), naming both and the option.
+void refuseOverwritingInput(const std::string& output, const std::string& input, const std::string& option);
+
+/// A set of outputs prepared under temporary names and put in place together by commit();
+/// destroyed without commit(), it removes its temporary files. Each output folder is locked
+/// for the set's lifetime: a second run writing into the same folder is refused.
 class OutputSet {
  public:
+  OutputSet() = default;
+  OutputSet(const OutputSet&) = delete;
+  OutputSet& operator=(const OutputSet&) = delete;
+  /// Locks the folder that will hold `path` (created if needed) before any work is done.
+  /// @throws std::runtime_error when another process holds its lock.
+  void claim(const std::string& path);
   /// Adds a text output.
   void add(const std::string& path, std::string content);
-  /// Registers a file already written at `path + ".tmp"` by someone else.
-  void addWritten(const std::string& path);
+  /// Registers an output someone else writes: returns the temporary name to write it under.
+  std::string addWritten(const std::string& path);
   /// Renames every temporary file to its final name.
   /// @throws std::runtime_error naming the file that could not be written.
   void commit();
   ~OutputSet();
 
  private:
-  std::vector<std::string> pending_;  // final paths, each written at path + ".tmp"
+  struct Pending {
+    std::string path, temporary;
+  };
+  std::vector<Pending> pending_;
+  std::vector<std::string> locked_folders_;
+  std::vector<int> lock_fds_;
+  std::vector<std::string> created_folders_;  // by claim(): removed again when nothing was published
   bool committed_ = false;
 };
 

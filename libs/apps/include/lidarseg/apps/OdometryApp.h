@@ -96,6 +96,7 @@ class OdometryApp {
 
  private:
   References readReferences();
+  void claimOutputs(OutputSet& outputs) const;
   void processLog(mrpt_adapter::LaserLogReader& reader, run::OdometryRun& odometry, const run::RunSettings& settings,
                   OutputSet& outputs);
   void collectReaderCounts(const mrpt_adapter::LaserLogReader& reader, OdometryReport& report) const;
