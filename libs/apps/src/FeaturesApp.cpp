@@ -1,36 +1,252 @@
 #include "lidarseg/apps/FeaturesApp.h"
 
-#include <chrono>
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
-#include <iomanip>
-#include <iostream>
 #include <map>
-
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <stdexcept>
 
 #include "CameraRois.h"
-#include "Format.h"
-#include "Png.h"
 #include "FeatureCsv.h"
+#include "Format.h"
 #include "JsonText.h"
 #include "OutputFiles.h"
 #include "Plots.h"
+#include "Png.h"
 #include "Timing.h"
 #include "lidarseg/core/FeatureDetector.h"
 #include "lidarseg/core/ScanSegmenter.h"
-#include "lidarseg/mrpt/FeatureConfig.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/mrpt/LidarsegConfig.h"
 #include "lidarseg/mrpt/ScanConverter.h"
-#include "lidarseg/mrpt/OdometryConfig.h"
-#include "lidarseg/mrpt/VisionConfig.h"
 
 namespace lidarseg::apps {
 
 namespace {
+
+// The name of feature type number k.
+const char* typeName(std::size_t k) { return toString(static_cast<FeatureType>(k)); }
+
+// One configuration, every section optional; the defaults without a file.
+mrpt_adapter::LidarsegConfig loadConfig(const std::string& path) {
+  return path.empty() ? mrpt_adapter::LidarsegConfig() : mrpt_adapter::LidarsegConfig::loadFile(path);
+}
+
+// Size of the image the regions cover (pixels): the configured camera's, else the image's own.
+cv::Size imageSize(const mrpt::obs::CObservationImage& image, const std::optional<vision::CameraParams>& camera) {
+  if (camera) return {camera->width, camera->height};
+  return {static_cast<int>(image.cameraParams.ncols), static_cast<int>(image.cameraParams.nrows)};
+}
+
+// One scan as paper Fig. 6 draws it: valid points, the segments of `level`, doors and corners.
+ScanPicture scanPicture(const Segmentation& segmentation, CascadeLevel level, const std::vector<Feature>& features) {
+  ScanPicture pic;
+  for (const auto& q : segmentation.points) {
+    if (std::isfinite(q.x())) pic.points.emplace_back(q.x(), q.y());
+  }
+  for (const Segment& sg : segmentation.level(level).segments) {
+    pic.segments.push_back({sg.start.x(), sg.start.y(), sg.end.x(), sg.end.y()});
+  }
+  for (const Feature& f : features) {
+    if (isDoor(f.type)) {
+      pic.doors.emplace_back(f.position.x(), f.position.y());
+      pic.door_jambs.push_back({f.jamb_a.x(), f.jamb_a.y(), f.jamb_b.x(), f.jamb_b.y()});
+    } else {
+      pic.corners.emplace_back(f.position.x(), f.position.y());
+    }
+  }
+  return pic;
+}
+
+// The last scan processed: a camera image is given the features of the scan before it.
+struct LastScan {
+  std::size_t index = 0;
+  mrpt::poses::CPose3D lidar_on_robot;
+  std::vector<Feature> features;
+};
+
+// One pass over the log: each scan's features detected, timed, written and scored, and each
+// camera image given the regions of the features of the scan before it.
+class LogPass {
+ public:
+  // Throws for an invalid configuration or an unreadable ground truth.
+  LogPass(const FeaturesOptions& options, const mrpt_adapter::LidarsegConfig& config, FeaturesReport& report,
+          OutputSet& outputs)
+      : options_(options),
+        camera_(config.vision.camera),
+        camera_rois_(options.input, config.vision.camera, config.vision.rois),
+        segmenter_(config.odometry.segmentation),
+        detector_(config.features),
+        report_(report),
+        outputs_(outputs) {
+    if (!options.truth_path.empty()) {
+      truth_ = eval::readTrueFeatures(options.truth_path);
+      report.evaluation.emplace(options.gate_m);
+    }
+    writeFeatureCsvHeader(csv_);
+    writeRoiCsvHeader(rois_csv_);
+  }
+
+  // The regions of interest of the record's camera images (paper Fig. 7).
+  void addImages(const mrpt_adapter::LaserRecord& record) {
+    for (const auto& obs : record.companions) {
+      const auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(obs);
+      if (!image) continue;
+      const std::size_t n = report_.images++;
+      if (last_) addImage(record, *image, n);
+    }
+  }
+
+  // The record's scan: segmented, its features detected (both timed), counted, written and scored.
+  void addScan(const mrpt_adapter::LaserRecord& record) {
+    Scan scan;
+    try {
+      scan = converter_.convert(*record.observation);
+    } catch (const std::exception& e) {
+      report_.skipped.push_back(record.where + ": " + e.what());
+      return;
+    }
+    report_.beams_per_scan = std::max(report_.beams_per_scan, scan.size());
+    auto t0 = Clock::now();
+    segmenter_.process(scan, segmentation_);
+    segment_us_.push_back(microsecondsSince(t0));
+    t0 = Clock::now();
+    detector_.detect(segmentation_, features_);
+    detect_us_.push_back(microsecondsSince(t0));
+    ++report_.scans;
+
+    // Features are in the sensor frame; the CSV speaks of the robot frame.
+    const auto& sp = record.observation->sensorPose;
+    last_ = LastScan{record.index, sp, features_};
+    for (const Feature& f : features_) ++report_.detections[static_cast<std::size_t>(f.type)];
+    writeFeatureCsvRows(csv_, record.stamp_s, record.index, {sp.x(), sp.y(), sp.yaw()}, features_);
+    if (report_.evaluation) score(record.index);
+    if (options_.figure_scan && *options_.figure_scan == record.index) drawFigure(record.index);
+  }
+
+  // The per-scan and per-image samples summarised into the report.
+  void summarise() {
+    report_.detect_us = summarize(detect_us_);
+    report_.segment_us = summarize(segment_us_);
+    report_.position_error_m = summarize(errors_);
+    report_.roi_coverage = summarize(coverage_);
+  }
+
+  // The features CSV and the regions CSV, header included.
+  std::string csv() const { return csv_.str(); }
+  std::string roisCsv() const { return rois_csv_.str(); }
+
+ private:
+  // Image n: its regions as CSV rows and coverage and, when asked, drawn on its pixels; an
+  // unusable calibration or unreadable pixels skip it.
+  void addImage(const mrpt_adapter::LaserRecord& record, const mrpt::obs::CObservationImage& image, std::size_t n) {
+    const auto skip = [&](const std::exception& e) {
+      report_.skipped.push_back(record.where + ": image " + std::to_string(n) + ": " + e.what());
+    };
+    std::vector<vision::Roi> rois;
+    try {
+      rois = camera_rois_.project(image, last_->lidar_on_robot, last_->features);
+    } catch (const std::invalid_argument& e) {
+      skip(e);
+      return;
+    }
+    writeRoiCsvRows(rois_csv_, n, last_->index, mrpt::Clock::toDouble(image.timestamp), CameraRois::fileOf(image),
+                    rois);
+    std::vector<cv::Rect> boxes;
+    for (const vision::Roi& r : rois) boxes.push_back(r.box);
+    coverage_.push_back(vision::coveredFraction(boxes, imageSize(image, camera_)));
+    report_.rois += rois.size();
+    if (!rois.empty()) ++report_.images_with_rois;
+    if (options_.images_out.empty()) return;
+    cv::Mat bgr;
+    try {
+      bgr = camera_rois_.pixels(image);
+    } catch (const std::runtime_error& e) {
+      skip(e);
+      return;
+    }
+    drawRois(bgr, rois);
+    char name[32];
+    std::snprintf(name, sizeof(name), "rois_%06zu.png", n);
+    outputs_.add(options_.images_out + "/" + name, encodePng(bgr));
+  }
+
+  // The detections against the truth; the simulator's truth is in the robot frame, which is
+  // its lidar's frame.
+  void score(std::size_t scan) {
+    static const std::vector<eval::TrueFeature> kNone;
+    const auto it = truth_.find(scan);
+    const auto e = report_.evaluation->add(it == truth_.end() ? kNone : it->second, features_);
+    errors_.insert(errors_.end(), e.begin(), e.end());
+  }
+
+  // Paper Fig. 6 of this scan, written at once.
+  void drawFigure(std::size_t scan) const {
+    const std::string title =
+        "scan " + std::to_string(scan) + " of " + std::filesystem::path(options_.input).filename().string();
+    writeFileAtomically(options_.figure_path,
+                        scanFeaturesPng(scanPicture(segmentation_, detector_.params().level, features_), title));
+  }
+
+  const FeaturesOptions& options_;
+  const std::optional<vision::CameraParams> camera_;
+  const CameraRois camera_rois_;
+  const ScanSegmenter segmenter_;
+  const FeatureDetector detector_;
+  std::map<std::size_t, std::vector<eval::TrueFeature>> truth_;  // by scan index
+  FeaturesReport& report_;
+  OutputSet& outputs_;
+  mrpt_adapter::ScanConverter converter_;
+  Segmentation segmentation_;
+  std::vector<Feature> features_;
+  std::optional<LastScan> last_;
+  std::ostringstream csv_, rois_csv_;
+  std::vector<double> detect_us_, segment_us_, errors_, coverage_;
+};
+
+// Truths found and detections right of one kind of feature, for features.json.
+Json countsJson(const eval::DetectionCounts& c) {
+  return Json{{"truths", c.truths},           {"found", c.truths_found},
+              {"recall", finiteOrNull(c.recall())}, {"detections", c.detections},
+              {"right", c.detections_right},  {"precision", finiteOrNull(c.precision())},
+              {"visible", c.visible},         {"visible_recall", finiteOrNull(c.visibleRecall())}};
+}
+
+// features.json: counts and median times, and the scores when a ground truth was given.
+Json reportJson(const FeaturesReport& report) {
+  Json json{{"input", report.input},
+            {"scans", report.scans},
+            {"detect_us_median", finiteOrNull(report.detect_us.median)},
+            {"segment_us_median", finiteOrNull(report.segment_us.median)},
+            {"images", report.images},
+            {"images_with_rois", report.images_with_rois},
+            {"rois", report.rois},
+            {"roi_coverage_median", finiteOrNull(report.roi_coverage.median)},
+            {"roi_coverage_mean", finiteOrNull(report.roi_coverage.mean)}};
+  if (!report.evaluation) return json;
+  const auto& ev = *report.evaluation;
+  json["gate_m"] = finiteOrNull(ev.gate());
+  json["doors"] = countsJson(ev.doors());
+  json["corners"] = countsJson(ev.corners());
+  for (std::size_t k = 0; k < kNumFeatureTypes; ++k) json[typeName(k)] = countsJson(ev.byType()[k]);
+  json["position_error_median_m"] = finiteOrNull(report.position_error_m.median);
+  return json;
+}
+
+// The CSV files and the report put in place, together with the images drawn during the pass.
+void writeOutputs(const FeaturesOptions& options, const FeaturesReport& report, const LogPass& pass,
+                  OutputSet& outputs) {
+  if (!options.out_csv.empty()) outputs.add(options.out_csv, pass.csv());
+  if (!options.rois_out.empty()) outputs.add(options.rois_out, pass.roisCsv());
+  if (!options.report_dir.empty()) {
+    std::filesystem::create_directories(options.report_dir);
+    outputs.add(options.report_dir + "/features.md", FeaturesApp::markdown(report));
+    outputs.add(options.report_dir + "/features.json", jsonText(reportJson(report)));
+  }
+  outputs.commit();
+}
 
 }  // namespace
 
@@ -42,170 +258,22 @@ FeaturesApp::FeaturesApp(FeaturesOptions options) : options_(std::move(options))
 }
 
 FeaturesReport FeaturesApp::run() {
-  // One configuration, every section optional.
-  mrpt_adapter::LidarsegConfig config;
-  if (!options_.config_path.empty()) config = mrpt_adapter::LidarsegConfig::loadFile(options_.config_path);
-  const CameraRois camera_rois(options_.input, config.vision.camera, config.vision.rois);
-  const ScanSegmenter segmenter(config.odometry.segmentation);
-  const FeatureDetector detector(config.features);
-
+  const mrpt_adapter::LidarsegConfig config = loadConfig(options_.config_path);
   FeaturesReport report;
   report.input = options_.input;
-  std::map<std::size_t, std::vector<eval::TrueFeature>> truth;
-  if (!options_.truth_path.empty()) {
-    truth = eval::readTrueFeatures(options_.truth_path);
-    report.evaluation.emplace(options_.gate_m);
-  }
-
-  mrpt_adapter::LaserLogReader reader(options_.input, options_.sensor_label);
-  mrpt_adapter::ScanConverter converter;
-  Segmentation segmentation;
-  std::vector<Feature> features;
-  std::ostringstream csv;
-  writeFeatureCsvHeader(csv);
-  std::vector<double> detect_us, segment_us, errors;
-  static const std::vector<eval::TrueFeature> kNone;
-  // The last scan processed: a camera image is given the features of the scan before it.
-  struct LastScan {
-    std::size_t index = 0;
-    mrpt::poses::CPose3D lidar_on_robot;
-    std::vector<Feature> features;
-  };
-  std::optional<LastScan> last;
-  std::ostringstream rois_csv;
-  writeRoiCsvHeader(rois_csv);
-  std::vector<double> coverage;
   OutputSet outputs;
+  LogPass pass(options_, config, report, outputs);
+  mrpt_adapter::LaserLogReader reader(options_.input, options_.sensor_label);
   if (!options_.images_out.empty()) std::filesystem::create_directories(options_.images_out);
-  auto handleImages = [&](const mrpt_adapter::LaserRecord& record) {
-    for (const auto& obs : record.companions) {
-      const auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(obs);
-      if (!image) continue;
-      const std::size_t n = report.images++;
-      if (!last) continue;
-      std::vector<vision::Roi> rois;
-      try {
-        rois = camera_rois.project(*image, last->lidar_on_robot, last->features);
-      } catch (const std::invalid_argument& e) {
-        report.skipped.push_back(record.where + ": image " + std::to_string(n) + ": " + e.what());
-        continue;
-      }
-      const std::string file = CameraRois::fileOf(*image);
-      writeRoiCsvRows(rois_csv, n, last->index, mrpt::Clock::toDouble(image->timestamp), file, rois);
-      std::vector<cv::Rect> boxes;
-      for (const vision::Roi& r : rois) boxes.push_back(r.box);
-      const auto& cam = image->cameraParams;
-      const cv::Size size = config.vision.camera ? cv::Size(config.vision.camera->width, config.vision.camera->height)
-                                                 : cv::Size(static_cast<int>(cam.ncols), static_cast<int>(cam.nrows));
-      coverage.push_back(vision::coveredFraction(boxes, size));
-      report.rois += rois.size();
-      if (!rois.empty()) ++report.images_with_rois;
-      if (!options_.images_out.empty()) {
-        cv::Mat bgr;
-        try {
-          bgr = camera_rois.pixels(*image);
-        } catch (const std::runtime_error& e) {
-          report.skipped.push_back(record.where + ": image " + std::to_string(n) + ": " + e.what());
-          continue;
-        }
-        drawRois(bgr, rois);
-        char name[32];
-        std::snprintf(name, sizeof(name), "rois_%06zu.png", n);
-        outputs.add(options_.images_out + "/" + name, encodePng(bgr));
-      }
-    }
-  };
   while (auto record = reader.next()) {
-    handleImages(*record);
+    pass.addImages(*record);
     if (options_.max_scans > 0 && report.scans >= options_.max_scans) break;
-    Scan scan;
-    try {
-      scan = converter.convert(*record->observation);
-    } catch (const std::exception& e) {
-      report.skipped.push_back(record->where + ": " + e.what());
-      continue;
-    }
-    report.beams_per_scan = std::max(report.beams_per_scan, scan.size());
-    auto t0 = Clock::now();
-    segmenter.process(scan, segmentation);
-    segment_us.push_back(microsecondsSince(t0));
-    t0 = Clock::now();
-    detector.detect(segmentation, features);
-    detect_us.push_back(microsecondsSince(t0));
-    ++report.scans;
-
-    // Features are in the sensor frame; the CSV speaks of the robot frame.
-    const auto& sp = record->observation->sensorPose;
-    last = LastScan{record->index, sp, features};
-    for (const Feature& f : features) ++report.detections[static_cast<std::size_t>(f.type)];
-    writeFeatureCsvRows(csv, record->stamp_s, record->index, {sp.x(), sp.y(), sp.yaw()}, features);
-    if (report.evaluation) {
-      // The simulator's truth is in the robot frame, which is its lidar's frame.
-      const auto it = truth.find(record->index);
-      const auto e = report.evaluation->add(it == truth.end() ? kNone : it->second, features);
-      errors.insert(errors.end(), e.begin(), e.end());
-    }
-    if (options_.figure_scan && *options_.figure_scan == record->index) {
-      ScanPicture pic;
-      for (const auto& q : segmentation.points) {
-        if (std::isfinite(q.x())) pic.points.emplace_back(q.x(), q.y());
-      }
-      for (const Segment& sg : segmentation.level(detector.params().level).segments) {
-        pic.segments.push_back({sg.start.x(), sg.start.y(), sg.end.x(), sg.end.y()});
-      }
-      for (const Feature& f : features) {
-        if (isDoor(f.type)) {
-          pic.doors.emplace_back(f.position.x(), f.position.y());
-          pic.door_jambs.push_back({f.jamb_a.x(), f.jamb_a.y(), f.jamb_b.x(), f.jamb_b.y()});
-        } else {
-          pic.corners.emplace_back(f.position.x(), f.position.y());
-        }
-      }
-      writeFileAtomically(options_.figure_path,
-                          scanFeaturesPng(pic, "scan " + std::to_string(record->index) + " of " +
-                                                   std::filesystem::path(options_.input).filename().string()));
-    }
+    pass.addScan(*record);
   }
   if (report.scans == 0) throw std::runtime_error(options_.input + ": no laser scan read");
   for (const std::string& issue : reader.issues()) report.skipped.push_back(issue);
-  report.detect_us = summarize(detect_us);
-  report.segment_us = summarize(segment_us);
-  report.position_error_m = summarize(errors);
-  report.roi_coverage = summarize(coverage);
-
-  if (!options_.out_csv.empty()) outputs.add(options_.out_csv, csv.str());
-  if (!options_.rois_out.empty()) outputs.add(options_.rois_out, rois_csv.str());
-  if (!options_.report_dir.empty()) {
-    std::filesystem::create_directories(options_.report_dir);
-    outputs.add(options_.report_dir + "/features.md", markdown(report));
-    Json json{{"input", report.input},
-              {"scans", report.scans},
-              {"detect_us_median", finiteOrNull(report.detect_us.median)},
-              {"segment_us_median", finiteOrNull(report.segment_us.median)},
-              {"images", report.images},
-              {"images_with_rois", report.images_with_rois},
-              {"rois", report.rois},
-              {"roi_coverage_median", finiteOrNull(report.roi_coverage.median)},
-              {"roi_coverage_mean", finiteOrNull(report.roi_coverage.mean)}};
-    if (report.evaluation) {
-      const auto& ev = *report.evaluation;
-      json["gate_m"] = finiteOrNull(ev.gate());
-      const auto counts = [](const eval::DetectionCounts& c) {
-        return Json{{"truths", c.truths},           {"found", c.truths_found},
-                    {"recall", finiteOrNull(c.recall())}, {"detections", c.detections},
-                    {"right", c.detections_right},  {"precision", finiteOrNull(c.precision())},
-                    {"visible", c.visible},         {"visible_recall", finiteOrNull(c.visibleRecall())}};
-      };
-      json["doors"] = counts(ev.doors());
-      json["corners"] = counts(ev.corners());
-      for (std::size_t k = 0; k < kNumFeatureTypes; ++k) {
-        json[toString(static_cast<FeatureType>(k))] = counts(ev.byType()[k]);
-      }
-      json["position_error_median_m"] = finiteOrNull(report.position_error_m.median);
-    }
-    outputs.add(options_.report_dir + "/features.json", jsonText(json));
-  }
-  outputs.commit();
+  pass.summarise();
+  writeOutputs(options_, report, pass, outputs);
   return report;
 }
 
@@ -217,7 +285,7 @@ std::string FeaturesApp::markdown(const FeaturesReport& r) {
      << fixed(r.detect_us.p99, 2) << " us).\n\n";
   os << "| type | detections |\n|---|---:|\n";
   for (std::size_t k = 0; k < kNumFeatureTypes; ++k) {
-    os << "| " << toString(static_cast<FeatureType>(k)) << " | " << r.detections[k] << " |\n";
+    os << "| " << typeName(k) << " | " << r.detections[k] << " |\n";
   }
   if (r.images > 0) {
     os << "\nCamera: " << r.images << " images, " << r.images_with_rois << " with regions of interest, " << r.rois
@@ -238,18 +306,18 @@ std::string FeaturesApp::markdown(const FeaturesReport& r) {
        << " | " << fixed(c.visibleRecall(), 3) << " |\n";
   };
   row("**doors (any type)**", ev.doors());
-  for (std::size_t k = 0; k < 3; ++k) row(toString(static_cast<FeatureType>(k)), ev.byType()[k]);
+  for (std::size_t k = 0; k < 3; ++k) row(typeName(k), ev.byType()[k]);
   row("**corners (either)**", ev.corners());
-  for (std::size_t k = 3; k < kNumFeatureTypes; ++k) row(toString(static_cast<FeatureType>(k)), ev.byType()[k]);
+  for (std::size_t k = 3; k < kNumFeatureTypes; ++k) row(typeName(k), ev.byType()[k]);
   os << "\nPosition error of matched features: median " << fixed(r.position_error_m.median, 3) << " m, p99 "
      << fixed(r.position_error_m.p99, 3) << " m.\n\n";
   os << "Confusion (rows: true type as the scan can show it; columns: detected type):\n\n| |";
-  for (std::size_t k = 0; k < kNumFeatureTypes; ++k) os << ' ' << toString(static_cast<FeatureType>(k)) << " |";
+  for (std::size_t k = 0; k < kNumFeatureTypes; ++k) os << ' ' << typeName(k) << " |";
   os << "\n|---|";
   for (std::size_t k = 0; k < kNumFeatureTypes; ++k) os << "---:|";
   os << '\n';
   for (std::size_t t = 0; t < kNumFeatureTypes; ++t) {
-    os << "| " << toString(static_cast<FeatureType>(t)) << " |";
+    os << "| " << typeName(t) << " |";
     for (std::size_t d = 0; d < kNumFeatureTypes; ++d) os << ' ' << ev.confusion()[t][d] << " |";
     os << '\n';
   }

@@ -2,11 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
-#include <map>
-#include <optional>
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
@@ -94,6 +92,135 @@ void writeDetections(std::ostream& os, std::size_t frame, const char* mode, cons
   }
 }
 
+// The [people] section of the configuration; the defaults without a file.
+vision::PeopleDetectorParams loadParams(const std::string& config_path) {
+  if (config_path.empty()) return {};
+  return mrpt_adapter::LidarsegConfig::loadFile(config_path).vision.people;
+}
+
+// The regions given on the command line (every frame) and in the regions file.
+RegionTable readRegions(const PeopleOptions& options) {
+  RegionTable regions;
+  for (const std::string& r : options.rois) regions.addEveryFrame(parseRegion(r, "--roi"));
+  if (!options.rois_path.empty()) regions.read(options.rois_path);
+  return regions;
+}
+
+// Puts OpenCV's worker threads back to `n` at the end of the run.
+struct RestoreThreads {
+  int n;
+  ~RestoreThreads() { cv::setNumThreads(n); }
+};
+
+// The detector on each analysed frame, once on the whole frame and once inside the regions:
+// times, people counted and matched, CSV rows and, every draw_every frame, a picture.
+class FramePass {
+ public:
+  // Writes the CSV header.
+  FramePass(const PeopleOptions& options, const vision::PeopleDetector& detector, PeopleReport& report,
+            OutputSet& outputs)
+      : options_(options), detector_(detector), report_(report), outputs_(outputs) {
+    csv_ << "frame,mode,u_min,v_min,u_max,v_max,score\n";
+  }
+
+  // Frame `index` (BGR) with its regions (pixels).
+  void addFrame(std::size_t index, const cv::Mat& frame, const std::vector<cv::Rect>& rois) {
+    report_.frame_size = frame.size();
+    auto t0 = Clock::now();
+    const vision::PeopleDetection full = detector_.detectFullFrame(frame);
+    full_ms_.push_back(microsecondsSince(t0) * 1e-3);
+    t0 = Clock::now();
+    const vision::PeopleDetection inside = detector_.detectInRegions(frame, rois);
+    rois_ms_.push_back(microsecondsSince(t0) * 1e-3);
+    fraction_.push_back(inside.analysed_fraction);
+    if (full_ms_.back() > 0) ratio_.push_back(rois_ms_.back() / full_ms_.back());
+    ++report_.frames;
+    countPeople(full.people, inside.people, rois);
+    writeDetections(csv_, index, "full", full.people);
+    writeDetections(csv_, index, "rois", inside.people);
+    if (!options_.draw_dir.empty() && (report_.frames - 1) % options_.draw_every == 0) {
+      draw(index, frame, rois, full, inside);
+    }
+  }
+
+  // The per-frame samples summarised into the report.
+  void summarise() {
+    report_.full_ms = summarize(full_ms_);
+    report_.rois_ms = summarize(rois_ms_);
+    report_.analysed_fraction = summarize(fraction_);
+    report_.time_ratio = summarize(ratio_);
+  }
+
+  // The detections CSV, header included.
+  std::string csv() const { return csv_.str(); }
+
+ private:
+  // Whole-frame people centred in a region and found again inside the regions; detections
+  // inside the regions that the whole frame also has.
+  void countPeople(const std::vector<vision::Person>& full, const std::vector<vision::Person>& inside,
+                   const std::vector<cv::Rect>& rois) {
+    report_.people_full += full.size();
+    report_.people_rois += inside.size();
+    for (const vision::Person& p : full) {
+      if (!centredIn(p.box, rois)) continue;
+      ++report_.people_in_regions;
+      if (overlapsAny(p.box, inside, options_.match_iou)) ++report_.people_still_found;
+    }
+    for (const vision::Person& p : inside) {
+      if (overlapsAny(p.box, full, options_.match_iou)) ++report_.people_rois_confirmed;
+    }
+  }
+
+  // The frame with the analysed crops (grey), regions (yellow), whole-frame detections (blue)
+  // and detections inside the regions (red), as people_NNNNNN.png.
+  void draw(std::size_t index, const cv::Mat& frame, const std::vector<cv::Rect>& rois,
+            const vision::PeopleDetection& full, const vision::PeopleDetection& inside) {
+    cv::Mat pic = frame.clone();
+    for (const cv::Rect& a : inside.analysed) cv::rectangle(pic, a, cv::Scalar(160, 160, 160), 1);
+    for (const cv::Rect& r : rois) cv::rectangle(pic, r, cv::Scalar(0, 220, 255), 2);
+    for (const vision::Person& p : full.people) cv::rectangle(pic, p.box, cv::Scalar(255, 120, 0), 3);
+    for (const vision::Person& p : inside.people) cv::rectangle(pic, p.box, cv::Scalar(0, 0, 230), 1);
+    char name[32];
+    std::snprintf(name, sizeof(name), "people_%06zu.png", index);
+    outputs_.add(options_.draw_dir + "/" + name, encodePng(pic));
+  }
+
+  const PeopleOptions& options_;
+  const vision::PeopleDetector& detector_;
+  PeopleReport& report_;
+  OutputSet& outputs_;
+  std::ostringstream csv_;
+  std::vector<double> full_ms_, rois_ms_, fraction_, ratio_;
+};
+
+// people.json: the report's counts and median times and shares.
+Json reportJson(const PeopleReport& report) {
+  return Json{{"input", report.input},
+              {"frames", report.frames},
+              {"full_ms_median", finiteOrNull(report.full_ms.median)},
+              {"rois_ms_median", finiteOrNull(report.rois_ms.median)},
+              {"analysed_fraction_median", finiteOrNull(report.analysed_fraction.median)},
+              {"time_ratio_median", finiteOrNull(report.time_ratio.median)},
+              {"people_full", report.people_full},
+              {"people_in_regions", report.people_in_regions},
+              {"people_still_found", report.people_still_found},
+              {"recall_in_regions", finiteOrNull(report.recallInRegions())},
+              {"people_rois", report.people_rois},
+              {"people_rois_confirmed", report.people_rois_confirmed}};
+}
+
+// The detections CSV and the report put in place, together with the frames drawn.
+void writeOutputs(const PeopleOptions& options, const PeopleReport& report, const FramePass& pass,
+                  OutputSet& outputs) {
+  if (!options.out_csv.empty()) outputs.add(options.out_csv, pass.csv());
+  if (!options.report_dir.empty()) {
+    fs::create_directories(options.report_dir);
+    outputs.add(options.report_dir + "/people.md", PeopleApp::markdown(report));
+    outputs.add(options.report_dir + "/people.json", jsonText(reportJson(report)));
+  }
+  outputs.commit();
+}
+
 }  // namespace
 
 double PeopleReport::recallInRegions() const {
@@ -114,95 +241,26 @@ PeopleApp::PeopleApp(PeopleOptions options) : options_(std::move(options)) {
 }
 
 PeopleReport PeopleApp::run() {
-  vision::PeopleDetectorParams params;
-  if (!options_.config_path.empty()) params = mrpt_adapter::LidarsegConfig::loadFile(options_.config_path).vision.people;
-  const vision::PeopleDetector detector(params);
-  RegionTable regions;
-  for (const std::string& r : options_.rois) regions.addEveryFrame(parseRegion(r, "--roi"));
-  if (!options_.rois_path.empty()) regions.read(options_.rois_path);
-
-  const int threads_before = cv::getNumThreads();
+  const vision::PeopleDetector detector(loadParams(options_.config_path));
+  const RegionTable regions = readRegions(options_);
+  const RestoreThreads restore{cv::getNumThreads()};
   cv::setNumThreads(options_.threads);
-  struct RestoreThreads {
-    int n;
-    ~RestoreThreads() { cv::setNumThreads(n); }
-  } restore{threads_before};
-
   FrameSource source(options_.input);
   PeopleReport report;
   report.input = options_.input;
-  std::ostringstream csv;
-  csv << "frame,mode,u_min,v_min,u_max,v_max,score\n";
-  std::vector<double> full_ms, rois_ms, fraction, ratio;
   OutputSet outputs;
+  FramePass pass(options_, detector, report, outputs);
   if (!options_.draw_dir.empty()) fs::create_directories(options_.draw_dir);
   cv::Mat frame;
   std::string file;
   for (std::size_t index = 0; source.next(frame, file); ++index) {
     if (index % options_.every != 0) continue;
     if (options_.max_frames > 0 && report.frames >= options_.max_frames) break;
-    report.frame_size = frame.size();
-    const std::vector<cv::Rect> rois = regions.of(index, file);
-
-    auto t0 = Clock::now();
-    const vision::PeopleDetection full = detector.detectFullFrame(frame);
-    full_ms.push_back(microsecondsSince(t0) * 1e-3);
-    t0 = Clock::now();
-    const vision::PeopleDetection inside = detector.detectInRegions(frame, rois);
-    rois_ms.push_back(microsecondsSince(t0) * 1e-3);
-    fraction.push_back(inside.analysed_fraction);
-    if (full_ms.back() > 0) ratio.push_back(rois_ms.back() / full_ms.back());
-    ++report.frames;
-
-    report.people_full += full.people.size();
-    report.people_rois += inside.people.size();
-    for (const vision::Person& p : full.people) {
-      if (!centredIn(p.box, rois)) continue;
-      ++report.people_in_regions;
-      if (overlapsAny(p.box, inside.people, options_.match_iou)) ++report.people_still_found;
-    }
-    for (const vision::Person& p : inside.people) {
-      if (overlapsAny(p.box, full.people, options_.match_iou)) ++report.people_rois_confirmed;
-    }
-    writeDetections(csv, index, "full", full.people);
-    writeDetections(csv, index, "rois", inside.people);
-
-    if (!options_.draw_dir.empty() && (report.frames - 1) % options_.draw_every == 0) {
-      cv::Mat pic = frame.clone();
-      for (const cv::Rect& a : inside.analysed) cv::rectangle(pic, a, cv::Scalar(160, 160, 160), 1);
-      for (const cv::Rect& r : rois) cv::rectangle(pic, r, cv::Scalar(0, 220, 255), 2);
-      for (const vision::Person& p : full.people) cv::rectangle(pic, p.box, cv::Scalar(255, 120, 0), 3);
-      for (const vision::Person& p : inside.people) cv::rectangle(pic, p.box, cv::Scalar(0, 0, 230), 1);
-      char name[32];
-      std::snprintf(name, sizeof(name), "people_%06zu.png", index);
-      outputs.add(options_.draw_dir + "/" + name, encodePng(pic));
-    }
+    pass.addFrame(index, frame, regions.of(index, file));
   }
   if (report.frames == 0) throw std::runtime_error("'" + options_.input + "': no frame read");
-  report.full_ms = summarize(full_ms);
-  report.rois_ms = summarize(rois_ms);
-  report.analysed_fraction = summarize(fraction);
-  report.time_ratio = summarize(ratio);
-
-  if (!options_.out_csv.empty()) outputs.add(options_.out_csv, csv.str());
-  if (!options_.report_dir.empty()) {
-    fs::create_directories(options_.report_dir);
-    outputs.add(options_.report_dir + "/people.md", markdown(report));
-    const Json json{{"input", report.input},
-                    {"frames", report.frames},
-                    {"full_ms_median", finiteOrNull(report.full_ms.median)},
-                    {"rois_ms_median", finiteOrNull(report.rois_ms.median)},
-                    {"analysed_fraction_median", finiteOrNull(report.analysed_fraction.median)},
-                    {"time_ratio_median", finiteOrNull(report.time_ratio.median)},
-                    {"people_full", report.people_full},
-                    {"people_in_regions", report.people_in_regions},
-                    {"people_still_found", report.people_still_found},
-                    {"recall_in_regions", finiteOrNull(report.recallInRegions())},
-                    {"people_rois", report.people_rois},
-                    {"people_rois_confirmed", report.people_rois_confirmed}};
-    outputs.add(options_.report_dir + "/people.json", jsonText(json));
-  }
-  outputs.commit();
+  pass.summarise();
+  writeOutputs(options_, report, pass, outputs);
   return report;
 }
 

@@ -4,10 +4,7 @@
 #include "OutputFiles.h"
 #include "Timing.h"
 
-#include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <fstream>
 #include <iomanip>
 #include <ostream>
 #include <sstream>
@@ -23,7 +20,7 @@ namespace lidarseg::apps {
 
 namespace {
 
-
+// One level's samples over the log, summarised at the end.
 struct LevelAccumulator {
   std::vector<double> counts;
   std::vector<double> lengths;
@@ -32,69 +29,90 @@ struct LevelAccumulator {
   double residual_sum = 0.0;
 };
 
-}  // namespace
+// The [segmentation] section of the shared configuration (every section optional), or a
+// section of the user's choice read alone; the defaults without a file.
+SegmentationParams loadParams(const SegmentStatsOptions& options) {
+  if (options.config_path.empty()) return {};
+  return options.section == mrpt_adapter::kSegmentationSection
+             ? mrpt_adapter::LidarsegConfig::loadFile(options.config_path).odometry.segmentation
+             : mrpt_adapter::loadSegmentationParamsFile(options.config_path, options.section);
+}
 
-SegmentStatsApp::SegmentStatsApp(SegmentStatsOptions options) : options_(std::move(options)) {}
+// The level's summary; `valid_beams`: the valid beams of every scan, for the coverage.
+LevelStats summariseLevel(const LevelAccumulator& a, double valid_beams) {
+  LevelStats out;
+  out.segments_per_scan = summarize(a.counts);
+  out.segment_length_m = summarize(a.lengths);
+  out.point_coverage = valid_beams > 0.0 ? a.points / valid_beams : 0.0;
+  out.mean_rms_residual_m = a.lengths.empty() ? 0.0 : a.residual_sum / static_cast<double>(a.lengths.size());
+  out.median_theta_sigma_rad = summarize(a.theta_sigmas).median;
+  return out;
+}
 
-SegmentStatsReport SegmentStatsApp::run() {
-  SegmentationParams params;
-  if (!options_.config_path.empty()) {
-    // The shared configuration (every section optional), or a section of the user's choice.
-    params = options_.section == mrpt_adapter::kSegmentationSection
-                 ? mrpt_adapter::LidarsegConfig::loadFile(options_.config_path).odometry.segmentation
-                 : mrpt_adapter::loadSegmentationParamsFile(options_.config_path, options_.section);
+// Every scan segmented and cascaded (timed), its levels accumulated and its CSV row written.
+class ScanPass {
+ public:
+  // Throws for invalid parameters.
+  ScanPass(const SegmentationParams& params, SegmentStatsReport& report) : segmenter_(params), report_(report) {
+    csv_ << "scan,stamp_s,valid_beams,level0,level1,level2,level3,wd_us,cascade_us\n";
+    csv_ << std::setprecision(12);
   }
-  const ScanSegmenter segmenter(params);
-  mrpt_adapter::LaserLogReader reader(options_.input, options_.sensor_label);
-  mrpt_adapter::ScanConverter converter;
 
-  SegmentStatsReport report;
-  report.input = options_.input;
-  std::array<LevelAccumulator, kNumCascadeLevels> acc;
-  std::vector<double> t_wd, t_cascade, t_total, valid_beams;
-  double total_valid = 0.0;
-  std::ostringstream csv;
-  csv << "scan,stamp_s,valid_beams,level0,level1,level2,level3,wd_us,cascade_us\n";
-  csv << std::setprecision(12);
-
-  Segmentation seg;
-  while (auto item = reader.next()) {
-    if (options_.max_scans > 0 && report.scans + report.skipped.size() >= options_.max_scans) {
-      break;
-    }
-    const auto& obs = *item->observation;
+  // The record's scan; listed as skipped when it cannot be converted or segmented.
+  void addScan(const mrpt_adapter::LaserRecord& record) {
+    const auto& obs = *record.observation;
     Scan scan;
     double wd_us = 0.0, cascade_us = 0.0;
     try {
-      scan = converter.convert(obs);
+      scan = converter_.convert(obs);
       const auto t0 = Clock::now();
-      segmenter.wallDanielsson().segment(scan, seg);
+      segmenter_.wallDanielsson().segment(scan, seg_);
       wd_us = microsecondsSince(t0);
       const auto t1 = Clock::now();
-      segmenter.cascade().apply(seg);
+      segmenter_.cascade().apply(seg_);
       cascade_us = microsecondsSince(t1);
     } catch (const std::exception& e) {
-      report.skipped.push_back(item->where + " (scan " + std::to_string(item->index) + "): " + e.what());
-      continue;
+      report_.skipped.push_back(record.where + " (scan " + std::to_string(record.index) + "): " + e.what());
+      return;
     }
-    if (report.scans == 0) {
-      report.beams_per_scan = scan.size();
-      report.field_of_view_deg = static_cast<double>(obs.aperture) * kRadToDeg;
-      report.max_range_m = scan.max_range_m;
+    if (report_.scans == 0) {
+      report_.beams_per_scan = scan.size();
+      report_.field_of_view_deg = static_cast<double>(obs.aperture) * kRadToDeg;
+      report_.max_range_m = scan.max_range_m;
     }
-    ++report.scans;
-    t_wd.push_back(wd_us);
-    t_cascade.push_back(cascade_us);
-    t_total.push_back(wd_us + cascade_us);
-    valid_beams.push_back(static_cast<double>(seg.num_valid_beams));
-    total_valid += static_cast<double>(seg.num_valid_beams);
+    ++report_.scans;
+    t_wd_.push_back(wd_us);
+    t_cascade_.push_back(cascade_us);
+    t_total_.push_back(wd_us + cascade_us);
+    valid_beams_.push_back(static_cast<double>(seg_.num_valid_beams));
+    total_valid_ += static_cast<double>(seg_.num_valid_beams);
+    addLevels();
+    csv_ << record.index << ',' << scan.stamp_s << ',' << seg_.num_valid_beams;
+    for (const auto& level : seg_.levels) csv_ << ',' << level.segments.size();
+    csv_ << ',' << wd_us << ',' << cascade_us << '\n';
+  }
 
+  // The per-scan samples summarised into the report.
+  void summarise() {
+    for (std::size_t l = 0; l < kNumCascadeLevels; ++l) report_.levels[l] = summariseLevel(acc_[l], total_valid_);
+    report_.valid_beams_per_scan = summarize(valid_beams_);
+    report_.wall_danielsson_us = summarize(t_wd_);
+    report_.cascade_us = summarize(t_cascade_);
+    report_.total_us = summarize(t_total_);
+  }
+
+  // The per-scan CSV, header included.
+  std::string csv() const { return csv_.str(); }
+
+ private:
+  // Each level's segments of this scan into its accumulator; notes a level that gains segments.
+  void addLevels() {
     for (std::size_t l = 0; l < kNumCascadeLevels; ++l) {
-      const SegmentLevel& level = seg.levels[l];
-      if (l > 0 && level.segments.size() > seg.levels[l - 1].segments.size()) {
-        report.levels_never_gain_segments = false;
+      const SegmentLevel& level = seg_.levels[l];
+      if (l > 0 && level.segments.size() > seg_.levels[l - 1].segments.size()) {
+        report_.levels_never_gain_segments = false;
       }
-      LevelAccumulator& a = acc[l];
+      LevelAccumulator& a = acc_[l];
       a.counts.push_back(static_cast<double>(level.segments.size()));
       for (const Segment& s : level.segments) {
         a.lengths.push_back(s.length_m);
@@ -103,9 +121,30 @@ SegmentStatsReport SegmentStatsApp::run() {
         a.theta_sigmas.push_back(std::sqrt(s.covariance(1, 1)));
       }
     }
-    csv << item->index << ',' << scan.stamp_s << ',' << seg.num_valid_beams;
-    for (const auto& level : seg.levels) csv << ',' << level.segments.size();
-    csv << ',' << wd_us << ',' << cascade_us << '\n';
+  }
+
+  const ScanSegmenter segmenter_;
+  SegmentStatsReport& report_;
+  mrpt_adapter::ScanConverter converter_;
+  Segmentation seg_;
+  std::array<LevelAccumulator, kNumCascadeLevels> acc_;
+  std::vector<double> t_wd_, t_cascade_, t_total_, valid_beams_;
+  double total_valid_ = 0.0;
+  std::ostringstream csv_;
+};
+
+}  // namespace
+
+SegmentStatsApp::SegmentStatsApp(SegmentStatsOptions options) : options_(std::move(options)) {}
+
+SegmentStatsReport SegmentStatsApp::run() {
+  SegmentStatsReport report;
+  report.input = options_.input;
+  ScanPass pass(loadParams(options_), report);
+  mrpt_adapter::LaserLogReader reader(options_.input, options_.sensor_label);
+  while (auto record = reader.next()) {
+    if (options_.max_scans > 0 && report.scans + report.skipped.size() >= options_.max_scans) break;
+    pass.addScan(*record);
   }
   report.sensor_label = reader.sensor();
   for (const auto& issue : reader.issues()) report.skipped.push_back(issue);
@@ -115,22 +154,8 @@ SegmentStatsReport SegmentStatsApp::run() {
                                   ? std::string()
                                   : " with sensor label '" + options_.sensor_label + "'"));
   }
-
-  for (std::size_t l = 0; l < kNumCascadeLevels; ++l) {
-    LevelStats& out = report.levels[l];
-    LevelAccumulator& a = acc[l];
-    out.segments_per_scan = summarize(a.counts);
-    out.segment_length_m = summarize(a.lengths);
-    out.point_coverage = total_valid > 0.0 ? a.points / total_valid : 0.0;
-    out.mean_rms_residual_m = a.lengths.empty() ? 0.0 : a.residual_sum / static_cast<double>(a.lengths.size());
-    out.median_theta_sigma_rad = summarize(a.theta_sigmas).median;
-  }
-  report.valid_beams_per_scan = summarize(valid_beams);
-  report.wall_danielsson_us = summarize(t_wd);
-  report.cascade_us = summarize(t_cascade);
-  report.total_us = summarize(t_total);
-
-  if (!options_.csv_path.empty()) writeFileAtomically(options_.csv_path, csv.str());
+  pass.summarise();
+  if (!options_.csv_path.empty()) writeFileAtomically(options_.csv_path, pass.csv());
   return report;
 }
 
