@@ -57,5 +57,16 @@ TEST(LidarsegConfig, ABadStampValueNamesItsKeyAndLine) {
   EXPECT_NE(e.find(":2"), std::string::npos) << e;
 }
 
+TEST(LidarsegConfig, SizesAreCappedBeforeAnyParserRuns) {
+  EXPECT_NE(errorOf("/dev/zero").find("larger than"), std::string::npos) << errorOf("/dev/zero");
+  EXPECT_NE(errorOf(LIDARSEG_TEST_TMP_DIR).find("is a directory"), std::string::npos);
+  const std::string deep = writeTemp("deep.yaml", "odometry:\n  level: " + std::string(20000, '[') + "\n");
+  const std::string e = errorOf(deep);
+  EXPECT_NE(e.find(deep + ":2: YAML nested deeper than"), std::string::npos) << e;
+  std::string indented = "odometry:\n";
+  for (int k = 1; k < 200; ++k) indented += std::string(2 * static_cast<std::size_t>(k), ' ') + "k" + std::to_string(k) + ":\n";
+  EXPECT_NE(errorOf(writeTemp("indented.yaml", indented)).find("nested deeper"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace lidarseg::mrpt_adapter

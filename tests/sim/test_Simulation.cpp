@@ -32,6 +32,18 @@ TEST(Simulation, FramesTimesOdometryAndImages) {
   EXPECT_LT(drift_at_50m, 10.0);
 }
 
+TEST(Simulation, ACrawlingTrajectoryIsRefusedNotPlannedForever) {
+  const World world = loadWorldFile(kWorlds + "maze.world");
+  const Trajectory crawl({{24, 0}, {34, 0}}, 1e-6, 0.6);  // 10 m at 1 um/s: 5e8 scans at 50 Hz
+  SimulationParams p;
+  try {
+    Simulation sim(world, crawl, p);
+    FAIL() << "planned " << sim.numScans() << " scans";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("more than the"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Simulation, BeamCountAndFieldOfViewCanBeOverridden) {
   const World world = loadWorldFile(kWorlds + "maze.world");
   const Trajectory traj = loadTrajectoryFile(kWorlds + "maze.traj");

@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <limits>
@@ -73,15 +74,57 @@ const LineMap& LoadedConfig::linesOf(const std::string& section) const {
   return kNone;
 }
 
+namespace {
+// YAML nested deeper than this (flow brackets or indentation levels) is refused before the
+// parser sees it: libfyaml recurses once per level and overflows the stack on 20,000.
+constexpr int kMaxYamlDepth = 64;
+
+void checkYamlNesting(const std::string& path, const std::string& text) {
+  int depth = 0, line = 1;
+  std::size_t column = 0;
+  bool at_start = true;
+  for (const char c : text) {
+    if (c == '\n') {
+      ++line;
+      column = 0;
+      at_start = true;
+      continue;
+    }
+    if (at_start && c == ' ') {
+      ++column;
+    } else {
+      at_start = false;
+    }
+    if (c == '[' || c == '{') ++depth;
+    if (c == ']' || c == '}') --depth;
+    if (depth > kMaxYamlDepth || column > 2 * static_cast<std::size_t>(kMaxYamlDepth)) {
+      throw std::invalid_argument(path + ":" + std::to_string(line) + ": YAML nested deeper than " +
+                                  std::to_string(kMaxYamlDepth) + " levels");
+    }
+  }
+}
+}  // namespace
+
 LoadedConfig readConfigFile(const std::string& path) {
-  std::ifstream in(path);
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw std::runtime_error("configuration file '" + path + "' is a directory");
+  }
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("cannot open configuration file '" + path + "'");
-  std::stringstream text;
-  text << in.rdbuf();
+  // Read at most the cap and one byte more: /dev/zero or a huge file is refused, not slurped.
+  std::string text(kMaxConfigBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > kMaxConfigBytes) {
+    throw std::runtime_error("configuration file '" + path + "' is larger than " +
+                             std::to_string(kMaxConfigBytes >> 10) + " KiB");
+  }
   LoadedConfig out;
-  out.text = text.str();
+  out.text = std::move(text);
   out.yaml = endsWith(path, ".yaml") || endsWith(path, ".yml");
   if (out.yaml) {
+    checkYamlNesting(path, out.text);
     loadYaml(path, out);
   } else {
     std::vector<std::string> sections;

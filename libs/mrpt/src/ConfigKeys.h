@@ -69,7 +69,11 @@ struct LoadedConfig {
   const LineMap& linesOf(const std::string& section) const;
 };
 
-/// @throws std::runtime_error if the file cannot be read; std::invalid_argument for bad YAML.
+/// The largest configuration file read (bytes).
+inline constexpr std::size_t kMaxConfigBytes = std::size_t{1} << 20;
+
+/// @throws std::runtime_error if the file cannot be read, is a directory or is larger than
+/// kMaxConfigBytes; std::invalid_argument for bad YAML (or YAML nested too deep).
 LoadedConfig readConfigFile(const std::string& path);
 
 /// Lines of the keys of `section` in an INI text (section names compared as MRPT does:

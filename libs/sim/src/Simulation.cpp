@@ -75,7 +75,13 @@ Simulation::Simulation(const World& world, const Trajectory& trajectory, const S
       odometry_(params.odometry, params.seed * 4 + 1),
       camera_(world, params.camera, params.heights),
       oracle_(world) {
-  num_scans_ = static_cast<std::size_t>(std::floor(trajectory.duration() * params.sensor.frequency_hz)) + 1;
+  const double scans = std::floor(trajectory.duration() * params.sensor.frequency_hz) + 1.0;
+  if (!(scans <= static_cast<double>(kMaxScans))) {
+    throw std::invalid_argument("the trajectory lasts " + std::to_string(trajectory.duration()) + " s: " +
+                                std::to_string(scans) + " scans at " + std::to_string(params.sensor.frequency_hz) +
+                                " Hz, more than the " + std::to_string(kMaxScans) + " a simulation may write");
+  }
+  num_scans_ = static_cast<std::size_t>(scans);
 }
 
 SimulatedFrame Simulation::next() {

@@ -69,7 +69,10 @@ struct SimulatedFrame {
 /// Runs a simulation scan by scan; deterministic for a seed (same seed, same frames).
 class Simulation {
  public:
-  /// @throws std::invalid_argument for invalid parameters.
+  /// The most scans one simulation writes (10 h at 25 Hz): a trajectory planned at a
+  /// crawl must not fill the disk.
+  static constexpr std::size_t kMaxScans = 900000;
+  /// @throws std::invalid_argument for invalid parameters or more than kMaxScans scans.
   Simulation(const World& world, const Trajectory& trajectory, const SimulationParams& params);
 
   /// Number of scans: one every 1/frequency seconds over the trajectory's duration.
