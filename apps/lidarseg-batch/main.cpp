@@ -86,7 +86,7 @@ int main(int argc, char** argv) {
     std::cout << s.table_markdown;
     return failed.empty() ? 0 : 3;
   } catch (const std::exception& e) {
-    std::cerr << "lidarseg-batch: error: " << e.what() << "\n";
+    std::cerr << "lidarseg-batch: error: " << lidarseg::apps::describeError(e) << "\n";
     return 1;
   }
 }

@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
     lidarseg::apps::FeaturesApp::print(app.run(), std::cout);
     return 0;
   } catch (const std::exception& e) {
-    std::cerr << "lidarseg-features: error: " << e.what() << "\n";
+    std::cerr << "lidarseg-features: error: " << lidarseg::apps::describeError(e) << "\n";
     return 1;
   }
 }

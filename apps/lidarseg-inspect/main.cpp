@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
     o.save_path = save.getValue();
     return lidarseg::apps::InspectApp(o).run();
   } catch (const std::exception& e) {
-    std::cerr << "lidarseg-inspect: error: " << e.what() << "\n";
+    std::cerr << "lidarseg-inspect: error: " << lidarseg::apps::describeError(e) << "\n";
     return 1;
   }
 }

@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
     lidarseg::apps::PeopleApp::print(app.run(), std::cout);
     return 0;
   } catch (const std::exception& e) {
-    std::cerr << "lidarseg-people: error: " << e.what() << "\n";
+    std::cerr << "lidarseg-people: error: " << lidarseg::apps::describeError(e) << "\n";
     return 1;
   }
 }

@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
     lidarseg::apps::SegmentStatsApp::print(app.run(), std::cout);
     return 0;
   } catch (const std::exception& e) {
-    std::cerr << "lidarseg-segment: error: " << e.what() << "\n";
+    std::cerr << "lidarseg-segment: error: " << lidarseg::apps::describeError(e) << "\n";
     return 1;
   }
 }

@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
               << r.door_sightings << " door and " << r.corner_sightings << " corner sightings\n";
     return 0;
   } catch (const std::exception& e) {
-    std::cerr << "lidarseg-simulate: error: " << e.what() << "\n";
+    std::cerr << "lidarseg-simulate: error: " << lidarseg::apps::describeError(e) << "\n";
     return 1;
   }
 }
