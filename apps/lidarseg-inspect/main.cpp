@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
     TCLAP::ValueArg<std::string> save("", "save", "where the window's 's' key saves the parameters", false,
                                       "lidarseg-inspect.ini", "FILE.ini", cmd);
     TCLAP::ValueArg<std::size_t> render_frame("", "render", "same as --frame, for --out", false, 0, "N", cmd);
+    TCLAP::SwitchArg trace("", "trace", "window: print each shown scan on stdout (for scripts driving it)", cmd);
     if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc, argv, "lidarseg-inspect")) return *status;
 
     lidarseg::apps::InspectOptions o;
@@ -56,6 +57,7 @@ int main(int argc, char** argv) {
     o.report_dir = report.getValue();
     o.gallery = gallery.getValue();
     o.save_path = save.getValue();
+    o.trace = trace.getValue();
     return lidarseg::apps::InspectApp(o).run();
   } catch (const std::exception& e) {
     std::cerr << "lidarseg-inspect: error: " << lidarseg::apps::describeError(e) << "\n";

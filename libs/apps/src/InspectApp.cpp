@@ -274,6 +274,7 @@ void InspectorWindow::show() {
   win_.setImageView(mrpt::img::CImage(shown_, mrpt::img::DEEP_COPY));
   win_.forceRepaint();
   dirty_ = false;
+  if (options_.trace) std::cout << "shown scan " << index_ << (message_.empty() ? "" : " (" + message_ + ")") << std::endl;
 }
 
 bool InspectorWindow::onKey() {

@@ -39,6 +39,9 @@ struct InspectOptions {
   std::size_t gallery = 12;             ///< frames in the report's gallery
   /// Where the window's "save parameters" key writes the INI file.
   std::string save_path = "lidarseg-inspect.ini";
+  /// Window: print "shown scan N" on stdout each time a picture is shown (after every key),
+  /// so that a script driving the window can wait on its state rather than on time.
+  bool trace = false;
 };
 
 /// What `--report` measured (also written into index.html).
