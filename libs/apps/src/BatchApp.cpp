@@ -46,6 +46,18 @@ const std::vector<std::string>& metricNames() {
   return names;
 }
 
+// One row per run read back from metrics.csv: the seed, then metricNames() (NaN: not measured).
+using MetricRows = std::vector<std::vector<double>>;
+// Each metric summarised over the runs that measured it, by name.
+using MetricStats = std::map<std::string, Summary>;
+
+// The column of a metric in a MetricRows row (column 0 is the seed).
+std::size_t rowColumn(const std::string& name) {
+  const auto& names = metricNames();
+  return 1 + static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
+}
+
+// One run's figures in metricNames() order; NaN for what was not measured.
 std::vector<double> metricsOf(const OdometryReport& r) {
   const auto method = [](const std::optional<MethodReport>& m, std::vector<double>& out) {
     if (!m || !m->errors) {
@@ -64,6 +76,132 @@ std::vector<double> metricsOf(const OdometryReport& r) {
   out.push_back(r.speedup_median);
   out.push_back(r.lidarseg.errors ? r.lidarseg.errors->path_length_m : std::nan(""));
   return out;
+}
+
+// The header line of metrics.csv and aggregate.csv: "seed", then metricNames().
+std::string metricsHeader() {
+  std::string header = "seed";
+  for (const auto& n : metricNames()) header += ',' + n;
+  return header + '\n';
+}
+
+// A line of metrics.csv and aggregate.csv: the seed, then the figures (10 significant digits).
+std::string metricsLine(std::uint64_t seed, const std::vector<double>& values) {
+  std::ostringstream line;
+  line << seed << std::setprecision(10);
+  for (double v : values) line << ',' << v;
+  line << '\n';
+  return line.str();
+}
+
+// The metrics.csv of every finished run in OUT: run_<seed>/, not run_<seed>.partial/.
+std::vector<fs::path> finishedMetricsFiles(const std::string& out_dir) {
+  if (!fs::is_directory(out_dir)) throw std::runtime_error("'" + out_dir + "' is not a folder");
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(out_dir)) {
+    const auto name = entry.path().filename().string();
+    if (entry.is_directory() && name.rfind("run_", 0) == 0 && name.find('.') == std::string::npos &&
+        fs::exists(entry.path() / "metrics.csv")) {
+      files.push_back(entry.path() / "metrics.csv");
+    }
+  }
+  return files;
+}
+
+// The data line of one metrics.csv: the seed, then one value per metric.
+std::vector<double> readMetricsRow(const fs::path& f) {
+  std::ifstream in(f);
+  std::string header, line;
+  std::getline(in, header);
+  if (!std::getline(in, line)) throw std::runtime_error(f.string() + ":2: missing the data line");
+  std::vector<double> row;
+  for (const std::string& cell : eval::splitCsvLine(line)) {
+    char* end = nullptr;
+    const double v = std::strtod(cell.c_str(), &end);
+    if (end == cell.c_str()) throw std::runtime_error(f.string() + ":2: '" + cell + "' is not a number");
+    row.push_back(v);
+  }
+  const std::size_t columns = metricNames().size() + 1;
+  if (row.size() != columns) {
+    throw std::runtime_error(f.string() + ":2: " + std::to_string(row.size()) + " values, expected " +
+                             std::to_string(columns));
+  }
+  return row;
+}
+
+// Every finished run's row, in seed order.
+MetricRows readFinishedRuns(const std::string& out_dir) {
+  MetricRows rows;
+  for (const auto& f : finishedMetricsFiles(out_dir)) rows.push_back(readMetricsRow(f));
+  if (rows.empty()) throw std::runtime_error("no finished run (run_*/metrics.csv) in '" + out_dir + "'");
+  std::sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return a[0] < b[0]; });
+  return rows;
+}
+
+// Mean (and spread) of each metric over the runs; NaN values are left out.
+MetricStats metricStats(const MetricRows& rows) {
+  MetricStats stats;
+  for (std::size_t c = 0; c < metricNames().size(); ++c) {
+    std::vector<double> v;
+    for (const auto& r : rows) {
+      if (std::isfinite(r[c + 1])) v.push_back(r[c + 1]);
+    }
+    stats[metricNames()[c]] = summarize(v);
+  }
+  return stats;
+}
+
+// table1.md: the paper's Table I, one row per method that ran, then the median times per scan.
+std::string table1Markdown(const std::string& title, const std::vector<std::uint64_t>& seeds,
+                           const MetricStats& stats) {
+  std::ostringstream md;
+  md << std::fixed;
+  md << "## " << title << "\n\n" << seeds.size() << " runs (seeds " << seeds.front() << "–" << seeds.back()
+     << "), mean over runs of each run's figures (paper Table I).\n\n";
+  md << "| method | t (ms) | σt (ms) | edx (mm) | σedx (mm) | edy (mm) | σedy (mm) | edθ (mrad) | σedθ (mrad) | final error (m): mean | median | max | ATE RMSE (m) |\n";
+  md << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const std::string m : {"lidarseg", "icp"}) {
+    const auto g = [&](const std::string& k) { return stats.at(m + "_" + k); };
+    if (g("final_error_m").count == 0) continue;
+    md << "| " << (m == "icp" ? "MRPT ICP" : m) << std::setprecision(4) << " | " << g("t_ms").mean << " | "
+       << g("sigma_t_ms").mean << std::setprecision(2) << " | " << g("edx_m").mean * 1e3 << " | "
+       << g("sigma_edx_m").mean * 1e3 << " | " << g("edy_m").mean * 1e3 << " | " << g("sigma_edy_m").mean * 1e3
+       << " | " << g("edtheta_rad").mean * 1e3 << " | " << g("sigma_edtheta_rad").mean * 1e3
+       << std::setprecision(3) << " | " << g("final_error_m").mean << " | " << g("final_error_m").median << " | "
+       << g("final_error_m").max << " | " << g("ate_rmse_m").mean << " |\n";
+  }
+  if (stats.at("speedup_median").count > 0) {
+    md << "\nMedian time per scan: lidarseg " << std::setprecision(4) << stats.at("lidarseg_median_ms").median * 1e3
+       << " µs, MRPT ICP " << stats.at("icp_median_ms").median * 1e3 << " µs; speed-up (median over runs of each "
+       << "run's median ratio) " << std::setprecision(1) << stats.at("speedup_median").median << "x. Path length "
+       << std::setprecision(1) << stats.at("path_length_m").mean << " m.\n";
+  }
+  return md.str();
+}
+
+// aggregate.csv: every run's metrics.csv line under one header.
+std::string aggregateCsv(const MetricRows& rows) {
+  std::string csv = metricsHeader();
+  for (const auto& r : rows) {
+    csv += metricsLine(static_cast<std::uint64_t>(r[0]), {r.begin() + 1, r.end()});
+  }
+  return csv;
+}
+
+// final_errors.png: each method's final position error against the seed (MRPT ICP's when it ran).
+std::string finalErrorsPng(const MetricRows& rows, bool with_icp, const std::string& title) {
+  const std::size_t lidarseg = rowColumn("lidarseg_final_error_m");
+  const std::size_t icp = rowColumn("icp_final_error_m");
+  PlotSeries a{"lidarseg", 200, 80, 0, {}, {}, true}, b{"MRPT ICP", 0, 0, 220, {}, {}, true};
+  for (const auto& r : rows) {
+    a.x.push_back(r[0]);
+    a.y.push_back(r[lidarseg]);
+    b.x.push_back(r[0]);
+    b.y.push_back(r[icp]);
+  }
+  std::vector<PlotSeries> series = {a};
+  if (with_icp) series.push_back(b);
+  return plotXYPng(series, "Final position error per run: " + title, "seed", "final error (m)");
 }
 
 }  // namespace
@@ -126,18 +264,8 @@ class SeedLock {
   int fd_ = -1;
 };
 
-}  // namespace
-
-void BatchApp::runOne(const BatchJob& job) {
-  if (finished(job.out_dir, job.seed)) return;
-  const SeedLock lock(fs::path(job.out_dir) / ".locks" / ("run_" + std::to_string(job.seed) + ".lock"));
-  if (finished(job.out_dir, job.seed)) return;  // finished by the job that held the lock
-  const fs::path final_dir = runDir(job.out_dir, job.seed);
-  const fs::path work = final_dir.string() + ".partial";
-  std::error_code ec;
-  fs::remove_all(work, ec);
-  fs::create_directories(work);
-
+// The job's simulated run, written as WORK/sim.* without a camera.
+SimulateOptions simulateOptions(const BatchJob& job, const fs::path& work) {
   SimulateOptions sim;
   sim.world_path = job.world_path;
   sim.trajectory_path = job.trajectory_path;
@@ -146,8 +274,11 @@ void BatchApp::runOne(const BatchJob& job) {
   sim.seed = job.seed;
   sim.out_prefix = (work / "sim").string();
   sim.camera_every_scans = 0;
-  SimulateApp(sim).run();
+  return sim;
+}
 
+// Both methods on WORK/sim.rawlog against its ground truth, the outputs in WORK.
+OdometryOptions odometryOptions(const BatchJob& job, const fs::path& work) {
   // The scanner's rotation frequency, for the rolling-shutter correction of lidarseg.
   sim::SimulationParams params;
   params.sensor = sim::sensorProfile(job.sensor);
@@ -161,24 +292,91 @@ void BatchApp::runOne(const BatchJob& job) {
   o.gt_path = (work / "sim.gt.tum").string();
   o.scanner_rotation_hz = params.rolling_shutter ? params.sensor.frequency_hz : 0.0;
   o.progress = false;
-  const OdometryReport report = OdometryApp(o).run();
+  return o;
+}
 
-  std::ostringstream csv;
-  csv << "seed";
-  for (const auto& n : metricNames()) csv << ',' << n;
-  csv << '\n' << job.seed << std::setprecision(10);
-  for (double v : metricsOf(report)) csv << ',' << v;
-  csv << '\n';
-  writeFileAtomically((work / "metrics.csv").string(), csv.str());
-  if (!job.keep_data) {
-    for (const char* name : {"sim.rawlog", "sim.odom.tum", "sim.features.csv", "sim.rois.csv"}) {
-      fs::remove(work / name, ec);
-    }
-    fs::remove_all(work / "sim_Images", ec);
+// The simulated data (large) removed from WORK; the ground truth stays beside the results.
+void removeSimulatedData(const fs::path& work) {
+  std::error_code ec;
+  for (const char* name : {"sim.rawlog", "sim.odom.tum", "sim.features.csv", "sim.rois.csv"}) {
+    fs::remove(work / name, ec);
   }
+  fs::remove_all(work / "sim_Images", ec);
+}
+
+}  // namespace
+
+void BatchApp::runOne(const BatchJob& job) {
+  if (finished(job.out_dir, job.seed)) return;
+  const SeedLock lock(fs::path(job.out_dir) / ".locks" / ("run_" + std::to_string(job.seed) + ".lock"));
+  if (finished(job.out_dir, job.seed)) return;  // finished by the job that held the lock
+  const fs::path final_dir = runDir(job.out_dir, job.seed);
+  const fs::path work = final_dir.string() + ".partial";
+  std::error_code ec;
+  fs::remove_all(work, ec);
+  fs::create_directories(work);
+
+  SimulateApp(simulateOptions(job, work)).run();
+  const OdometryReport report = OdometryApp(odometryOptions(job, work)).run();
+  writeFileAtomically((work / "metrics.csv").string(),
+                      metricsHeader() + metricsLine(job.seed, metricsOf(report)));
+  if (!job.keep_data) removeSimulatedData(work);
   fs::remove_all(final_dir, ec);
   fs::rename(work, final_dir);
 }
+
+namespace {
+
+// Where the job for `seed` writes its stderr: OUT/run_<seed>.log (kept when it fails).
+std::string jobLogPath(const std::string& out_dir, std::uint64_t seed) {
+  return (fs::path(out_dir) / ("run_" + std::to_string(seed) + ".log")).string();
+}
+
+// The job's command line: `self_exe one` with the run's settings and `seed`.
+std::vector<std::string> jobCommand(const BatchJob& base, std::uint64_t seed,
+                                    const std::string& self_exe) {
+  std::vector<std::string> args = {self_exe, "one", "--world", base.world_path, "--trajectory",
+                                   base.trajectory_path, "--sensor", base.sensor, "--seed",
+                                   std::to_string(seed), "--out", base.out_dir};
+  if (!base.sim_config_path.empty()) args.insert(args.end(), {"--sim-config", base.sim_config_path});
+  if (!base.odometry_config_path.empty()) args.insert(args.end(), {"--config", base.odometry_config_path});
+  if (!base.baseline_icp) args.push_back("--no-icp");
+  if (base.keep_data) args.push_back("--keep-data");
+  return args;
+}
+
+// Starts `args` (args[0] is the program) in a child process with its stderr in `log`.
+pid_t startJob(std::vector<std::string> args, const std::string& log) {
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error("cannot start a job (fork failed)");
+  if (pid == 0) {
+    // A job dies with its runner (killed or not), so that no orphan keeps writing
+    // while a new runner resumes; the seed lock covers the instant in between.
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    FILE* f = std::freopen(log.c_str(), "w", stderr);
+    (void)f;
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(args[0].c_str(), argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+// "seed N: exit code C (last line of its log)" or "seed N: killed by signal S (...)".
+std::string failureOf(std::uint64_t seed, int status, const std::string& log) {
+  const std::string why = WIFSIGNALED(status) ? "killed by signal " + std::to_string(WTERMSIG(status))
+                                              : "exit code " + std::to_string(WEXITSTATUS(status));
+  std::ifstream in(log);
+  std::string line, last;
+  while (std::getline(in, line)) {
+    if (!line.empty()) last = line;
+  }
+  return "seed " + std::to_string(seed) + ": " + why + (last.empty() ? "" : " (" + last + ")");
+}
+
+}  // namespace
 
 std::vector<std::string> BatchApp::runMany(const BatchJob& base, const std::vector<std::uint64_t>& seeds,
                                            std::size_t jobs, const std::string& self_exe, bool progress) {
@@ -194,34 +392,10 @@ std::vector<std::string> BatchApp::runMany(const BatchJob& base, const std::vect
   std::vector<std::string> failed;
   std::map<pid_t, std::uint64_t> running;
   std::size_t next = 0, done = 0;
-  const auto logPath = [&](std::uint64_t seed) {
-    return (fs::path(base.out_dir) / ("run_" + std::to_string(seed) + ".log")).string();
-  };
   while (next < todo.size() || !running.empty()) {
     while (next < todo.size() && running.size() < std::max<std::size_t>(jobs, 1)) {
       const std::uint64_t seed = todo[next++];
-      std::vector<std::string> args = {self_exe, "one", "--world", base.world_path, "--trajectory",
-                                       base.trajectory_path, "--sensor", base.sensor, "--seed",
-                                       std::to_string(seed), "--out", base.out_dir};
-      if (!base.sim_config_path.empty()) args.insert(args.end(), {"--sim-config", base.sim_config_path});
-      if (!base.odometry_config_path.empty()) args.insert(args.end(), {"--config", base.odometry_config_path});
-      if (!base.baseline_icp) args.push_back("--no-icp");
-      if (base.keep_data) args.push_back("--keep-data");
-      const std::string log = logPath(seed);
-      const pid_t pid = fork();
-      if (pid < 0) throw std::runtime_error("cannot start a job (fork failed)");
-      if (pid == 0) {
-        // A job dies with its runner (killed or not), so that no orphan keeps writing
-        // while a new runner resumes; the seed lock covers the instant in between.
-        ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-        FILE* f = std::freopen(log.c_str(), "w", stderr);
-        (void)f;
-        std::vector<char*> argv;
-        for (auto& a : args) argv.push_back(a.data());
-        argv.push_back(nullptr);
-        execv(self_exe.c_str(), argv.data());
-        _exit(127);
-      }
+      const pid_t pid = startJob(jobCommand(base, seed, self_exe), jobLogPath(base.out_dir, seed));
       running[pid] = seed;
     }
     int status = 0;
@@ -233,18 +407,11 @@ std::vector<std::string> BatchApp::runMany(const BatchJob& base, const std::vect
     running.erase(it);
     ++done;
     const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 && finished(base.out_dir, seed);
-    if (!ok) {
-      std::string why = WIFSIGNALED(status) ? "killed by signal " + std::to_string(WTERMSIG(status))
-                                            : "exit code " + std::to_string(WEXITSTATUS(status));
-      std::ifstream in(logPath(seed));
-      std::string line, last;
-      while (std::getline(in, line)) {
-        if (!line.empty()) last = line;
-      }
-      failed.push_back("seed " + std::to_string(seed) + ": " + why + (last.empty() ? "" : " (" + last + ")"));
-    } else {
+    if (ok) {
       std::error_code ec;
-      fs::remove(logPath(seed), ec);
+      fs::remove(jobLogPath(base.out_dir, seed), ec);
+    } else {
+      failed.push_back(failureOf(seed, status, jobLogPath(base.out_dir, seed)));
     }
     if (progress) {
       std::cerr << "[lidarseg-batch] " << done << "/" << todo.size() << " done (seed " << seed
@@ -255,99 +422,19 @@ std::vector<std::string> BatchApp::runMany(const BatchJob& base, const std::vect
 }
 
 BatchSummary BatchApp::aggregate(const std::string& out_dir, const std::string& title) {
+  const MetricRows rows = readFinishedRuns(out_dir);
+  const MetricStats stats = metricStats(rows);
   BatchSummary summary;
-  std::vector<std::vector<double>> rows;
-  if (!fs::is_directory(out_dir)) throw std::runtime_error("'" + out_dir + "' is not a folder");
-  std::vector<fs::path> files;
-  for (const auto& entry : fs::directory_iterator(out_dir)) {
-    const auto name = entry.path().filename().string();
-    if (entry.is_directory() && name.rfind("run_", 0) == 0 && name.find('.') == std::string::npos &&
-        fs::exists(entry.path() / "metrics.csv")) {
-      files.push_back(entry.path() / "metrics.csv");
-    }
-  }
-  const std::size_t columns = metricNames().size();
-  for (const auto& f : files) {
-    std::ifstream in(f);
-    std::string header, line;
-    std::getline(in, header);
-    if (!std::getline(in, line)) throw std::runtime_error(f.string() + ":2: missing the data line");
-    std::vector<double> row;
-    for (const std::string& cell : eval::splitCsvLine(line)) {
-      char* end = nullptr;
-      const double v = std::strtod(cell.c_str(), &end);
-      if (end == cell.c_str()) throw std::runtime_error(f.string() + ":2: '" + cell + "' is not a number");
-      row.push_back(v);
-    }
-    if (row.size() != columns + 1) {
-      throw std::runtime_error(f.string() + ":2: " + std::to_string(row.size()) + " values, expected " +
-                               std::to_string(columns + 1));
-    }
-    rows.push_back(std::move(row));
-  }
-  if (rows.empty()) throw std::runtime_error("no finished run (run_*/metrics.csv) in '" + out_dir + "'");
-  std::sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return a[0] < b[0]; });
   summary.runs = rows.size();
   for (const auto& r : rows) summary.seeds.push_back(static_cast<std::uint64_t>(r[0]));
-
-  // Mean (and spread) of each metric over runs.
-  std::map<std::string, Summary> stats;
-  for (std::size_t c = 0; c < columns; ++c) {
-    std::vector<double> v;
-    for (const auto& r : rows) {
-      if (std::isfinite(r[c + 1])) v.push_back(r[c + 1]);
-    }
-    stats[metricNames()[c]] = summarize(v);
-  }
-  std::ostringstream md;
-  md << std::fixed;
-  md << "## " << title << "\n\n" << rows.size() << " runs (seeds " << summary.seeds.front() << "–"
-     << summary.seeds.back() << "), mean over runs of each run's figures (paper Table I).\n\n";
-  md << "| method | t (ms) | σt (ms) | edx (mm) | σedx (mm) | edy (mm) | σedy (mm) | edθ (mrad) | σedθ (mrad) | final error (m): mean | median | max | ATE RMSE (m) |\n";
-  md << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-  for (const std::string m : {"lidarseg", "icp"}) {
-    const auto g = [&](const std::string& k) { return stats[m + "_" + k]; };
-    if (g("final_error_m").count == 0) continue;
-    md << "| " << (m == "icp" ? "MRPT ICP" : m) << std::setprecision(4) << " | " << g("t_ms").mean << " | "
-       << g("sigma_t_ms").mean << std::setprecision(2) << " | " << g("edx_m").mean * 1e3 << " | "
-       << g("sigma_edx_m").mean * 1e3 << " | " << g("edy_m").mean * 1e3 << " | " << g("sigma_edy_m").mean * 1e3
-       << " | " << g("edtheta_rad").mean * 1e3 << " | " << g("sigma_edtheta_rad").mean * 1e3
-       << std::setprecision(3) << " | " << g("final_error_m").mean << " | " << g("final_error_m").median << " | "
-       << g("final_error_m").max << " | " << g("ate_rmse_m").mean << " |\n";
-  }
-  if (stats["speedup_median"].count > 0) {
-    md << "\nMedian time per scan: lidarseg " << std::setprecision(4) << stats["lidarseg_median_ms"].median * 1e3
-       << " µs, MRPT ICP " << stats["icp_median_ms"].median * 1e3 << " µs; speed-up (median over runs of each run's "
-       << "median ratio) " << std::setprecision(1) << stats["speedup_median"].median << "x. Path length "
-       << std::setprecision(1) << stats["path_length_m"].mean << " m.\n";
-  }
-  summary.table_markdown = md.str();
-
-  std::ostringstream csv;
-  csv << "seed";
-  for (const auto& n : metricNames()) csv << ',' << n;
-  csv << '\n' << std::setprecision(10);
-  for (const auto& r : rows) {
-    csv << static_cast<std::uint64_t>(r[0]);
-    for (std::size_t c = 1; c < r.size(); ++c) csv << ',' << r[c];
-    csv << '\n';
-  }
-  OutputSet out;
-  out.add((fs::path(out_dir) / "aggregate.csv").string(), csv.str());
-  out.add((fs::path(out_dir) / "table1.md").string(), summary.table_markdown);
-  std::vector<PlotSeries> series;
-  PlotSeries a{"lidarseg", 200, 80, 0, {}, {}, true}, b{"MRPT ICP", 0, 0, 220, {}, {}, true};
-  for (const auto& r : rows) {
-    a.x.push_back(r[0]);
-    a.y.push_back(r[2]);
-    b.x.push_back(r[0]);
-    b.y.push_back(r[14]);
-  }
-  series.push_back(a);
-  if (stats["icp_final_error_m"].count > 0) series.push_back(b);
-  out.add((fs::path(out_dir) / "final_errors.png").string(),
-          plotXYPng(series, "Final position error per run: " + title, "seed", "final error (m)"));
-  out.commit();
+  summary.table_markdown = table1Markdown(title, summary.seeds, stats);
+  const fs::path out(out_dir);
+  OutputSet outputs;
+  outputs.add((out / "aggregate.csv").string(), aggregateCsv(rows));
+  outputs.add((out / "table1.md").string(), summary.table_markdown);
+  outputs.add((out / "final_errors.png").string(),
+              finalErrorsPng(rows, stats.at("icp_final_error_m").count > 0, title));
+  outputs.commit();
   return summary;
 }
 

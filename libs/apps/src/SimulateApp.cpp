@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -29,7 +30,6 @@ namespace lidarseg::apps {
 namespace fs = std::filesystem;
 
 namespace {
-
 
 // A text output written under a temporary name and renamed when the run succeeds.
 class PendingFile {
@@ -63,6 +63,178 @@ void writeTum(std::ostream& os, double t, const Pose2D& p, double z) {
      << 0.0 << ' ' << std::sin(0.5 * p.yaw) << ' ' << std::cos(0.5 * p.yaw) << '\n';
 }
 
+// The sensor profile, then the configuration file, then the command line's overrides.
+sim::SimulationParams simulationParams(const SimulateOptions& o) {
+  sim::SimulationParams params;
+  params.sensor = sim::sensorProfile(o.sensor);
+  if (!o.config_path.empty()) mrpt_adapter::loadSimulationParamsFile(params, o.config_path);
+  params.seed = o.seed;
+  params.rolling_shutter = params.rolling_shutter && o.rolling_shutter;
+  if (!o.scan_stamp.empty()) params.scan_stamp = scanStampFromString(o.scan_stamp);
+  if (o.camera_every_scans >= 0)
+    params.camera_every_scans = static_cast<std::size_t>(o.camera_every_scans);
+  return params;
+}
+
+// Creates the output's folder, and an empty PREFIX_Images.tmp/ when the run has a camera.
+void prepareFolders(const std::string& prefix, bool camera) {
+  const fs::path parent = fs::path(prefix).parent_path();
+  if (!parent.empty()) fs::create_directories(parent);
+  std::error_code ec;
+  fs::remove_all(prefix + "_Images.tmp", ec);
+  if (camera) fs::create_directories(prefix + "_Images.tmp");
+}
+
+// The frame's image saved as DIR/NAME (PNG), in an observation that refers to that file.
+mrpt::obs::CObservationImage::Ptr imageObservation(const sim::SimulatedFrame& f,
+                                                   const sim::PinholeCamera& cam,
+                                                   const std::string& dir,
+                                                   const std::string& name) {
+  mrpt::img::CImage img;
+  auto rgb = f.image.rgb;
+  img.loadFromMemoryBuffer(static_cast<unsigned>(f.image.width),
+                           static_cast<unsigned>(f.image.height), true, rgb.data(), true);
+  if (!img.saveToFile(dir + "/" + name))
+    throw std::runtime_error("cannot write image '" + dir + "/" + name + "'");
+  img.setExternalStorage(name);
+  auto obs = mrpt::obs::CObservationImage::Create();
+  obs->sensorLabel = "CAMERA";
+  obs->timestamp = mrpt::Clock::fromDouble(f.stamp_s);
+  // MRPT camera pose: +z forward, +x right, +y down, in the robot frame.
+  obs->cameraPose =
+      mrpt::poses::CPose3D(cam.x_m, cam.y_m, cam.z_m, cam.yaw_rad - 0.5 * kPi, 0.0, -0.5 * kPi);
+  obs->cameraParams.ncols = static_cast<uint32_t>(cam.width);
+  obs->cameraParams.nrows = static_cast<uint32_t>(cam.height);
+  obs->cameraParams.setIntrinsicParamsFromValues(cam.fx, cam.fy, cam.cx, cam.cy);
+  obs->image = std::move(img);
+  return obs;
+}
+
+// A PREFIX.features.csv row: one door or corner the lidar sees in scan `i` at time `t`.
+void writeFeatureRow(std::ostream& os, std::size_t i, double t, const sim::Feature& ft) {
+  os << std::setprecision(9) << i << ',' << t << ',' << lidarseg::toString(ft.type) << ','
+     << std::setprecision(4) << ft.position.x() << ',' << ft.position.y() << ',' << ft.theta_rad
+     << ',' << ft.width_m << ',' << ft.id << ',' << (ft.resolvable ? 1 : 0) << ','
+     << lidarseg::toString(ft.seen_as) << '\n';
+}
+
+// The ROBOTLASER1 and ODOM lines of one scan (CARMEN); both poses are the wheel odometry.
+void writeCarmenLines(std::ostream& c, const sim::SimulatedFrame& f,
+                      const sim::SensorModel& sensor) {
+  const double fov = std::abs(sensor.layout->angles().back() - sensor.layout->angles().front());
+  const double step = fov / static_cast<double>(f.scan.size() - 1);
+  const double t = f.stamp_s;
+  c << std::setprecision(6) << "ROBOTLASER1 0 " << -0.5 * fov << ' ' << fov << ' ' << step << ' '
+    << sensor.max_range_m << " 0.01 0 " << f.scan.size();
+  c << std::setprecision(4);
+  for (double r : f.scan.ranges_m) c << ' ' << r;
+  c << " 0 " << f.odometry.x << ' ' << f.odometry.y << ' ' << f.odometry.yaw << ' ' << f.odometry.x
+    << ' ' << f.odometry.y << ' ' << f.odometry.yaw << " 0 0 0 0 0 " << std::setprecision(6) << t
+    << " lidarseg-sim " << t << '\n';
+  c << "ODOM " << std::setprecision(4) << f.odometry.x << ' ' << f.odometry.y << ' '
+    << f.odometry.yaw << " 0 0 0 " << std::setprecision(6) << t << " lidarseg-sim " << t << '\n';
+}
+
+// Every output of a run, written scan by scan under temporary names; commit() publishes them.
+class RunOutputs {
+ public:
+  RunOutputs(const SimulateOptions& o, const sim::SimulationParams& params,
+             const sim::World& world);
+  void write(std::size_t i, const sim::SimulatedFrame& f, SimulateReport& report);
+  void commit();
+
+ private:
+  void writeRawlogScan(const sim::SimulatedFrame& f);
+  void writeImage(std::size_t i, const sim::SimulatedFrame& f, std::size_t image);
+
+  std::string prefix_;
+  const sim::SimulationParams& params_;
+  const sim::World& world_;
+  const mrpt::poses::CPose3D lidar_pose_;
+  PendingFile gt_, odom_, features_, rois_;
+  std::unique_ptr<PendingFile> carmen_;
+  mrpt::io::CFileGZOutputStream rawlog_;
+  mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZOutputStream> archive_{rawlog_};
+};
+
+// Opens every output (PREFIX.rawlog last) and writes the text files' headers.
+RunOutputs::RunOutputs(const SimulateOptions& o, const sim::SimulationParams& params,
+                       const sim::World& world)
+    : prefix_(o.out_prefix),
+      params_(params),
+      world_(world),
+      lidar_pose_(0, 0, params.lidar_z_m, 0, 0, 0),
+      gt_(prefix_ + ".gt.tum"),
+      odom_(prefix_ + ".odom.tum"),
+      features_(prefix_ + ".features.csv"),
+      rois_(prefix_ + ".rois.csv"),
+      carmen_(o.write_carmen ? std::make_unique<PendingFile>(prefix_ + ".carmen.log") : nullptr),
+      rawlog_(prefix_ + ".rawlog.tmp") {
+  if (!rawlog_.fileOpenCorrectly())
+    throw std::runtime_error("cannot write '" + prefix_ + ".rawlog.tmp'");
+  gt_.out() << "# timestamp x y z qx qy qz qw (true robot pose, world frame)\n";
+  odom_.out() << "# timestamp x y z qx qy qz qw (wheel odometry, drifting)\n";
+  features_.out() << "scan,t,type,x,y,theta,width,id,resolvable,seen_as\n";
+  rois_.out() << "image,scan,t,file,door,kind,u_min,v_min,u_max,v_max\n";
+  if (carmen_) {
+    carmen_->out() << "# lidarseg-simulate: " << o.world_path << ", seed " << o.seed
+                   << "\n# ROBOTLASER1 and ODOM lines; poses are wheel odometry\n";
+  }
+}
+
+// Scan `i` with its truth, odometry, sightings and image, in every output; counted in `report`.
+void RunOutputs::write(std::size_t i, const sim::SimulatedFrame& f, SimulateReport& report) {
+  writeRawlogScan(f);
+  writeTum(gt_.out(), f.stamp_s, f.T_world_robot, 0.0);
+  writeTum(odom_.out(), f.stamp_s, f.odometry, 0.0);
+  for (const sim::Feature& ft : f.features) {
+    writeFeatureRow(features_.out(), i, f.stamp_s, ft);
+    (lidarseg::isDoor(ft.type) ? report.door_sightings : report.corner_sightings)++;
+  }
+  if (f.has_image) writeImage(i, f, report.images++);
+  if (carmen_) writeCarmenLines(carmen_->out(), f, params_.sensor);
+  ++report.scans;
+}
+
+// Odometry first: an MRPT consumer then has the motion before the scan it explains.
+void RunOutputs::writeRawlogScan(const sim::SimulatedFrame& f) {
+  auto odo = mrpt::obs::CObservationOdometry::Create();
+  odo->sensorLabel = "ODOMETRY";
+  odo->timestamp = mrpt::Clock::fromDouble(f.stamp_s);
+  odo->odometry = mrpt::poses::CPose2D(f.odometry.x, f.odometry.y, f.odometry.yaw);
+  archive_ << *odo;
+  archive_ << *mrpt_adapter::makeRangeScanObservation(f.scan, "LIDAR", lidar_pose_,
+                                                      params_.sensor.range_sigma_m);
+}
+
+// Image number `image` (of scan `i`): its PNG, its observation in the rawlog, its door boxes.
+void RunOutputs::writeImage(std::size_t i, const sim::SimulatedFrame& f, std::size_t image) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "img_%06zu.png", image);
+  archive_ << *imageObservation(f, params_.camera, prefix_ + "_Images.tmp", name);
+  for (const sim::DoorBox& b : f.door_boxes) {
+    rois_.out() << image << ',' << i << ',' << std::setprecision(9) << f.stamp_s << ',' << name
+                << ',' << b.door << ',' << sim::toString(world_.doors()[b.door].kind) << ','
+                << b.u_min << ',' << b.v_min << ',' << b.u_max << ',' << b.v_max << '\n';
+  }
+}
+
+// Closes the rawlog and renames every output to its final name (the images folder last).
+void RunOutputs::commit() {
+  rawlog_.close();
+  fs::rename(prefix_ + ".rawlog.tmp", prefix_ + ".rawlog");
+  gt_.commit();
+  odom_.commit();
+  features_.commit();
+  rois_.commit();
+  if (carmen_) carmen_->commit();
+  if (params_.camera_every_scans > 0) {
+    std::error_code ec;
+    fs::remove_all(prefix_ + "_Images", ec);
+    fs::rename(prefix_ + "_Images.tmp", prefix_ + "_Images");
+  }
+}
+
 }  // namespace
 
 SimulateApp::SimulateApp(SimulateOptions options) : options_(std::move(options)) {}
@@ -83,131 +255,17 @@ SimulateReport SimulateApp::runOrThrow() {
   if (options_.out_prefix.empty()) throw std::invalid_argument("no output prefix given (--out)");
   const sim::World world = sim::loadWorldFile(options_.world_path);
   const sim::Trajectory trajectory = sim::loadTrajectoryFile(options_.trajectory_path);
-  sim::SimulationParams params;
-  params.sensor = sim::sensorProfile(options_.sensor);
-  if (!options_.config_path.empty()) {
-    mrpt_adapter::loadSimulationParamsFile(params, options_.config_path);
-  }
-  params.seed = options_.seed;
-  params.rolling_shutter = params.rolling_shutter && options_.rolling_shutter;
-  if (!options_.scan_stamp.empty()) params.scan_stamp = scanStampFromString(options_.scan_stamp);
-  if (options_.camera_every_scans >= 0) {
-    params.camera_every_scans = static_cast<std::size_t>(options_.camera_every_scans);
-  }
+  const sim::SimulationParams params = simulationParams(options_);
   sim::Simulation simulation(world, trajectory, params);
-
-  const std::string prefix = options_.out_prefix;
-  const fs::path parent = fs::path(prefix).parent_path();
-  if (!parent.empty()) fs::create_directories(parent);
-  const std::string rawlog_path = prefix + ".rawlog";
-  const std::string images_dir = prefix + "_Images";
-  const std::string images_tmp = images_dir + ".tmp";
-  std::error_code ec;
-  fs::remove_all(images_tmp, ec);
-  if (params.camera_every_scans > 0) fs::create_directories(images_tmp);
-
-  PendingFile gt(prefix + ".gt.tum"), odom(prefix + ".odom.tum"), features(prefix + ".features.csv"),
-      rois(prefix + ".rois.csv");
-  std::unique_ptr<PendingFile> carmen;
-  if (options_.write_carmen) carmen = std::make_unique<PendingFile>(prefix + ".carmen.log");
-  gt.out() << "# timestamp x y z qx qy qz qw (true robot pose, world frame)\n";
-  odom.out() << "# timestamp x y z qx qy qz qw (wheel odometry, drifting)\n";
-  features.out() << "scan,t,type,x,y,theta,width,id,resolvable,seen_as\n";
-  rois.out() << "image,scan,t,file,door,kind,u_min,v_min,u_max,v_max\n";
-  if (carmen) {
-    carmen->out() << "# lidarseg-simulate: " << options_.world_path << ", seed " << options_.seed
-                  << "\n# ROBOTLASER1 and ODOM lines; poses are wheel odometry\n";
-  }
-
+  prepareFolders(options_.out_prefix, params.camera_every_scans > 0);
+  RunOutputs outputs(options_, params, world);
   SimulateReport report;
-  report.rawlog_path = rawlog_path;
+  report.rawlog_path = options_.out_prefix + ".rawlog";
   report.length_m = trajectory.length();
   report.duration_s = trajectory.duration();
-  {
-    mrpt::io::CFileGZOutputStream file(rawlog_path + ".tmp");
-    if (!file.fileOpenCorrectly()) throw std::runtime_error("cannot write '" + rawlog_path + ".tmp'");
-    auto archive = mrpt::serialization::archiveFrom(file);
-    const mrpt::poses::CPose3D lidar_pose(0, 0, params.lidar_z_m, 0, 0, 0);
-    const auto& cam = params.camera;
-    // MRPT camera pose: +z forward, +x right, +y down, in the robot frame.
-    const mrpt::poses::CPose3D camera_pose(cam.x_m, cam.y_m, cam.z_m, cam.yaw_rad - 0.5 * kPi, 0.0, -0.5 * kPi);
-    const sim::SensorModel& sensor = params.sensor;
-    const double fov = std::abs(sensor.layout->angles().back() - sensor.layout->angles().front());
-
-    for (std::size_t i = 0; i < simulation.numScans(); ++i) {
-      const sim::SimulatedFrame f = simulation.next();
-      const double t = f.stamp_s;
-      // Odometry first: an MRPT consumer then has the motion before the scan it explains.
-      auto odo = mrpt::obs::CObservationOdometry::Create();
-      odo->sensorLabel = "ODOMETRY";
-      odo->timestamp = mrpt::Clock::fromDouble(t);
-      odo->odometry = mrpt::poses::CPose2D(f.odometry.x, f.odometry.y, f.odometry.yaw);
-      archive << *odo;
-      const auto scan_obs = mrpt_adapter::makeRangeScanObservation(f.scan, "LIDAR", lidar_pose, sensor.range_sigma_m);
-      archive << *scan_obs;
-      writeTum(gt.out(), t, f.T_world_robot, 0.0);
-      writeTum(odom.out(), t, f.odometry, 0.0);
-      for (const sim::Feature& ft : f.features) {
-        features.out() << std::setprecision(9) << i << ',' << t << ',' << lidarseg::toString(ft.type)
-                       << ',' << std::setprecision(4) << ft.position.x() << ',' << ft.position.y()
-                       << ',' << ft.theta_rad << ',' << ft.width_m << ',' << ft.id << ','
-                       << (ft.resolvable ? 1 : 0) << ',' << lidarseg::toString(ft.seen_as) << '\n';
-        (lidarseg::isDoor(ft.type) ? report.door_sightings : report.corner_sightings)++;
-      }
-      if (f.has_image) {
-        char name[32];
-        std::snprintf(name, sizeof(name), "img_%06zu.png", report.images);
-        mrpt::img::CImage img;
-        auto rgb = f.image.rgb;
-        img.loadFromMemoryBuffer(static_cast<unsigned>(f.image.width), static_cast<unsigned>(f.image.height), true,
-                                 rgb.data(), true);
-        if (!img.saveToFile(images_tmp + "/" + name)) {
-          throw std::runtime_error("cannot write image '" + images_tmp + "/" + name + "'");
-        }
-        img.setExternalStorage(name);
-        auto obs = mrpt::obs::CObservationImage::Create();
-        obs->sensorLabel = "CAMERA";
-        obs->timestamp = mrpt::Clock::fromDouble(t);
-        obs->cameraPose = camera_pose;
-        obs->cameraParams.ncols = static_cast<uint32_t>(cam.width);
-        obs->cameraParams.nrows = static_cast<uint32_t>(cam.height);
-        obs->cameraParams.setIntrinsicParamsFromValues(cam.fx, cam.fy, cam.cx, cam.cy);
-        obs->image = std::move(img);
-        archive << *obs;
-        for (const sim::DoorBox& b : f.door_boxes) {
-          rois.out() << report.images << ',' << i << ',' << std::setprecision(9) << t << ',' << name
-                     << ',' << b.door << ',' << sim::toString(world.doors()[b.door].kind) << ','
-                     << b.u_min << ',' << b.v_min << ',' << b.u_max << ',' << b.v_max << '\n';
-        }
-        ++report.images;
-      }
-      if (carmen) {
-        auto& c = carmen->out();
-        const double step = fov / static_cast<double>(f.scan.size() - 1);
-        c << std::setprecision(6) << "ROBOTLASER1 0 " << -0.5 * fov << ' ' << fov << ' ' << step << ' '
-          << sensor.max_range_m << " 0.01 0 " << f.scan.size();
-        c << std::setprecision(4);
-        for (double r : f.scan.ranges_m) c << ' ' << r;
-        c << " 0 " << f.odometry.x << ' ' << f.odometry.y << ' ' << f.odometry.yaw << ' '
-          << f.odometry.x << ' ' << f.odometry.y << ' ' << f.odometry.yaw << " 0 0 0 0 0 "
-          << std::setprecision(6) << t << " lidarseg-sim " << t << '\n';
-        c << "ODOM " << std::setprecision(4) << f.odometry.x << ' ' << f.odometry.y << ' '
-          << f.odometry.yaw << " 0 0 0 " << std::setprecision(6) << t << " lidarseg-sim " << t << '\n';
-      }
-      ++report.scans;
-    }
-  }
-  // Everything written: publish the outputs.
-  fs::rename(rawlog_path + ".tmp", rawlog_path);
-  gt.commit();
-  odom.commit();
-  features.commit();
-  rois.commit();
-  if (carmen) carmen->commit();
-  if (params.camera_every_scans > 0) {
-    fs::remove_all(images_dir, ec);
-    fs::rename(images_tmp, images_dir);
-  }
+  for (std::size_t i = 0; i < simulation.numScans(); ++i)
+    outputs.write(i, simulation.next(), report);
+  outputs.commit();
   return report;
 }
 

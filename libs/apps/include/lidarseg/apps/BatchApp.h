@@ -12,30 +12,32 @@ namespace lidarseg::apps {
 
 /// What one run is made of (a job).
 struct BatchJob {
-  std::string world_path;
-  std::string trajectory_path;
-  std::string sensor = "lms100";
+  std::string world_path;         ///< config/worlds/*.world
+  std::string trajectory_path;    ///< config/worlds/*.traj
+  std::string sensor = "lms100";  ///< sensor profile (lidarseg-simulate's --sensor)
   /// Optional INI/YAML with a [simulation] section (lidarseg-simulate's).
   std::string sim_config_path;
   /// Optional INI/YAML with [segmentation] [matcher] [odometry] [icp] (lidarseg-odometry's).
   std::string odometry_config_path;
-  std::uint64_t seed = 1;
+  std::uint64_t seed = 1;  ///< noise seed of the simulated run
   /// Results folder: the run goes to OUT/run_<seed>/ (written as run_<seed>.partial/ and
   /// renamed when complete, so a killed job leaves no result that looks finished).
   std::string out_dir;
-  bool baseline_icp = true;
+  bool baseline_icp = true;  ///< also run MRPT ICP (keyframed like lidarseg)
   /// Keep the simulated rawlog and images (large); default: only the results.
   bool keep_data = false;
 };
 
 /// Aggregated figures over the runs found in a results folder.
 struct BatchSummary {
-  std::size_t runs = 0;
-  std::vector<std::uint64_t> seeds;
-  std::vector<std::string> failed;  ///< "seed N: message" of runs that failed
+  std::size_t runs = 0;              ///< finished runs found
+  std::vector<std::uint64_t> seeds;  ///< their seeds, ascending
+  std::vector<std::string> failed;   ///< "seed N: message" of runs that failed
+  /// OUT/table1.md: paper Table I (times in ms, errors in mm, mrad and m).
   std::string table_markdown;
 };
 
+/// Runs and aggregates the batch; every member is static (the state is the results folder).
 class BatchApp {
  public:
   /// The folder of one seed's finished run.

@@ -10,32 +10,33 @@ namespace lidarseg::apps {
 
 /// Command-line options of `lidarseg-simulate`.
 struct SimulateOptions {
-  std::string world_path;       ///< config/worlds/*.world
-  std::string trajectory_path;  ///< config/worlds/*.traj
-  std::string sensor = "lms100";
+  std::string world_path;         ///< config/worlds/*.world
+  std::string trajectory_path;    ///< config/worlds/*.traj
+  std::string sensor = "lms100";  ///< sensor profile: lms100, utm30lx, sick180
   /// Optional INI/YAML with a [simulation] section (config/simulate.ini).
   std::string config_path;
-  std::uint64_t seed = 1;
+  std::uint64_t seed = 1;  ///< noise seed: the same seed gives the same bytes
   /// Output prefix: writes PREFIX.rawlog, PREFIX_Images/, PREFIX.gt.tum, PREFIX.odom.tum,
   /// PREFIX.features.csv, PREFIX.rois.csv (and PREFIX.carmen.log).
   std::string out_prefix;
+  /// Each beam measured at its own instant; false: every beam of a scan from one pose.
   bool rolling_shutter = true;
   /// Which beam's instant the scans are stamped with; empty: the configuration's.
   std::string scan_stamp;
   /// -1: keep the configuration's value; 0: no camera; N: an image every N scans.
   long camera_every_scans = -1;
-  bool write_carmen = false;
+  bool write_carmen = false;  ///< also write PREFIX.carmen.log
 };
 
 /// What a run produced.
 struct SimulateReport {
-  std::size_t scans = 0;
-  std::size_t images = 0;
-  double length_m = 0.0;
-  double duration_s = 0.0;
-  std::size_t door_sightings = 0;
-  std::size_t corner_sightings = 0;
-  std::string rawlog_path;
+  std::size_t scans = 0;             ///< scans written
+  std::size_t images = 0;            ///< camera images written (PREFIX_Images/)
+  double length_m = 0.0;             ///< trajectory length (m)
+  double duration_s = 0.0;           ///< trajectory duration (s)
+  std::size_t door_sightings = 0;    ///< rows of PREFIX.features.csv that are doors
+  std::size_t corner_sightings = 0;  ///< rows of PREFIX.features.csv that are corners
+  std::string rawlog_path;           ///< PREFIX.rawlog
 };
 
 /// Simulates the run and writes every output atomically (temporary names renamed at the
@@ -47,6 +48,7 @@ class SimulateApp {
   SimulateReport run();
 
  private:
+  // Loads the inputs, simulates scan by scan and publishes the outputs; run() cleans up.
   SimulateReport runOrThrow();
   SimulateOptions options_;
 };
