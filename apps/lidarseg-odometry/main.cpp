@@ -6,6 +6,7 @@
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
+#include "lidarseg/apps/CommandLine.h"
 #include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/eval/Csv.h"
 
@@ -113,7 +114,9 @@ void warnIfLost(const lidarseg::apps::OdometryReport& report, double max_lost_ra
 int main(int argc, char** argv) {
   try {
     CommandLine command_line;
-    command_line.cmd.parse(argc, argv);
+    if (const auto status = lidarseg::apps::parseCommandLine(command_line.cmd, argc, argv, "lidarseg-odometry")) {
+      return *status;
+    }
     const std::optional<OdometryOptions> options = optionsOf(command_line);
     if (!options) return 2;
     const auto report = lidarseg::apps::OdometryApp(*options).run();
@@ -121,7 +124,7 @@ int main(int argc, char** argv) {
     warnIfLost(report, options->max_lost_ratio);
     return report.log_error.empty() ? 0 : 3;
   } catch (const std::exception& e) {
-    std::cerr << "lidarseg-odometry: error: " << e.what() << "\n";
+    std::cerr << "lidarseg-odometry: error: " << lidarseg::apps::describeError(e) << "\n";
     return 1;
   }
 }
