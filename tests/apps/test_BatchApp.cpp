@@ -20,6 +20,10 @@ TEST(BatchApp, ParseSeeds) {
   EXPECT_THROW(parseSeeds("3-1"), std::invalid_argument);
   EXPECT_THROW(parseSeeds("a"), std::invalid_argument);
   EXPECT_THROW(parseSeeds(""), std::invalid_argument);
+  // The top of uint64: no wrap-around, no endless loop.
+  EXPECT_EQ(parseSeeds("18446744073709551614-18446744073709551615"),
+            (std::vector<std::uint64_t>{18446744073709551614ull, 18446744073709551615ull}));
+  EXPECT_THROW(parseSeeds("1-60000,100001-160000"), std::invalid_argument);  // 120,000 runs
 }
 
 TEST(BatchApp, RunsResumeAndAggregate) {

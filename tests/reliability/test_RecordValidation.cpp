@@ -4,7 +4,11 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <sstream>
 #include <string>
+#include <thread>
+
+#include <sys/stat.h>
 
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZOutputStream.h>
@@ -200,6 +204,29 @@ TEST(RecordValidation, AnEndlessLineIsAnErrorNamingFileAndLineNotAnAllocationFai
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(path + ":2"), std::string::npos) << e.what();
   }
+}
+
+TEST(RecordValidation, ACarmenLogFromAPipeLosesNothing) {
+  fs::create_directories(kTmp);
+  const std::string fifo = kTmp + "/pipe";
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string text;
+  for (int k = 0; k < 200; ++k) {  // about 380 KB: far more than any sniffing buffer
+    std::ostringstream line;
+    line << "FLASER 181";
+    for (int i = 0; i < 181; ++i) line << " " << roomRange(0.01 * k, -kPi / 2 + kPi * i / 180.0);
+    line << " " << 0.01 * k << " 0 0 " << 0.01 * k << " 0 0 " << 10 + 0.1 * k << " host " << 10 + 0.1 * k << "\n";
+    text += line.str();
+  }
+  std::thread writer([&] { std::ofstream(fifo) << text; });
+  std::size_t n = 0;
+  {
+    mrpt_adapter::LaserLogReader reader(fifo);
+    while (reader.next()) ++n;
+  }
+  writer.join();
+  EXPECT_EQ(n, 200u);
 }
 
 }  // namespace

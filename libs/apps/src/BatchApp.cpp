@@ -221,13 +221,14 @@ std::vector<std::uint64_t> parseSeeds(const std::string& text) {
         std::size_t ua = 0, ub = 0;
         const auto lo = std::stoull(a, &ua), hi = std::stoull(b, &ub);
         if (ua != a.size() || ub != b.size() || hi < lo || hi - lo > 100000) throw std::invalid_argument(part);
-        for (auto s = lo; s <= hi; ++s) seeds.push_back(s);
+        for (std::uint64_t k = 0; k <= hi - lo; ++k) seeds.push_back(lo + k);  // no wrap at the top of uint64
       }
     } catch (const std::exception&) {
       throw std::invalid_argument("seeds: '" + part + "' is not a seed or a range like 1-50");
     }
   }
   if (seeds.empty()) throw std::invalid_argument("seeds: none given");
+  if (seeds.size() > 100000) throw std::invalid_argument("seeds: more than 100000 runs asked for");
   std::sort(seeds.begin(), seeds.end());
   seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
   return seeds;

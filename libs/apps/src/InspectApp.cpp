@@ -66,7 +66,10 @@ Layers allLayers(bool on) {
 
 InspectApp::InspectApp(InspectOptions options) : options_(std::move(options)) {
   if (options_.input.empty()) throw std::invalid_argument("no input log given");
-  if (options_.width < 200 || options_.height < 200) throw std::invalid_argument("--size: at least 200 x 200 pixels");
+  if (options_.width < 200 || options_.height < 200 || options_.width > 8192 || options_.height > 8192) {
+    throw std::invalid_argument("--width/--height: from 200 to 8192 pixels (got " + std::to_string(options_.width) + " x " +
+                                std::to_string(options_.height) + ")");
+  }
   if (!options_.render_out.empty() && !endsWith(options_.render_out, ".png") && !endsWith(options_.render_out, ".svg")) {
     throw std::invalid_argument("--out '" + options_.render_out + "': the name must end in .png or .svg");
   }

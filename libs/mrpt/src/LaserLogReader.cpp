@@ -1,6 +1,7 @@
 #include "lidarseg/mrpt/LaserLogReader.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
@@ -120,6 +121,10 @@ LogFormat detectLogFormat(const std::string& path) {
       endsWith(path, ".log.gz")) {
     return LogFormat::kCarmen;
   }
+  // A pipe or a device cannot be sniffed without losing what was read: such a stream is
+  // taken as text (CARMEN); a rawlog is read from a file.
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec)) return LogFormat::kCarmen;
   // Sniff: a CARMEN log is text; a rawlog starts with MRPT's binary object header.
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("cannot open log '" + path + "'");
