@@ -66,6 +66,9 @@ TEST(StampPolicy, AClockJumpingBackADayIsAGapNotARepeatedStamp) {
   EXPECT_FALSE(s[3].gap || s[3].non_increasing);
   EXPECT_NEAR(s[3].dt_s, 0.1, 1e-9);  // and the log's steps count again from the new clock
   for (std::size_t k = 1; k < s.size(); ++k) EXPECT_GT(s[k].output_stamp_s, s[k - 1].output_stamp_s);
+  // Across the jump the odometry is judged over unusable_step_span_s (0.5 s: 5.1 m), not 0.1 s.
+  EXPECT_TRUE(p.plausible({2.0, 0.0, 0.0}, s[2]));
+  EXPECT_FALSE(p.plausible({2.0, 0.0, 0.0}, s[3]));
 }
 
 TEST(StampPolicy, NothingChangesUntilAccepted) {

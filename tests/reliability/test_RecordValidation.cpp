@@ -206,6 +206,19 @@ TEST(RecordValidation, AnEndlessLineIsAnErrorNamingFileAndLineNotAnAllocationFai
   }
 }
 
+TEST(RecordValidation, ARawlogThatIsAPipeIsRefusedClearly) {
+  fs::create_directories(kTmp);
+  const std::string fifo = kTmp + "/pipe.rawlog";
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  try {
+    mrpt_adapter::LaserLogReader reader(fifo);
+    FAIL() << "a rawlog pipe was opened";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
+  }
+}
+
 TEST(RecordValidation, ACarmenLogFromAPipeLosesNothing) {
   fs::create_directories(kTmp);
   const std::string fifo = kTmp + "/pipe";

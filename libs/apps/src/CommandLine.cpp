@@ -2,6 +2,8 @@
 
 #include <iostream>
 
+#include "OutputFiles.h"
+
 namespace lidarseg::apps {
 
 namespace {
@@ -44,6 +46,7 @@ std::string describeError(const std::exception& e) {
 }
 
 std::optional<int> parseCommandLine(TCLAP::CmdLine& cmd, int argc, char** argv, const std::string& tool) {
+  installCleanupOnSignals();  // every tool: an interrupted run leaves no temporary file
   // One switch object per process: TCLAP keeps a pointer to it.
   static TCLAP::SwitchArg verbose("", "verbose", "on an error, the whole message (MRPT's backtrace included)");
   cmd.add(verbose);

@@ -13,6 +13,7 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace lidarseg::apps {
@@ -22,11 +23,14 @@ namespace fs = std::filesystem;
 namespace {
 
 // Temporary files a signal must remove: fixed slots, so that the handler only reads
-// memory that never moves (async-signal-safe: atomics and unlink()).
+// memory that never moves (async-signal-safe: atomics and unlink()). A slot is taken
+// (free -> writing), filled, then published (ready); the handler unlinks ready slots only,
+// so it never sees a half-copied name.
 constexpr std::size_t kSlots = 256;
 constexpr std::size_t kPathBytes = 4096;
+enum SlotState : int { kFree = 0, kWriting = 1, kReady = 2 };
 struct Slot {
-  std::atomic<bool> used{false};
+  std::atomic<int> state{kFree};
   char path[kPathBytes];
 };
 std::array<Slot, kSlots> g_slots;
@@ -34,9 +38,10 @@ std::array<Slot, kSlots> g_slots;
 void registerTemporary(const std::string& temporary) {
   if (temporary.size() >= kPathBytes) return;  // not removable on a signal; still removed otherwise
   for (Slot& s : g_slots) {
-    bool expected = false;
-    if (!s.used.load() && s.used.compare_exchange_strong(expected, true)) {
+    int expected = kFree;
+    if (s.state.compare_exchange_strong(expected, kWriting, std::memory_order_acquire)) {
       std::memcpy(s.path, temporary.c_str(), temporary.size() + 1);
+      s.state.store(kReady, std::memory_order_release);
       return;
     }
   }
@@ -44,7 +49,7 @@ void registerTemporary(const std::string& temporary) {
 
 extern "C" void removeTemporariesAndDie(int sig) {
   for (Slot& s : g_slots) {
-    if (s.used.load()) ::unlink(s.path);
+    if (s.state.load(std::memory_order_acquire) == kReady) ::unlink(s.path);
   }
   std::signal(sig, SIG_DFL);
   std::raise(sig);
@@ -78,9 +83,14 @@ std::string uniqueTemporary(const std::string& path) {
 
 void releaseTemporary(const std::string& temporary) {
   for (Slot& s : g_slots) {
-    if (s.used.load() && temporary == s.path) {
-      s.used.store(false);
-      return;
+    int expected = kReady;
+    // Take the slot back for writing while comparing, so no other thread reuses it meanwhile.
+    if (s.state.compare_exchange_strong(expected, kWriting, std::memory_order_acquire)) {
+      if (temporary == s.path) {
+        s.state.store(kFree, std::memory_order_release);
+        return;
+      }
+      s.state.store(kReady, std::memory_order_release);
     }
   }
 }
@@ -122,12 +132,25 @@ void OutputSet::claim(const std::string& path) {
   const bool created = !fs::exists(folder, ec);
   fs::create_directories(folder, ec);
   const std::string lock = (fs::path(folder) / ".lidarseg.lock").string();
-  const int fd = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (fd < 0) throw std::runtime_error("cannot create the lock '" + lock + "': " + std::strerror(errno));
-  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
-    ::close(fd);
-    throw std::runtime_error("another run is writing into '" + folder + "' (lock '" + lock +
-                             "' held); wait for it or choose another output");
+  int fd = -1;
+  for (int attempt = 0; fd < 0; ++attempt) {
+    fd = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0) throw std::runtime_error("cannot create the lock '" + lock + "': " + std::strerror(errno));
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      ::close(fd);
+      throw std::runtime_error("another run is writing into '" + folder + "' (lock '" + lock +
+                               "' held); wait for it or choose another output");
+    }
+    // A failed run removes its lock file while holding it: a lock taken on that removed file
+    // locks nothing, so check that the file locked is still the one at the path.
+    struct stat held {}, current {};
+    if (::fstat(fd, &held) != 0 || ::stat(lock.c_str(), &current) != 0 || held.st_ino != current.st_ino ||
+        held.st_dev != current.st_dev) {
+      ::close(fd);
+      fd = -1;
+      if (attempt >= 10) throw std::runtime_error("cannot take the lock '" + lock + "': it keeps being removed");
+      fs::create_directories(folder, ec);
+    }
   }
   locked_folders_.push_back(key);
   lock_fds_.push_back(fd);

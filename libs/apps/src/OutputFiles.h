@@ -13,7 +13,8 @@ std::string uniqueTemporary(const std::string& path);
 /// `temporary` was renamed or removed: the signal handler forgets it.
 void releaseTemporary(const std::string& temporary);
 /// SIGINT and SIGTERM remove every registered temporary file, then end the process with
-/// the signal's default action. Idempotent; the tools call it first thing.
+/// the signal's default action. Idempotent; every tool calls it first thing (through
+/// parseCommandLine()).
 void installCleanupOnSignals();
 
 /// Writes `content` to `path` through a unique temporary file and a rename, so that a

@@ -54,7 +54,7 @@ void StampPolicy::accept(const StampStep& s) {
 }
 
 bool StampPolicy::plausible(const Pose2D& increment, const StampStep& step) const {
-  const double span = step.non_increasing ? params_.unusable_step_span_s : std::max(step.dt_s, params_.min_span_s);
+  const double span = (step.non_increasing || step.clock_jump) ? params_.unusable_step_span_s : std::max(step.dt_s, params_.min_span_s);
   const double limit_t = params_.max_speed_mps * span + params_.jump_margin;
   const double limit_r = params_.max_turn_rate_radps * span + params_.jump_margin;
   return std::hypot(increment.x, increment.y) <= limit_t && std::abs(increment.yaw) <= limit_r;

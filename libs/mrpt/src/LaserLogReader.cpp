@@ -58,7 +58,8 @@ bool finitePose(const mrpt::poses::CPose3D& p) {
 // rewritten in place as the same scan seen by an upright laser (beams in the other order).
 std::string checkRawlogScan(mrpt::obs::CObservation2DRangeScan& obs) {
   const double stamp = mrpt::Clock::toDouble(obs.timestamp);
-  if (!std::isfinite(stamp) || stamp < 0.0) return "timestamp is not a valid time";
+  // A log without stamps (MRPT's INVALID_TIMESTAMP) runs on synthetic time steps.
+  if (!std::isfinite(stamp)) return "timestamp is not finite";
   const std::size_t n = obs.getScanSize();
   if (n < 2 || n > kMaxBeams) return std::to_string(n) + " beams (need 2 to " + std::to_string(kMaxBeams) + ")";
   if (!std::isfinite(obs.aperture) || !(obs.aperture > 0.0f) || obs.aperture > 2.0f * static_cast<float>(kPi) + 1e-3f) {
@@ -138,6 +139,12 @@ LogFormat detectLogFormat(const std::string& path) {
 LaserLogReader::LaserLogReader(const std::string& path, const std::string& sensor)
     : path_(path), format_(detectLogFormat(path)) {
   if (format_ == LogFormat::kRawlog) {
+    std::error_code ec;
+    if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec)) {
+      // MRPT's reader and the gzip end check open the file more than once: a pipe would
+      // lose data or block.
+      throw std::runtime_error("rawlog '" + path + "' is not a regular file (a pipe?): give the file itself");
+    }
     rawlog_ = std::make_unique<RawlogScanReader>(path, sensor);
   } else {
     logs::CarmenReaderOptions options;

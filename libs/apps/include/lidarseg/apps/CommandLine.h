@@ -14,8 +14,9 @@ namespace lidarseg::apps {
 /// Exit status of a usage error (a bad flag or value, a missing argument).
 inline constexpr int kUsageError = 2;
 
-/// Parses `argv` into `cmd`'s arguments (adding --verbose, which makes describeError()
-/// keep the whole message: MRPT's backtraces included).
+/// Installs the SIGINT/SIGTERM cleanup of temporary files, then parses `argv` into `cmd`'s
+/// arguments (adding --verbose, which makes describeError() keep the whole message: MRPT's
+/// backtraces included).
 /// @return std::nullopt when the tool should run; otherwise the status to exit with:
 ///         0 after --help or --version (printed on stdout), kUsageError after a usage error
 ///         (one line "TOOL: usage error: ..." on stderr).

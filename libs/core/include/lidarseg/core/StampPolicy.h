@@ -20,7 +20,7 @@ struct StampPolicyParams {
   double max_speed_mps = 10.0;
   double max_turn_rate_radps = 10.0;
   /// The span an odometry increment is judged over when the scan's own step is unusable
-  /// (a repeated or backwards stamp), s.
+  /// (a repeated or backwards stamp, a clock jump), s.
   double unusable_step_span_s = 0.5;
   /// The shortest span an increment is judged over (a 1 ms step would reject any motion), s.
   double min_span_s = 0.05;
