@@ -98,6 +98,21 @@ TEST(BatchApp, RunManyReportsFailedAndCrashedJobsAndFinishesTheOthers) {
   // Resuming runs only the unfinished ones.
   const auto again = BatchApp::runMany(job, {1, 2, 3, 4, 5}, 2, script, false);
   EXPECT_EQ(again.size(), 2u);
+  // The folder records its experiment: resumed with another sensor or world, it is refused
+  // (its finished runs would be averaged with the new ones into one table).
+  EXPECT_TRUE(fs::exists(job.out_dir + "/experiment.txt"));
+  BatchJob other = job;
+  other.sensor = "utm30lx";
+  try {
+    BatchApp::runMany(other, {6}, 1, script, false);
+    FAIL() << "a second experiment was run into the same folder";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("another experiment"), std::string::npos) << e.what();
+  }
+  other = job;
+  other.world_path = script;  // another file's contents
+  EXPECT_THROW(BatchApp::runMany(other, {6}, 1, script, false), std::runtime_error);
+  EXPECT_FALSE(BatchApp::finished(job.out_dir, 6));
 }
 
 }  // namespace

@@ -377,10 +377,51 @@ std::string failureOf(std::uint64_t seed, int status, const std::string& log) {
   return "seed " + std::to_string(seed) + ": " + why + (last.empty() ? "" : " (" + last + ")");
 }
 
+// FNV-1a (64 bit) of a file's bytes, as hex: a stable digest for the experiment record.
+std::string digestOf(const std::string& path) {
+  if (path.empty()) return "-";
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return "unreadable";
+  std::uint64_t h = 14695981039346656037ull;
+  char c = 0;
+  while (in.get(c)) h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
+  std::ostringstream os;
+  os << std::hex << h;
+  return os.str();
+}
+
+// What makes the runs of a folder one experiment: the inputs' contents, the sensor and the
+// baselines. A folder resumed with another experiment would average two into one table.
+std::string experimentOf(const BatchJob& job) {
+  std::ostringstream os;
+  os << "world " << digestOf(job.world_path) << "\ntrajectory " << digestOf(job.trajectory_path) << "\nsensor "
+     << job.sensor << "\nsimulation_config " << digestOf(job.sim_config_path) << "\nodometry_config "
+     << digestOf(job.odometry_config_path) << "\nbaseline_icp " << (job.baseline_icp ? 1 : 0) << "\n";
+  return os.str();
+}
+
+// Records the experiment in a new folder; refuses a folder that holds another one.
+void claimExperiment(const BatchJob& job) {
+  const std::string path = (fs::path(job.out_dir) / "experiment.txt").string();
+  const std::string mine = experimentOf(job);
+  std::ifstream in(path);
+  if (in) {
+    const std::string theirs((std::istreambuf_iterator<char>(in)), {});
+    if (theirs != mine) {
+      throw std::runtime_error("'" + job.out_dir + "' holds the runs of another experiment (" + path +
+                               " differs: world, trajectory, sensor, configurations or baselines); choose another --out");
+    }
+    return;
+  }
+  fs::create_directories(job.out_dir);
+  writeFileAtomically(path, mine);
+}
+
 }  // namespace
 
 std::vector<std::string> BatchApp::runMany(const BatchJob& base, const std::vector<std::uint64_t>& seeds,
                                            std::size_t jobs, const std::string& self_exe, bool progress) {
+  claimExperiment(base);
   std::vector<std::uint64_t> todo;
   for (auto s : seeds) {
     if (!finished(base.out_dir, s)) todo.push_back(s);

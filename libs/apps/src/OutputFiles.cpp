@@ -172,6 +172,9 @@ std::string OutputSet::addWritten(const std::string& path) {
 }
 
 void OutputSet::commit() {
+  // summary.json last: a reader that finds it finds the rest of the set in place.
+  std::stable_partition(pending_.begin(), pending_.end(),
+                        [](const Pending& p) { return fs::path(p.path).filename() != "summary.json"; });
   for (const auto& p : pending_) {
     if (std::rename(p.temporary.c_str(), p.path.c_str()) != 0) {
       throw std::runtime_error("cannot rename '" + p.temporary + "' to '" + p.path + "'");
