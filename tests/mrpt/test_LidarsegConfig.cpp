@@ -4,17 +4,14 @@
 
 #include <gtest/gtest.h>
 
+#include "TempFiles.h"
 #include "lidarseg/mrpt/LidarsegConfig.h"
 #include "lidarseg/mrpt/OdometryConfig.h"
 
 namespace lidarseg::mrpt_adapter {
 namespace {
 
-std::string writeTemp(const std::string& name, const std::string& text) {
-  const std::string path = std::string(LIDARSEG_TEST_TMP_DIR) + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
+using lidarseg::testing::writeTemp;
 
 std::string errorOf(const std::string& path) {
   try {

@@ -4,16 +4,13 @@
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include "TempFiles.h"
 #include "lidarseg/mrpt/OdometryConfig.h"
 
 namespace lidarseg::mrpt_adapter {
 namespace {
 
-std::string writeTemp(const std::string& name, const std::string& text) {
-  const std::string path = std::string(LIDARSEG_TEST_TMP_DIR) + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
+using lidarseg::testing::writeTemp;
 
 TEST(OdometryConfig, TheShippedDefaultFileSetsEveryKeyToTheDefaults) {
   const OdometryParams p = loadOdometryParamsFile(std::string(LIDARSEG_CONFIG_DIR) + "/default.ini");

@@ -6,6 +6,7 @@
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include "TempFiles.h"
 #include "lidarseg/mrpt/SegmentationConfig.h"
 
 namespace lidarseg::mrpt_adapter {
@@ -43,11 +44,7 @@ void expectEqual(const SegmentationParams& a, const SegmentationParams& b) {
   EXPECT_EQ(a.cascade.erosion.min_points, b.cascade.erosion.min_points);
 }
 
-std::string writeTemp(const std::string& name, const std::string& text) {
-  const std::string path = std::string(LIDARSEG_TEST_TMP_DIR) + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
+using lidarseg::testing::writeTemp;
 
 TEST(SegmentationConfig, IniSaveLoadRoundTripIsExact) {
   const SegmentationParams original = nonDefaultParams();
