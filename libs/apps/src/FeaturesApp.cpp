@@ -10,12 +10,12 @@
 
 #include "CameraRois.h"
 #include "FeatureCsv.h"
-#include "Format.h"
-#include "JsonText.h"
+#include "lidarseg/pipeline/Format.h"
+#include "lidarseg/pipeline/JsonText.h"
 #include "OutputFiles.h"
 #include "Plots.h"
 #include "Png.h"
-#include "Timing.h"
+#include "lidarseg/pipeline/Timing.h"
 #include "lidarseg/core/FeatureDetector.h"
 #include "lidarseg/core/ScanSegmenter.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
@@ -23,6 +23,13 @@
 #include "lidarseg/mrpt/ScanConverter.h"
 
 namespace lidarseg::apps {
+
+using pipeline::Clock;
+using pipeline::microsecondsSince;
+using pipeline::Json;
+using pipeline::finiteOrNull;
+using pipeline::jsonText;
+using pipeline::fixed;
 
 namespace {
 

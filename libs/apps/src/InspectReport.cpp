@@ -9,7 +9,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include "Format.h"
+#include "lidarseg/pipeline/Format.h"
 #include "OutputFiles.h"
 #include "Plots.h"
 #include "Png.h"
@@ -17,6 +17,9 @@
 #include "lidarseg/core/Statistics.h"
 
 namespace lidarseg::apps {
+
+using pipeline::fixed;
+using pipeline::escapeXml;
 
 namespace fs = std::filesystem;
 

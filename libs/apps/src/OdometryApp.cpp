@@ -16,15 +16,17 @@
 #include "FeatureCsv.h"
 #include "OutputFiles.h"
 #include "Plots.h"
-#include "Progress.h"
+#include "lidarseg/pipeline/Progress.h"
 #include "lidarseg/core/FeatureDetector.h"
 #include "lidarseg/mrpt/FeatureObservation.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/mrpt/PoseConversion.h"
-#include "run/OdometryRun.h"
-#include "run/ReportWriters.h"
+#include "lidarseg/pipeline/OdometryRun.h"
+#include "lidarseg/pipeline/ReportWriters.h"
 
 namespace lidarseg::apps {
+
+using pipeline::Progress;
 
 namespace fs = std::filesystem;
 
@@ -110,8 +112,8 @@ OdometryApp::OdometryApp(OdometryOptions options) : options_(std::move(options))
 
 namespace {
 // The configuration file's sections, then the command line's overrides.
-run::RunSettings settingsOf(const OdometryOptions& o) {
-  run::RunSettings s;
+pipeline::RunSettings settingsOf(const OdometryOptions& o) {
+  pipeline::RunSettings s;
   if (!o.config_path.empty()) s.config = mrpt_adapter::LidarsegConfig::loadFile(o.config_path);
   if (o.scanner_rotation_hz >= 0.0) s.config.odometry.scanner_rotation_hz = o.scanner_rotation_hz;
   if (!o.scan_stamp.empty()) s.config.odometry.scan_stamp = scanStampFromString(o.scan_stamp);
@@ -125,12 +127,12 @@ run::RunSettings settingsOf(const OdometryOptions& o) {
 
 OdometryReport OdometryApp::run() {
   const OdometryOptions& o = options_;
-  const run::RunSettings settings = settingsOf(o);
+  const pipeline::RunSettings settings = settingsOf(o);
   References refs = readReferences();
   OutputSet outputs;
   claimOutputs(outputs);
   mrpt_adapter::LaserLogReader reader(o.input, o.sensor);
-  run::OdometryRun odometry(settings);
+  pipeline::OdometryRun odometry(settings);
   processLog(reader, odometry, settings, outputs);
   OdometryReport report = odometry.finish(o.max_lost_ratio);
   collectReaderCounts(reader, report);
@@ -166,8 +168,8 @@ OdometryApp::References OdometryApp::readReferences() {
 }
 
 // Every scan through the run; doors and corners and the rawlog output beside it.
-void OdometryApp::processLog(mrpt_adapter::LaserLogReader& reader, run::OdometryRun& odometry,
-                             const run::RunSettings& settings, OutputSet& outputs) {
+void OdometryApp::processLog(mrpt_adapter::LaserLogReader& reader, pipeline::OdometryRun& odometry,
+                             const pipeline::RunSettings& settings, OutputSet& outputs) {
   const OdometryOptions& o = options_;
   const bool want_features = !o.features_out.empty() || !o.write_rawlog.empty();
   const FeatureDetector detector(settings.config.features);
@@ -187,7 +189,7 @@ void OdometryApp::processLog(mrpt_adapter::LaserLogReader& reader, run::Odometry
       break;
     }
     if (!record) break;
-    const run::RunStep step = odometry.process(*record);
+    const pipeline::RunStep step = odometry.process(*record);
     if (!step.processed) continue;
     if (want_features) {
       detector.detect(odometry.lidarseg().core().lastSegmentation(), features);
@@ -226,7 +228,7 @@ void OdometryApp::collectReaderCounts(const mrpt_adapter::LaserLogReader& reader
 }
 
 // Every method against ground truth, relations and the log's own poses.
-void OdometryApp::evaluateAll(const run::OdometryRun& odometry, References& refs, OdometryReport& report) const {
+void OdometryApp::evaluateAll(const pipeline::OdometryRun& odometry, References& refs, OdometryReport& report) const {
   refs.gt_tolerance_s = std::max(1e-6, 0.25 * odometry.medianStep());
   if (options_.log_reference) {
     if (odometry.logPoses().size() < 2) {
@@ -247,17 +249,17 @@ void OdometryApp::writeOutputs(OdometryReport& report, const References& refs,
   if (!o.out_dir.empty()) {
     fs::create_directories(o.out_dir);
     const auto path = [&](const char* name) { return (fs::path(o.out_dir) / name).string(); };
-    outputs.add(path("lidarseg.tum"), run::tumText(report.lidarseg.trajectory, "lidarseg robot poses, odometry frame"));
+    outputs.add(path("lidarseg.tum"), pipeline::tumText(report.lidarseg.trajectory, "lidarseg robot poses, odometry frame"));
     if (report.icp) {
-      outputs.add(path("icp.tum"), run::tumText(report.icp->trajectory, "MRPT ICP (keyframed) robot poses, odometry frame"));
+      outputs.add(path("icp.tum"), pipeline::tumText(report.icp->trajectory, "MRPT ICP (keyframed) robot poses, odometry frame"));
     }
     if (report.icp_s2s) {
       outputs.add(path("icp-s2s.tum"),
-                  run::tumText(report.icp_s2s->trajectory, "MRPT ICP (scan to scan) robot poses, odometry frame"));
+                  pipeline::tumText(report.icp_s2s->trajectory, "MRPT ICP (scan to scan) robot poses, odometry frame"));
     }
-    outputs.add(path("timing.csv"), run::timingCsv(report));
-    outputs.add(path("summary.json"), run::summaryJson(report));
-    outputs.add(path("results.md"), run::markdownTable(report));
+    outputs.add(path("timing.csv"), pipeline::timingCsv(report));
+    outputs.add(path("summary.json"), pipeline::summaryJson(report));
+    outputs.add(path("results.md"), pipeline::markdownTable(report));
     if (o.plots) addPlots(report, refs, log_poses, outputs);
     report.outputs = {path("lidarseg.tum"), path("timing.csv"), path("summary.json"), path("results.md")};
     if (report.icp) report.outputs.push_back(path("icp.tum"));
@@ -300,9 +302,9 @@ void OdometryApp::addPlots(const OdometryReport& report, const References& refs,
   outputs.add(path("timing.png"), plotHistogramsPng(hist, "Time per scan", "microseconds"));
 }
 
-std::string OdometryApp::markdownTable(const OdometryReport& report) { return run::markdownTable(report); }
+std::string OdometryApp::markdownTable(const OdometryReport& report) { return pipeline::markdownTable(report); }
 
-std::string OdometryApp::summaryJson(const OdometryReport& report) { return run::summaryJson(report); }
+std::string OdometryApp::summaryJson(const OdometryReport& report) { return pipeline::summaryJson(report); }
 
 void OdometryApp::print(const OdometryReport& r, std::ostream& os) {
   os << markdownTable(r);

@@ -14,17 +14,24 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
-#include "Format.h"
-#include "JsonText.h"
+#include "lidarseg/pipeline/Format.h"
+#include "lidarseg/pipeline/JsonText.h"
 #include "OutputFiles.h"
 #include "Png.h"
-#include "Timing.h"
+#include "lidarseg/pipeline/Timing.h"
 #include "lidarseg/mrpt/VisionConfig.h"
 #include "lidarseg/mrpt/LidarsegConfig.h"
 #include "lidarseg/vision/PeopleDetector.h"
 #include "lidarseg/vision/RegionsOfInterest.h"
 
 namespace lidarseg::apps {
+
+using pipeline::Clock;
+using pipeline::microsecondsSince;
+using pipeline::Json;
+using pipeline::finiteOrNull;
+using pipeline::jsonText;
+using pipeline::fixed;
 
 namespace fs = std::filesystem;
 

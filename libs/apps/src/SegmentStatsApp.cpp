@@ -2,7 +2,7 @@
 #include "lidarseg/core/Angles.h"
 
 #include "OutputFiles.h"
-#include "Timing.h"
+#include "lidarseg/pipeline/Timing.h"
 
 #include <cmath>
 #include <iomanip>
@@ -17,6 +17,9 @@
 #include "lidarseg/mrpt/SegmentationConfig.h"
 
 namespace lidarseg::apps {
+
+using pipeline::Clock;
+using pipeline::microsecondsSince;
 
 namespace {
 

@@ -7,10 +7,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "../Format.h"
+#include "lidarseg/pipeline/Format.h"
 #include "../Png.h"
 
 namespace lidarseg::apps::inspect {
+
+using pipeline::escapeXml;
 
 namespace {
 

@@ -10,11 +10,11 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/obs/CObservationImage.h>
 
-#include "../Format.h"
+#include "lidarseg/pipeline/Format.h"
 #include "../CameraRois.h"
 #include "../OutputFiles.h"
-#include "../Timing.h"
-#include "../run/OdometryRun.h"
+#include "lidarseg/pipeline/Timing.h"
+#include "lidarseg/pipeline/OdometryRun.h"
 #include "lidarseg/mrpt/LidarsegConfig.h"
 #include "lidarseg/mrpt/PoseConversion.h"
 #include "lidarseg/core/ScanSegmenter.h"
@@ -25,6 +25,10 @@
 #include "lidarseg/mrpt/VisionConfig.h"
 
 namespace lidarseg::apps::inspect {
+
+using pipeline::Clock;
+using pipeline::microsecondsSince;
+using pipeline::fixed;
 
 InspectorParams InspectorParams::fromFile(const std::string& path) {
   const mrpt_adapter::LidarsegConfig c = mrpt_adapter::LidarsegConfig::loadFile(path);
@@ -39,11 +43,11 @@ InspectorParams InspectorParams::fromFile(const std::string& path) {
 
 namespace {
 // The inspector's run: lidarseg alone, constant-velocity prior, as lidarseg-odometry's default.
-std::unique_ptr<run::OdometryRun> makeRun(const InspectorParams& p) {
-  run::RunSettings settings;
+std::unique_ptr<pipeline::OdometryRun> makeRun(const InspectorParams& p) {
+  pipeline::RunSettings settings;
   settings.config.odometry = p.odometry;
   settings.config.stamps = p.stamps;
-  return std::make_unique<run::OdometryRun>(settings);
+  return std::make_unique<pipeline::OdometryRun>(settings);
 }
 }  // namespace
 
@@ -116,7 +120,7 @@ void Session::matchUpTo(std::size_t index) {
   while (steps_.size() <= index) {
     const auto& record = *records_[steps_.size()];
     Step s;
-    const run::RunStep r = run_->process(record);
+    const pipeline::RunStep r = run_->process(record);
     if (r.processed) {
       const auto& last = run_->lidarseg().lastStep();
       s.step = last.core;

@@ -10,19 +10,23 @@
 #include <string>
 #include <vector>
 
-#include "lidarseg/apps/RunReport.h"
+#include "lidarseg/pipeline/RunReport.h"
 
 namespace lidarseg::mrpt_adapter {
 class LaserLogReader;
 }
 
+namespace lidarseg::pipeline {
+class OdometryRun;
+struct RunSettings;
+}  // namespace lidarseg::pipeline
+
 namespace lidarseg::apps {
 
 class OutputSet;
-namespace run {
-class OdometryRun;
-struct RunSettings;
-}  // namespace run
+/// The report lidarseg-odometry's run returns (lidarseg::pipeline's, one for every tool).
+using pipeline::MethodReport;
+using pipeline::OdometryReport;
 
 /// Command-line options of `lidarseg-odometry`.
 struct OdometryOptions {
@@ -97,10 +101,10 @@ class OdometryApp {
  private:
   References readReferences();
   void claimOutputs(OutputSet& outputs) const;
-  void processLog(mrpt_adapter::LaserLogReader& reader, run::OdometryRun& odometry, const run::RunSettings& settings,
+  void processLog(mrpt_adapter::LaserLogReader& reader, pipeline::OdometryRun& odometry, const pipeline::RunSettings& settings,
                   OutputSet& outputs);
   void collectReaderCounts(const mrpt_adapter::LaserLogReader& reader, OdometryReport& report) const;
-  void evaluateAll(const run::OdometryRun& odometry, References& refs, OdometryReport& report) const;
+  void evaluateAll(const pipeline::OdometryRun& odometry, References& refs, OdometryReport& report) const;
   void writeOutputs(OdometryReport& report, const References& refs, const eval::StampedTrajectory& log_poses,
                     OutputSet& outputs) const;
   void addPlots(const OdometryReport& report, const References& refs, const eval::StampedTrajectory& log_poses,

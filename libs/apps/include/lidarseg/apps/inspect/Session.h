@@ -27,9 +27,9 @@ class LaserLogReader;
 struct LaserRecord;
 }  // namespace lidarseg::mrpt_adapter
 
-namespace lidarseg::apps::run {
+namespace lidarseg::pipeline {
 class OdometryRun;
-}  // namespace lidarseg::apps::run
+}  // namespace lidarseg::pipeline
 
 namespace lidarseg::apps::inspect {
 
@@ -136,7 +136,7 @@ class Session {
   std::vector<std::shared_ptr<mrpt_adapter::LaserRecord>> records_;
   bool complete_ = false;
   // Odometry run so far (scan by scan, in order): the run every tool shares.
-  std::unique_ptr<run::OdometryRun> run_;
+  std::unique_ptr<pipeline::OdometryRun> run_;
   struct Step {
     OdometryStep step;
     std::optional<eval::StampedPose> robot_pose;

@@ -1,12 +1,13 @@
 #pragma once
-// Private to lidarseg::apps: the run report's text outputs, shared by every tool that
-// runs an OdometryRun (summary.json through nlohmann-json, timing.csv, results.md, TUM).
+/// @file
+/// lidarseg::pipeline: the run report's text outputs, shared by every tool that
+/// runs an OdometryRun (summary.json through nlohmann-json, timing.csv, results.md, TUM).
 
 #include <string>
 
-#include "lidarseg/apps/RunReport.h"
+#include "lidarseg/pipeline/RunReport.h"
 
-namespace lidarseg::apps::run {
+namespace lidarseg::pipeline {
 
 /// A trajectory as a TUM file with a comment header.
 std::string tumText(const eval::StampedTrajectory& trajectory, const std::string& header);
@@ -18,4 +19,4 @@ std::string summaryJson(const OdometryReport& report);
 /// results.md: the paper's Table I columns plus final error and ATE, then the counts.
 std::string markdownTable(const OdometryReport& report);
 
-}  // namespace lidarseg::apps::run
+}  // namespace lidarseg::pipeline

@@ -1,19 +1,20 @@
 #pragma once
-// Private to lidarseg::apps: the one run loop of every tool. Records in (from any log
-// reader), stamps repaired, the prior chosen, every method run on the same scan; the
-// report out. lidarseg-odometry, the batch runner (through it) and the inspector all run
-// this class, so one log gives one trajectory everywhere.
+/// @file
+/// lidarseg::pipeline: the one run loop of every tool. Records in (from any log
+/// reader), stamps repaired, the prior chosen, every method run on the same scan; the
+/// report out. lidarseg-odometry, the batch runner (through it) and the inspector all run
+/// this class, so one log gives one trajectory everywhere.
 
 #include <memory>
 #include <optional>
 #include <vector>
 
-#include "Methods.h"
-#include "lidarseg/apps/RunReport.h"
+#include "lidarseg/pipeline/OdometryMethods.h"
+#include "lidarseg/pipeline/RunReport.h"
 #include "lidarseg/core/StampPolicy.h"
 #include "lidarseg/mrpt/LidarsegConfig.h"
 
-namespace lidarseg::apps::run {
+namespace lidarseg::pipeline {
 
 /// What a run compares and how.
 struct RunSettings {
@@ -67,4 +68,4 @@ class OdometryRun {
   std::vector<double> steps_;
 };
 
-}  // namespace lidarseg::apps::run
+}  // namespace lidarseg::pipeline

@@ -1,5 +1,6 @@
 #pragma once
-// Private to lidarseg::apps: progress of a long run on stderr, shown only on a terminal.
+/// @file
+/// lidarseg::pipeline: progress of a long run on stderr, shown only on a terminal.
 
 #include <chrono>
 #include <iomanip>
@@ -8,9 +9,9 @@
 
 #include <unistd.h>
 
-#include "Timing.h"
+#include "lidarseg/pipeline/Timing.h"
 
-namespace lidarseg::apps {
+namespace lidarseg::pipeline {
 
 /// A counter with its rate (and, when the total is known, the share done and the time
 /// left), redrawn at most 5 times a second.
@@ -45,4 +46,4 @@ class Progress {
   Clock::time_point last_{};
 };
 
-}  // namespace lidarseg::apps
+}  // namespace lidarseg::pipeline

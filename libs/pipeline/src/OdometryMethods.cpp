@@ -1,13 +1,13 @@
-#include "Methods.h"
+#include "lidarseg/pipeline/OdometryMethods.h"
 
 #include <cmath>
 
 #include <mrpt/poses/CPosePDFGaussian.h>
 
-#include "../Timing.h"
+#include "lidarseg/pipeline/Timing.h"
 #include "lidarseg/mrpt/PoseConversion.h"
 
-namespace lidarseg::apps::run {
+namespace lidarseg::pipeline {
 
 using mrpt_adapter::toMrpt;
 using mrpt_adapter::toPose2D;
@@ -102,4 +102,4 @@ void IcpMethod::process(const ScanInput& scan) {
   report_.trajectory.push_back({scan.time.output_stamp_s, pose_});
 }
 
-}  // namespace lidarseg::apps::run
+}  // namespace lidarseg::pipeline

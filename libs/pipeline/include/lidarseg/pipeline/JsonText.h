@@ -1,13 +1,14 @@
 #pragma once
-// Private to lidarseg::apps: the JSON outputs' conventions, on nlohmann-json: keys in the
-// order written, non-finite numbers as null, one-space indentation and a final newline.
+/// @file
+/// lidarseg::pipeline: the JSON outputs' conventions, on nlohmann-json: keys in the
+/// order written, non-finite numbers as null, one-space indentation and a final newline.
 
 #include <cmath>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
-namespace lidarseg::apps {
+namespace lidarseg::pipeline {
 
 using Json = nlohmann::ordered_json;
 
@@ -17,4 +18,4 @@ inline Json finiteOrNull(double v) { return std::isfinite(v) ? Json(v) : Json(nu
 /// The text of a JSON output file.
 inline std::string jsonText(const Json& j) { return j.dump(1) + "\n"; }
 
-}  // namespace lidarseg::apps
+}  // namespace lidarseg::pipeline

@@ -16,7 +16,7 @@
 #include "lidarseg/eval/StampedTrajectory.h"
 #include "lidarseg/eval/TrajectoryMetrics.h"
 
-namespace lidarseg::apps {
+namespace lidarseg::pipeline {
 
 /// Figures of one method over a run.
 struct MethodReport {
@@ -92,4 +92,4 @@ struct OdometryReport {
 /// The name the issue tracker and the docs use for the run's report.
 using RunReport = OdometryReport;
 
-}  // namespace lidarseg::apps
+}  // namespace lidarseg::pipeline

@@ -1,9 +1,10 @@
 #pragma once
-// Private to lidarseg::apps: wall-clock timing of the per-scan steps the apps report.
+/// @file
+/// lidarseg::pipeline: wall-clock timing of the per-scan steps the apps report.
 
 #include <chrono>
 
-namespace lidarseg::apps {
+namespace lidarseg::pipeline {
 
 using Clock = std::chrono::steady_clock;
 
@@ -12,4 +13,4 @@ inline double microsecondsSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
 }
 
-}  // namespace lidarseg::apps
+}  // namespace lidarseg::pipeline

@@ -1,7 +1,8 @@
 #pragma once
-// Private to lidarseg::apps: the odometry methods a run compares, behind one interface.
-// lidarseg (through the MRPT adapter's LaserOdometry) and MRPT's ICP, keyframed with
-// lidarseg's policy or scan to scan. A new baseline is one more class.
+/// @file
+/// lidarseg::pipeline: the odometry methods a run compares, behind one interface.
+/// lidarseg (through the MRPT adapter's LaserOdometry) and MRPT's ICP, keyframed with
+/// lidarseg's policy or scan to scan. A new baseline is one more class.
 
 #include <memory>
 #include <optional>
@@ -10,12 +11,12 @@
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/slam/CICP.h>
 
-#include "lidarseg/apps/RunReport.h"
+#include "lidarseg/pipeline/RunReport.h"
 #include "lidarseg/core/StampPolicy.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/mrpt/LaserOdometry.h"
 
-namespace lidarseg::apps::run {
+namespace lidarseg::pipeline {
 
 /// One scan as every method sees it.
 struct ScanInput {
@@ -80,4 +81,4 @@ class IcpMethod : public OdometryMethod {
   double last_dt_ = 0.0;
 };
 
-}  // namespace lidarseg::apps::run
+}  // namespace lidarseg::pipeline

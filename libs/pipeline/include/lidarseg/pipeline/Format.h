@@ -1,12 +1,13 @@
 #pragma once
-// Private to lidarseg::apps: number formatting of the reports.
+/// @file
+/// lidarseg::pipeline: number formatting of the reports.
 
 #include <cmath>
 #include <iomanip>
 #include <sstream>
 #include <string>
 
-namespace lidarseg::apps {
+namespace lidarseg::pipeline {
 
 /// `v` with `digits` decimals, "n/a" when not finite.
 inline std::string fixed(double v, int digits) {
@@ -31,4 +32,4 @@ inline std::string escapeXml(const std::string& s) {
   return out;
 }
 
-}  // namespace lidarseg::apps
+}  // namespace lidarseg::pipeline

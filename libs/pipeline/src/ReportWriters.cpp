@@ -1,13 +1,13 @@
-#include "ReportWriters.h"
+#include "lidarseg/pipeline/ReportWriters.h"
 #include "lidarseg/core/Angles.h"
 
 #include <cmath>
 #include <iomanip>
 #include <sstream>
 
-#include "../JsonText.h"
+#include "lidarseg/pipeline/JsonText.h"
 
-namespace lidarseg::apps::run {
+namespace lidarseg::pipeline {
 
 namespace {
 
@@ -203,4 +203,4 @@ std::string markdownTable(const OdometryReport& r) {
   return os.str();
 }
 
-}  // namespace lidarseg::apps::run
+}  // namespace lidarseg::pipeline

@@ -1,8 +1,8 @@
-#include "OdometryRun.h"
+#include "lidarseg/pipeline/OdometryRun.h"
 
 #include <stdexcept>
 
-namespace lidarseg::apps::run {
+namespace lidarseg::pipeline {
 
 OdometryRun::OdometryRun(const RunSettings& settings) : settings_(settings), stamps_(settings.config.stamps) {
   const OdometryParams& p = settings_.config.odometry;
@@ -90,4 +90,4 @@ OdometryReport OdometryRun::finish(double max_lost_ratio) {
   return r;
 }
 
-}  // namespace lidarseg::apps::run
+}  // namespace lidarseg::pipeline
