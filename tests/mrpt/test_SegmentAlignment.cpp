@@ -1,13 +1,20 @@
 // lidarseg's segment matcher behind MRPT's map-alignment interface.
 #include <cmath>
+#include <iostream>
 
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/poses/CPose3DPDFGaussian.h>
 #include <mrpt/poses/CPosePDFGaussian.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/slam/CICP.h>
+
+#include <filesystem>
+#include <vector>
 
 #include "SyntheticScenes.h"
+#include "lidarseg/mrpt/RawlogScanReader.h"
 #include "lidarseg/mrpt/ScanConverter.h"
 #include "lidarseg/mrpt/SegmentAlignment.h"
 
@@ -202,6 +209,58 @@ TEST(SegmentAlignment, GoodnessAndIterationsAreFilledOnEveryCall) {
   EXPECT_EQ(info.matches, info.segments_m1);
   EXPECT_GT(info.goodness, good);
   EXPECT_LE(info.goodness, 1.0);
+}
+
+// On a real log, against MRPT's CICP from the same odometry guess: the scans two apart of
+// the Telecom Faculty log (1-3, 3-5, ..., 61-63). With the odometry's point refinement
+// the two agree on nearly every pair (28 of 31 when written); the segments alone on fewer
+// (18).
+TEST(SegmentAlignment, AgreesWithCicpOnPairsOfTheRealTelecomLog) {
+  const std::string telecom =
+      std::string(LIDARSEG_MRPT_DATASETS_DIR) + "/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog";
+  if (!std::filesystem::exists(telecom)) GTEST_SKIP() << "missing " << telecom << " (Debian mrpt-common)";
+  struct Frame {
+    mrpt::maps::CSimplePointsMap points;
+    mrpt::poses::CPose2D odometry;
+  };
+  std::vector<Frame> frames;
+  RawlogScanReader reader(telecom);
+  while (auto scan = reader.next()) {
+    if (!scan->odometry) continue;
+    Frame f;
+    f.points.insertObservation(*scan->observation);
+    f.odometry = *scan->odometry;
+    frames.push_back(std::move(f));
+    if (frames.size() == 64) break;
+  }
+  ASSERT_EQ(frames.size(), 64u);
+  SegmentAlignment refined, segments_only;
+  segments_only.options.refiner.enabled = false;
+  segments_only.options.recovery = false;
+  mrpt::slam::CICP icp;
+  std::size_t pairs = 0, agree_refined = 0, agree_segments = 0;
+  const auto agrees = [](const mrpt::poses::CPose2D& a, const mrpt::poses::CPose2D& b) {
+    return std::hypot(a.x() - b.x(), a.y() - b.y()) <= 0.05 &&
+           std::abs(mrpt::math::wrapToPi(a.phi() - b.phi())) <= 0.5 * kDeg;
+  };
+  for (std::size_t k = 1; k + 2 < frames.size(); k += 2) {
+    const mrpt::poses::CPosePDFGaussian guess(frames[k + 2].odometry - frames[k].odometry);
+    const auto& m1 = frames[k].points;
+    const auto& m2 = frames[k + 2].points;
+    const auto reference = icp.AlignPDF(&m1, &m2, guess)->getMeanVal();
+    SegmentAlignment::TReturnInfo info;
+    const auto with_points = refined.AlignPDF(&m1, &m2, guess, info)->getMeanVal();
+    EXPECT_GE(info.goodness, 0.0);
+    EXPECT_LE(info.goodness, 1.0);
+    const auto alone = segments_only.AlignPDF(&m1, &m2, guess)->getMeanVal();
+    ++pairs;
+    agree_refined += agrees(with_points, reference) ? 1 : 0;
+    agree_segments += agrees(alone, reference) ? 1 : 0;
+  }
+  std::cout << "pairs within 5 cm / 0.5 deg of CICP: " << agree_refined << " of " << pairs << " with refinement, "
+            << agree_segments << " with segments only\n";
+  EXPECT_GE(agree_refined, agree_segments);
+  EXPECT_GE(static_cast<double>(agree_refined), 0.85 * static_cast<double>(pairs));  // measured: 28 of 31
 }
 
 }  // namespace

@@ -1,10 +1,11 @@
-#include "lidarseg/core/Angles.h"
-#include "lidarseg//mrpt/SegmentAlignment.h"
+#include "lidarseg/mrpt/SegmentAlignment.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <mutex>
+#include <set>
 #include <stdexcept>
 
 #include <mrpt/maps/CPointsMap.h>
@@ -12,6 +13,8 @@
 #include <mrpt/poses/CPosePDFGaussian.h>
 
 #include "ConfigKeys.h"
+#include "lidarseg/core/Angles.h"
+#include "lidarseg/core/SegmentOdometry.h"
 #include "lidarseg/mrpt/PoseConversion.h"
 #include "KeyTables.h"
 
@@ -19,13 +22,26 @@ namespace lidarseg::mrpt_adapter {
 
 namespace {
 
-// The [segmentation] keys, the [matcher] keys and the level in one section.
+// `prefix` + `key`, interned: the key tables want names that outlive the call.
+const char* prefixedKey(const char* prefix, const char* key) {
+  static std::mutex mutex;
+  static std::set<std::string> names;  // node-based: the pointers stay valid
+  const std::lock_guard<std::mutex> lock(mutex);
+  return names.insert(std::string(prefix) + key).first->c_str();
+}
+
+// The [segmentation] keys, the [matcher] keys and the level in one section, as CICP keeps
+// its keys in one; the [refiner] and [search] keys with the prefixes refine_ and search_
+// (their names overlap: level, max_points).
 struct AlignmentKeys {
   template <typename Params, typename Visitor>
   void operator()(Params& p, Visitor&& visit) const {
     detail::SegmentationKeys{}(p.segmentation, visit);
     detail::MatcherKeys{}(p.matcher, visit);
     visit("level", p.level);
+    visit("recovery", p.recovery);
+    detail::RefinerKeys{}(p.refiner, [&](const char* key, auto& field) { visit(prefixedKey("refine_", key), field); });
+    detail::SearchKeys{}(p.search, [&](const char* key, auto& field) { visit(prefixedKey("search_", key), field); });
   }
 };
 
@@ -55,11 +71,46 @@ Scan scanOf(const mrpt::maps::CMetricMap* map, const char* which) {
   return scan;
 }
 
+OdometryParams odometryParams(const SegmentAlignment::TConfigParams& o) {
+  OdometryParams p;
+  p.segmentation = o.segmentation;
+  p.matcher = o.matcher;
+  p.level = o.level;
+  p.refiner = o.refiner;
+  p.search = o.search;
+  p.recovery = o.recovery;
+  p.deskew = false;  // two point maps carry no beam times
+  return p;
+}
+
+// `segments2`: m2's segments at the level matched; `points2`: m2's points.
+void fillInfo(const OdometryStep& step, const std::vector<Segment>& segments2, std::size_t points2,
+              SegmentAlignment::TReturnInfo& info) {
+  const MatchResult& r = step.match;
+  info.status = r.status;
+  info.track = step.status;
+  info.matches = r.matches.size();
+  info.segments_m2 = segments2.size();
+  const bool refined = step.refine.status != RefineStatus::kFailed && step.refine.iterations > 0;
+  info.nIterations = static_cast<unsigned int>(refined ? step.refine.iterations : r.iterations);
+  if (refined) {
+    // The fraction of m2's points (those the refinement used) within reach of m1's lines.
+    info.goodness = std::clamp(step.refine.inlier_ratio, 0.0, 1.0);
+    return;
+  }
+  // Couples are one-to-one: no point of m2 is counted twice.
+  std::size_t matched_points = 0;
+  for (const auto& couple : r.matches) matched_points += segments2[static_cast<std::size_t>(couple.second)].num_points;
+  info.goodness = points2 == 0 ? 0.0 : std::min(1.0, static_cast<double>(matched_points) / static_cast<double>(points2));
+}
+
 }  // namespace
 
 void SegmentAlignment::TConfigParams::validate() const {
   segmentation.validate();
   matcher.validate();
+  refiner.validate();
+  search.validate();
   if (static_cast<std::size_t>(level) >= kNumCascadeLevels) {
     throw std::invalid_argument("level = " + std::to_string(static_cast<std::size_t>(level)) +
                                 " must be a cascade level 0..3");
@@ -89,33 +140,20 @@ mrpt::poses::CPosePDF::Ptr SegmentAlignment::AlignPDF(
   const auto t0 = std::chrono::steady_clock::now();
   options.validate();
   const Scan s1 = scanOf(m1, "m1"), s2 = scanOf(m2, "m2");
-  ScanSegmenter segmenter(options.segmentation);
-  Segmentation g1, g2;
-  segmenter.process(s1, g1);
-  segmenter.process(s2, g2);
-  const SegmentMatcher matcher(options.matcher);
-  const Pose2D prior = toPose2D(initial.mean);
-  const MatchResult r = matcher.match(g1.level(options.level).segments, g2.level(options.level).segments, prior);
-  auto out = std::make_shared<mrpt::poses::CPosePDFGaussian>(toMrpt(r.T_prev_curr), toMrpt(r.covariance));
+  // The odometry's own step on a pair of scans: m1 is the keyframe, m2 the current scan,
+  // the initial estimate the prior. Whatever lidarseg-odometry does to one scan (segment
+  // match, point refinement, recovery search, degenerate handling) is done here.
+  SegmentOdometry odometry(odometryParams(options));
+  odometry.process(s1);
+  const std::size_t segments1 = odometry.lastSegmentation().level(options.level).segments.size();
+  const OdometryStep step = odometry.process(s2, toPose2D(initial.mean));
+  auto out = std::make_shared<mrpt::poses::CPosePDFGaussian>(toMrpt(step.increment), toMrpt(step.increment_covariance));
   if (outInfo) {
     auto& base = outInfo.value().get();
     base.executionTime = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (auto* info = dynamic_cast<TReturnInfo*>(&base)) {
-      info->status = r.status;
-      info->matches = r.matches.size();
-      info->segments_m1 = g1.level(options.level).segments.size();
-      info->segments_m2 = g2.level(options.level).segments.size();
-      info->nIterations = static_cast<unsigned int>(r.iterations);
-      // Couples are one-to-one: no point of m2 is counted twice.
-      const auto& segments2 = g2.level(options.level).segments;
-      std::size_t matched_points = 0;
-      for (const auto& couple : r.matches) {
-        matched_points += segments2[static_cast<std::size_t>(couple.second)].num_points;
-      }
-      const std::size_t points2 = s2.ranges_m.size();
-      info->goodness = points2 == 0 ? 0.0
-                                    : std::min(1.0, static_cast<double>(matched_points) /
-                                                        static_cast<double>(points2));
+      fillInfo(step, odometry.lastSegmentation().level(step.matched_level).segments, s2.ranges_m.size(), *info);
+      info->segments_m1 = segments1;
     }
   }
   return out;

@@ -9,8 +9,11 @@
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/slam/CMetricMapsAlignmentAlgorithm.h>
 
+#include "lidarseg/core/CorrelativeSearch.h"
+#include "lidarseg/core/ScanRefiner.h"
 #include "lidarseg/core/ScanSegmenter.h"
 #include "lidarseg/core/SegmentMatcher.h"
+#include "lidarseg/core/SegmentOdometry.h"
 
 namespace lidarseg::mrpt_adapter {
 
@@ -24,9 +27,12 @@ namespace lidarseg::mrpt_adapter {
 /// least squares (large along an unconstrained direction: see TReturnInfo::status).
 ///
 /// Used like CICP: options from a config section (TConfigParams), results of a call in a
-/// TReturnInfo with CICP's `nIterations` and `goodness`. Unlike CICP it does not refine
-/// with the points: its estimate rests on the matched segments only. O(beams) for the
-/// segmentation plus the matcher's O(segments x band) per iteration.
+/// TReturnInfo with CICP's `nIterations` and `goodness`. It runs lidarseg-odometry's own
+/// step on the pair (SegmentOdometry with m1 as the keyframe and the initial estimate as
+/// the prior): the segment match (paper §III.A), then the point-to-segment refinement and,
+/// when both fail, the correlative recovery search, so an MRPT program gets what the
+/// tools compute. O(beams) for the segmentation and the refinement plus the matcher's
+/// O(segments x band) per iteration.
 class SegmentAlignment : public mrpt::slam::CMetricMapsAlignmentAlgorithm {
  public:
   /// Parameters, loadable like CICP::TConfigParams: one section holding the
@@ -37,8 +43,17 @@ class SegmentAlignment : public mrpt::slam::CMetricMapsAlignmentAlgorithm {
     SegmentationParams segmentation;
     /// How the two maps' segments are matched (the [matcher] keys).
     MatcherParams matcher;
-    /// Cascade level whose segments are matched (key `level`, 0..3).
+    /// Cascade level whose segments are matched (key `level`, by name or 0..3).
     CascadeLevel level = CascadeLevel::kFusedAgain;
+    /// Point-to-segment refinement after the match (the [refiner] keys, prefixed
+    /// `refine_`: `refine_enabled = 0` keeps the segment-only estimate).
+    RefinerParams refiner;
+    /// Correlative search when the match and the refinement fail (the [search] keys,
+    /// prefixed `search_`); only with `recovery`.
+    SearchParams search;
+    /// Search for the pose when the match and the refinement from the prior fail (key
+    /// `recovery`, 0 or 1).
+    bool recovery = true;
 
     /// Reads the keys present in `section`; a key that is absent keeps its current value.
     /// A missing section is not an error: every field keeps its value (the defaults, for
@@ -66,23 +81,26 @@ class SegmentAlignment : public mrpt::slam::CMetricMapsAlignmentAlgorithm {
     /// direction, where the initial estimate is kept) or kTooFewMatches (the initial
     /// estimate is returned unchanged).
     MatchStatus status = MatchStatus::kTooFewMatches;
+    /// How the whole step ended, as lidarseg-odometry reports each scan: kOk, kDegenerate
+    /// (one direction kept from the initial estimate), kRecovered (found by the search) or
+    /// kLost (the initial estimate is returned, with a large covariance).
+    TrackStatus track = TrackStatus::kLost;
     /// Segment couples (m1, m2) the final estimate rests on (0 for kTooFewMatches).
     std::size_t matches = 0;
     /// Segments of m1 at the cascade level used (before MatcherParams::max_segments).
     std::size_t segments_m1 = 0;
     /// Segments of m2 at the cascade level used (before MatcherParams::max_segments).
     std::size_t segments_m2 = 0;
-    /// Association-and-solve rounds of the segment matcher (MatchResult::iterations): a
-    /// round counts when its association found at least two couples to solve from.
-    /// 0 .. matcher.iterations + 1; 0 only with kTooFewMatches. Like CICP's nIterations a
-    /// measure of the work done, but counted in segment re-associations, not in
-    /// point-to-point ICP steps (a few here where CICP takes tens).
+    /// Iterations of the point refinement when it ran, else the association-and-solve
+    /// rounds of the segment matcher (MatchResult::iterations; 0 with kTooFewMatches).
+    /// Like CICP's nIterations a measure of the work done (a few here where CICP takes
+    /// tens).
     unsigned int nIterations = 0;
-    /// Quality of the alignment in [0, 1]: the fraction of m2's points that belong to a
-    /// segment of the final couples (each m2 segment is in at most one couple). 0 for
-    /// kTooFewMatches or an empty m2. CICP's goodness is the analogous fraction of m2's
-    /// points with a point correspondence; this one is lower on the same scans, since
-    /// points on clutter and on unmatched short segments never count.
+    /// Quality of the alignment in [0, 1]. After a refinement: the fraction of m2's points
+    /// (those it used) within reach of m1's lines (RefineResult::inlier_ratio), the
+    /// analogue of CICP's fraction of m2's points with a correspondence. Without one: the
+    /// fraction of m2's points that belong to a segment of the final couples (0 for
+    /// kTooFewMatches or an empty m2).
     double goodness = 0.0;
   };
 
