@@ -2,8 +2,10 @@
 # lidarseg's single entry script. Each command installs what is missing (Debian packages),
 # configures and builds incrementally, then runs.
 #
-#   ./run.sh main    segment the embedded real dataset and the bundled simulated one (made on
-#                    first use, deterministically); print statistics per cascade level
+#   ./run.sh main    lidarseg against MRPT ICP (keyframed and scan to scan) on MRPT's real
+#                    Telecom log, the bundled simulated maze (made on first use) and, when
+#                    ../shared/datasets is there, two real Radish logs: time, speed-up,
+#                    accuracy, lost scans, in one screen (reports in build/main/)
 #   ./run.sh test    build with AddressSanitizer + UBSan and run the whole suite (CTest)
 #   ./run.sh bench   Release build, then the Google Benchmark timings (docs/performance.md)
 #   ./run.sh fuzz [SECONDS]  build the libFuzzer targets with clang (ASan + UBSan) and run each
@@ -20,7 +22,7 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 JOBS="$(nproc 2>/dev/null || echo 2)"
 DEFAULT_RAWLOG="/usr/share/mrpt/datasets/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog"
-PACKAGES=(cmake g++ make pkg-config libmrpt-dev mrpt-common mrpt-apps libeigen3-dev
+PACKAGES=(cmake g++ make pkg-config python3 libmrpt-dev mrpt-common mrpt-apps libeigen3-dev
           libopencv-dev libnanoflann-dev googletest libgtest-dev libbenchmark-dev zlib1g-dev nlohmann-json3-dev
           opencv-doc xvfb xauth xdotool chromium clang libclang-rt-14-dev)
 FUZZ_TARGETS=(fuzz_carmen_log fuzz_rawlog fuzz_sim_inputs fuzz_config fuzz_tables fuzz_scan_pipeline)
@@ -68,16 +70,25 @@ case "$cmd" in
     install_deps
     build_release
     bin="$ROOT/build/release/apps"
-    "$bin/lidarseg-segment" --config "$ROOT/config/default.ini" "$DEFAULT_RAWLOG"
     # The bundled simulated dataset: the paper's maze run, seed 1 (datasets/README.md).
     sim="$ROOT/datasets/sim/maze_lms100_seed1"
     if [ ! -f "$sim.rawlog" ]; then
       log "generating the bundled simulated dataset $sim.rawlog"
       "$bin/lidarseg-simulate" --world "$ROOT/config/worlds/maze.world" \
-        --trajectory "$ROOT/config/worlds/maze.traj" --sensor lms100 --seed 1 --out "$sim"
+        --trajectory "$ROOT/config/worlds/maze.traj" --sensor lms100 --seed 1 --out "$sim" >/dev/null
     fi
-    echo
-    "$bin/lidarseg-segment" --config "$ROOT/config/default.ini" "$sim.rawlog"
+    # MRPT's real Telecom log, the simulated maze with its ground truth and, when
+    # ../shared/datasets is there, two real CARMEN logs against their corrected poses.
+    logs=("--log" "telecom (real, MRPT)=$DEFAULT_RAWLOG,--use-odometry"
+          "--log" "maze (simulated)=$sim.rawlog,--gt,$sim.gt.tum,--use-odometry")
+    radish="$ROOT/../shared/datasets/radish-corrected"
+    for site in aces intel; do
+      if [ -f "$radish/$site-corrected.log.gz" ]; then
+        logs+=("--log" "$site (real, Radish)=$radish/$site-corrected.log.gz,--use-odometry,--log-reference")
+      fi
+    done
+    python3 "$ROOT/tests/benchmarks/compare_with_icp.py" --bin "$bin" --config "$ROOT/config/default.ini" \
+      --out "$ROOT/build/main" "${logs[@]}"
     ;;
   test)
     install_deps
