@@ -41,6 +41,8 @@ struct CommandLine {
   TCLAP::SwitchArg log_reference{"", "log-reference", "evaluate per-scan motion against the log's own poses (CARMEN corrected logs)", cmd};
   TCLAP::ValueArg<std::string> write_rawlog{"", "write-rawlog", "write the input with lidarseg odometry as actions",
                                             false, "", "FILE", cmd};
+  TCLAP::SwitchArg write_landmarks{"", "write-landmarks",
+                                   "with --write-rawlog: add each scan's doors and corners as range-bearing landmarks", cmd};
   TCLAP::ValueArg<std::string> features_out{"", "features-out", "doors and corners of every scan (CSV, robot frame)",
                                             false, "", "FILE.csv", cmd};
   TCLAP::ValueArg<double> scanner_hz{"", "scanner-hz", "scanner rotation frequency for rolling-shutter correction (Hz)",
@@ -88,6 +90,7 @@ std::optional<OdometryOptions> optionsOf(CommandLine& c) {
   o.log_reference = c.log_reference.getValue();
   o.write_rawlog = c.write_rawlog.getValue();
   o.features_out = c.features_out.getValue();
+  o.write_landmarks = c.write_landmarks.getValue();
   o.scanner_rotation_hz = c.scanner_hz.getValue();
   o.scan_stamp = c.scan_stamp.getValue();
   o.max_lost_ratio = c.max_lost.getValue();

@@ -107,6 +107,7 @@ TEST(FeaturesApp, OdometryWritesTheFeaturesAndLandmarksForMrptsSlam) {
   o.progress = false;
   o.features_out = kTmp + "/odometry_features.csv";
   o.write_rawlog = kTmp + "/odometry_landmarks.rawlog";
+  o.write_landmarks = true;
   OdometryApp(o).run();
   // The same detections as lidarseg-features on the same log (same defaults), row for row
   // in count.

@@ -7,6 +7,8 @@
 #include <sstream>
 
 #include <gtest/gtest.h>
+#include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/obs/CRawlog.h>
 #include <nlohmann/json.hpp>
 
 #include "lidarseg/apps/OdometryApp.h"
@@ -140,6 +142,29 @@ TEST(OdometryApp, WrittenRawlogCarriesLidarsegOdometry) {
   const Pose2D end = r.lidarseg.trajectory.back().pose;
   EXPECT_NEAR(last->x(), end.x, 1e-6);
   EXPECT_NEAR(last->y(), end.y, 1e-6);
+  // Compressed like MRPT's own rawlogs (gzip magic), the actions stamped with the TUM
+  // file's strictly increasing stamps, and no landmarks without --write-landmarks.
+  const std::string bytes = slurp(o.write_rawlog);
+  ASSERT_GE(bytes.size(), 2u);
+  EXPECT_EQ(static_cast<unsigned char>(bytes[0]), 0x1f);
+  EXPECT_EQ(static_cast<unsigned char>(bytes[1]), 0x8b);
+  mrpt::obs::CRawlog rawlog;
+  ASSERT_TRUE(rawlog.loadFromRawLogFile(o.write_rawlog));
+  std::size_t actions = 0;
+  for (std::size_t i = 0; i < rawlog.size(); ++i) {
+    if (rawlog.getType(i) == mrpt::obs::CRawlog::etActionCollection) {
+      const auto move = rawlog.getAsAction(i)->getBestMovementEstimation();
+      ASSERT_TRUE(move);
+      EXPECT_NEAR(mrpt::Clock::toDouble(move->timestamp), r.lidarseg.trajectory[actions].stamp_s, 1e-6);
+      ++actions;
+    } else if (rawlog.getType(i) == mrpt::obs::CRawlog::etSensoryFrame) {
+      EXPECT_FALSE(rawlog.getAsObservations(i)->getObservationByClass<mrpt::obs::CObservationBearingRange>());
+    }
+  }
+  EXPECT_EQ(actions, 200u);
+  o.write_landmarks = true;
+  o.write_rawlog.clear();
+  EXPECT_THROW(OdometryApp(o).run(), std::invalid_argument);
 }
 
 TEST(OdometryApp, TruncatedRawlogStopsWithFileAndEntryAndWritesNothing) {

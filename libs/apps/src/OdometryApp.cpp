@@ -61,11 +61,13 @@ namespace {
 // under a temporary name, put in place with the other outputs.
 class RawlogOutput {
  public:
-  RawlogOutput(const std::string& path, OutputSet& outputs) {
+  // gzip level 1, as MRPT's own tools write rawlogs.
+  RawlogOutput(const std::string& path, OutputSet& outputs, bool landmarks) : landmarks_(landmarks) {
     const std::string tmp = outputs.addWritten(path);
-    if (!out_.open(tmp, 0)) throw std::runtime_error("cannot write '" + tmp + "'");
+    if (!out_.open(tmp, 1)) throw std::runtime_error("cannot write '" + tmp + "'");
   }
-  void write(const mrpt_adapter::LaserRecord& record, const mrpt_adapter::LaserOdometryStep& step,
+  // `stamp_s`: the scan's repaired stamp (the TUM files'), strictly increasing.
+  void write(const mrpt_adapter::LaserRecord& record, const mrpt_adapter::LaserOdometryStep& step, double stamp_s,
              const std::vector<Feature>& features) {
     const auto& obs = *record.observation;
     auto archive = mrpt::serialization::archiveFrom(out_);
@@ -77,7 +79,7 @@ class RawlogOutput {
     move.rawOdometryIncrementReading = toMrpt(inc);
     move.estimationMethod = mrpt::obs::CActionRobotMovement2D::emScan2DMatching;
     move.poseChange = mrpt::poses::CPosePDFGaussian::Create(toMrpt(inc), step.increment.cov);
-    move.timestamp = obs.timestamp;
+    move.timestamp = mrpt::Clock::fromDouble(stamp_s);
     actions.insert(move);
     archive << actions;
     mrpt::obs::CSensoryFrame frame;
@@ -86,14 +88,17 @@ class RawlogOutput {
       if (!std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(other)) frame.insert(other);
     }
     frame.insert(record.observation);
-    auto landmarks = mrpt_adapter::makeBearingRangeObservation(features, obs.sensorPose, obs.maxRange, obs.aperture);
-    landmarks->timestamp = obs.timestamp;
-    frame.insert(landmarks);
+    if (landmarks_) {
+      auto landmarks = mrpt_adapter::makeBearingRangeObservation(features, obs.sensorPose, obs.maxRange, obs.aperture);
+      landmarks->timestamp = obs.timestamp;
+      frame.insert(landmarks);
+    }
     archive << frame;
   }
   void close() { out_.close(); }
 
  private:
+  bool landmarks_;
   mrpt::io::CFileGZOutputStream out_;
   Pose2D last_pose_;
 };
@@ -146,6 +151,9 @@ OdometryReport OdometryApp::run() {
 void OdometryApp::claimOutputs(OutputSet& outputs) const {
   const OdometryOptions& o = options_;
   installCleanupOnSignals();
+  if (o.write_landmarks && o.write_rawlog.empty()) {
+    throw std::invalid_argument("--write-landmarks adds landmarks to the rawlog of --write-rawlog, which is not given");
+  }
   refuseOverwritingInput(o.write_rawlog, o.input, "--write-rawlog");
   refuseOverwritingInput(o.features_out, o.input, "--features-out");
   if (!o.out_dir.empty()) outputs.claim((fs::path(o.out_dir) / "summary.json").string());
@@ -171,13 +179,13 @@ OdometryApp::References OdometryApp::readReferences() {
 void OdometryApp::processLog(mrpt_adapter::LaserLogReader& reader, pipeline::OdometryRun& odometry,
                              const pipeline::RunSettings& settings, OutputSet& outputs) {
   const OdometryOptions& o = options_;
-  const bool want_features = !o.features_out.empty() || !o.write_rawlog.empty();
+  const bool want_features = !o.features_out.empty() || o.write_landmarks;
   const FeatureDetector detector(settings.config.features);
   std::vector<Feature> features;
   std::ostringstream features_csv;
   writeFeatureCsvHeader(features_csv);
   std::optional<RawlogOutput> rawlog;
-  if (!o.write_rawlog.empty()) rawlog.emplace(o.write_rawlog, outputs);
+  if (!o.write_rawlog.empty()) rawlog.emplace(o.write_rawlog, outputs, o.write_landmarks);
   Progress progress("lidarseg-odometry", o.progress);
   while (o.max_scans == 0 || odometry.counts().frames < o.max_scans) {
     std::optional<mrpt_adapter::LaserRecord> record;
@@ -199,7 +207,7 @@ void OdometryApp::processLog(mrpt_adapter::LaserLogReader& reader, pipeline::Odo
                             features);
       }
     }
-    if (rawlog) rawlog->write(*record, odometry.lidarseg().lastStep(), features);
+    if (rawlog) rawlog->write(*record, odometry.lidarseg().lastStep(), step.time.output_stamp_s, features);
     progress.update(odometry.counts().frames);
   }
   progress.done(odometry.counts().frames);

@@ -56,9 +56,13 @@ struct OdometryOptions {
   /// Use the poses written in the log (CARMEN laser lines; the corrected poses of
   /// "corrected" logs) as the reference of a per-scan relative-motion evaluation.
   bool log_reference = false;
-  /// Write the input back with lidarseg's odometry as the robot's movement, and the doors
-  /// and corners of each scan as a CObservationBearingRange (landmarks for MRPT's EKF SLAM).
+  /// Write the input back (gzip, as MRPT writes rawlogs) with lidarseg's odometry as the
+  /// robot's movement, stamped with the repaired stamps of the TUM files.
   std::string write_rawlog;
+  /// With write_rawlog: add the doors and corners of each scan as a CObservationBearingRange
+  /// (landmarks for MRPT's EKF SLAM). Off by default: icp-slam and pf-localization want
+  /// the scans only.
+  bool write_landmarks = false;
   /// Doors and corners of every scan (the [features] section of the configuration), robot
   /// frame: `t,type,x,y,theta,width,confidence,scan,var_x,var_y,cov_xy,var_theta,var_width`.
   std::string features_out;
