@@ -426,5 +426,29 @@ TEST(BadOutputs, AnOutputThatIsTheInputIsRefusedAndTheInputKept) {
   EXPECT_EQ(slurp(input), before);
 }
 
+// Outputs named relative to the working folder, in a folder the run creates: the folder is
+// locked once, not locked again under its absolute name once it exists.
+TEST(BadOutputs, RelativeOutputFolderAndRawlogInTheWorkingFolder) {
+  const std::string input = fs::absolute(smallRun() + ".rawlog").string();
+  const fs::path work = fs::path(kTmp) / "relative-outputs";
+  fs::remove_all(work);
+  fs::create_directories(work);
+  const fs::path previous = fs::current_path();
+  fs::current_path(work);
+  OdometryOptions o = optionsFor(input, "");
+  o.out_dir = "odometry";
+  o.write_rawlog = "back.rawlog";
+  std::string error;
+  try {
+    OdometryApp(o).run();
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  fs::current_path(previous);
+  EXPECT_EQ(error, "");
+  EXPECT_TRUE(fs::exists(work / "odometry" / "summary.json"));
+  EXPECT_TRUE(fs::exists(work / "back.rawlog"));
+}
+
 }  // namespace
 }  // namespace lidarseg

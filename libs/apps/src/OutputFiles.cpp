@@ -127,7 +127,9 @@ void refuseOverwritingInput(const std::string& output, const std::string& input,
 void OutputSet::claim(const std::string& path) {
   const std::string folder = folderOf(path);
   std::error_code ec;
-  const std::string key = fs::weakly_canonical(folder, ec).string();
+  // Absolute first: weakly_canonical leaves a relative path relative while no prefix of it
+  // exists, so a folder made between two claims would get a second key and lock itself out.
+  const std::string key = fs::weakly_canonical(fs::absolute(folder, ec), ec).string();
   if (std::find(locked_folders_.begin(), locked_folders_.end(), key) != locked_folders_.end()) return;
   const bool created = !fs::exists(folder, ec);
   fs::create_directories(folder, ec);
