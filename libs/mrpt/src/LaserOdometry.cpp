@@ -63,8 +63,10 @@ LaserOdometryStep LaserOdometry::process(const mrpt::obs::CObservation2DRangeSca
     keyframe_covariance_.setZero();
     pose_covariance_.setZero();
   } else {
-    const Pose2D from_key = compose(compose(S, out.core.match.T_prev_curr), inverse(S));
-    const Eigen::Matrix3d match_cov = conjugateCovariance(S, out.core.match.covariance);
+    // The pose kept from the keyframe (refined, or found by the search) and its covariance,
+    // not the segment match's, which the refinement replaced.
+    const Pose2D from_key = relative(robot_pose, keyframe_pose_);
+    const Eigen::Matrix3d match_cov = conjugateCovariance(S, out.core.increment_covariance);
     Eigen::Matrix3d Jp = Eigen::Matrix3d::Identity(), Ji = Eigen::Matrix3d::Identity();
     const double c = std::cos(keyframe_pose_.yaw), s = std::sin(keyframe_pose_.yaw);
     Jp(0, 2) = -s * from_key.x - c * from_key.y;
