@@ -127,6 +127,39 @@ TEST(CarmenLogReader, RobotLaser1AndTypeSelection) {
   EXPECT_FALSE(reader.next());
 }
 
+// Issue 16, class 5: the first laser line of a log used to decide its type even when it did
+// not parse, and every later line of the real type was then ignored.
+TEST(CarmenLogReader, AMalformedFirstLaserLineDoesNotDecideTheType) {
+  const std::string text = std::string("PARAM robot_front_laser_max 30 host 0\n") +
+                           "ROBOTLASER1 0 -1.5 garbage\n" +                // line 2: malformed
+                           "FLASER 1 2.0 0 0 0 0 0 0 0.5 host 0.5\n" +     // line 3: one beam
+                           flaser(5, 1.0, 0.0, 1.0) + flaser(5, 1.5, 0.1, 1.1) + flaser(5, 2.0, 0.2, 1.2);
+  CarmenLogReader reader(writeText("g.log", text));
+  int good = 0;
+  while (auto l = reader.next()) {
+    EXPECT_EQ(l->type, "FLASER");
+    ++good;
+  }
+  EXPECT_EQ(good, 3);
+  EXPECT_EQ(reader.laserType(), "FLASER");
+  EXPECT_EQ(reader.malformedLines(), 2u);
+  ASSERT_EQ(reader.issues().size(), 2u);
+  EXPECT_NE(reader.issues()[0].find("g.log:2: ROBOTLASER1"), std::string::npos) << reader.issues()[0];
+  EXPECT_NE(reader.issues()[1].find("g.log:3: FLASER: 1 beam(s)"), std::string::npos) << reader.issues()[1];
+}
+
+TEST(CarmenLogReader, AnUnknownLaserTypeIsRefusedAtOnce) {
+  const std::string path = writeText("h.log", flaser(5, 1.0, 0.0, 1.0));
+  try {
+    CarmenLogReader reader(path, {"NOPE", 50.0});
+    FAIL() << "laser type NOPE accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'" + path + "': laser type 'NOPE' is not one of FLASER, RLASER, ROBOTLASER1"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(CarmenLogReader, CorruptGzipIsAnErrorNamingTheFile) {
   std::string text;
   for (int k = 0; k < 2000; ++k) text += flaser(50, 1.0 + k * 1e-3, k, k);

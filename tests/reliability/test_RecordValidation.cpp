@@ -1,5 +1,6 @@
-// Issue 16, class 2 and 3 at the reader: every numeric field of a record is checked; a bad
-// record is skipped with its place, nothing non-finite reaches an output, sizes are capped.
+// Issue 16, class 2, 3 and 5 at the reader: every numeric field of a record is checked; a bad
+// record is skipped with its place, nothing non-finite reaches an output, sizes are capped;
+// a log's laser is decided by what parsed.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -240,6 +241,37 @@ TEST(RecordValidation, ACarmenLogFromAPipeLosesNothing) {
   }
   writer.join();
   EXPECT_EQ(n, 200u);
+}
+
+// Issue 16, class 5: a malformed first laser line decided a CARMEN log's laser type, and the
+// whole log was then "no usable laser scan".
+TEST(InputPlumbing, AMalformedFirstCarmenLaserLineIsSkippedWithItsLineAndTheLogRead) {
+  fs::create_directories(kTmp);
+  const std::string path = kTmp + "/first_bad.log";
+  {
+    std::ofstream out(path);
+    out << "# a log whose first laser line was cut\nRLASER 181 1.0 2.0\n";
+    for (int k = 0; k < 20; ++k) {
+      out << "FLASER 181";
+      for (int i = 0; i < 181; ++i) out << " " << roomRange(0.02 * k, -kPi / 2 + kPi * i / 180.0);
+      out << " " << 0.02 * k << " 0 0 " << 0.02 * k << " 0 0 " << 10 + 0.1 * k << " host " << 10 + 0.1 * k << "\n";
+    }
+  }
+  mrpt_adapter::LaserLogReader reader(path);
+  std::size_t n = 0;
+  while (reader.next()) ++n;
+  EXPECT_EQ(n, 20u);
+  EXPECT_EQ(reader.sensor(), "FLASER");
+  EXPECT_EQ(reader.skipped(), 1u);
+  ASSERT_EQ(reader.issues().size(), 1u);
+  EXPECT_NE(reader.issues()[0].find(path + ":2: RLASER"), std::string::npos) << reader.issues()[0];
+
+  const apps::OdometryReport report = runOn(path, false);
+  EXPECT_EQ(report.frames, 20u);
+  EXPECT_EQ(report.sensor, "FLASER");
+  EXPECT_EQ(report.skipped_count, 1u);
+
+  EXPECT_THROW(mrpt_adapter::LaserLogReader(path, "NOPE"), std::invalid_argument);
 }
 
 }  // namespace

@@ -70,8 +70,17 @@ const std::set<std::string>& ignoredTypes() {
 
 }  // namespace
 
+bool isLaserType(const std::string& type) {
+  return type == "FLASER" || type == "RLASER" || type == "ROBOTLASER1";
+}
+
 CarmenLogReader::CarmenLogReader(const std::string& path, CarmenReaderOptions options)
-    : reader_(path), options_(std::move(options)) {}
+    : reader_(path), options_(std::move(options)) {
+  if (!options_.laser_type.empty() && !isLaserType(options_.laser_type)) {
+    throw std::invalid_argument("CARMEN log '" + path + "': laser type '" + options_.laser_type +
+                                "' is not one of FLASER, RLASER, ROBOTLASER1");
+  }
+}
 
 void CarmenLogReader::report(const std::string& message) {
   ++malformed_;
@@ -144,6 +153,14 @@ bool CarmenLogReader::parseLaser(const std::string& type, const std::vector<std:
     const double offset = paramDouble("robot_" + side + "laser_offset", 0.0);
     out.laser_on_robot = front ? Pose2D{offset, 0.0, 0.0} : Pose2D{-offset, 0.0, kPi};
   }
+  // A line no scan can be made of is malformed too: it must not decide the laser type.
+  if (out.ranges_m.size() < 2) {
+    throw std::invalid_argument(std::to_string(out.ranges_m.size()) + " beam(s) (need 2 or more)");
+  }
+  if (!std::isfinite(out.angular_resolution_rad) || out.angular_resolution_rad == 0.0) {
+    throw std::invalid_argument("angular resolution is 0");
+  }
+  if (!(out.max_range_m > 0.0)) throw std::invalid_argument("maximum range is not > 0");
   for (double& r : out.ranges_m) {
     if (isSickErrorCode(r)) r = std::numeric_limits<double>::infinity();
   }
@@ -169,9 +186,8 @@ std::optional<CarmenLaser> CarmenLogReader::next() {
       }
       continue;
     }
-    if (type == "FLASER" || type == "RLASER" || type == "ROBOTLASER1") {
-      if (options_.laser_type.empty()) options_.laser_type = type;
-      if (type != options_.laser_type) continue;
+    if (isLaserType(type)) {
+      if (!options_.laser_type.empty() && type != options_.laser_type) continue;
       CarmenLaser laser;
       try {
         parseLaser(type, f, laser);
@@ -179,6 +195,8 @@ std::optional<CarmenLaser> CarmenLogReader::next() {
         report(type + ": " + e.what() + " (line skipped)");
         continue;
       }
+      // The first line that parsed decides the type, never a malformed one.
+      if (options_.laser_type.empty()) options_.laser_type = type;
       return laser;
     }
     if (ignoredTypes().count(type) == 0) {

@@ -35,11 +35,15 @@ struct CarmenLaser {
 
 /// Reading options.
 struct CarmenReaderOptions {
-  /// Laser line type to return; empty = the type of the first laser line met.
+  /// Laser line type to return (FLASER, RLASER or ROBOTLASER1); empty = the type of the
+  /// first laser line that parses (a malformed line never decides it).
   std::string laser_type;
   /// Maximum range when no PARAM line gives one (m).
   double default_max_range_m = 50.0;
 };
+
+/// Whether `type` names a CARMEN laser line this reader parses (FLASER, RLASER, ROBOTLASER1).
+bool isLaserType(const std::string& type);
 
 /// Streaming reader of CARMEN logs: `FLASER n r1..rn x y theta odom_x odom_y odom_theta
 /// ipc_ts host logger_ts`, `RLASER` (same), `ROBOTLASER1` (CARMEN 0.7 layout), `ODOM x y
@@ -53,12 +57,13 @@ struct CarmenReaderOptions {
 /// codes (>= 81.83 m in cm mode, 32.763..32.767 m in mm mode) are "no return" too.
 ///
 /// A malformed line (too few fields, a field that is not a number, a beam count that does
-/// not match) is skipped and reported in issues() with its line; unknown line types are
-/// skipped and counted. Known non-laser lines (NEFF, SYNC, TRUEPOS, GPS..., RAWLASER...)
+/// not match, fewer than 2 beams, a zero angular resolution or maximum range) is skipped
+/// and reported in issues() with its line; unknown line types are skipped and counted. Known non-laser lines (NEFF, SYNC, TRUEPOS, GPS..., RAWLASER...)
 /// are ignored.
 class CarmenLogReader {
  public:
-  /// @throws std::runtime_error naming the file when it cannot be opened.
+  /// @throws std::runtime_error naming the file when it cannot be opened;
+  /// std::invalid_argument when options.laser_type is not a laser line type.
   explicit CarmenLogReader(const std::string& path, CarmenReaderOptions options = {});
 
   /// The next laser line of the selected type, or std::nullopt at the end of the file.

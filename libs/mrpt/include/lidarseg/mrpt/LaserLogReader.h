@@ -48,8 +48,9 @@ class LaserLogReader {
   /// Opens `path`: a rawlog when the name ends in .rawlog (or .rawlog.gz), CARMEN when it
   /// ends in .clf, .log or .log.gz / .clf.gz; otherwise the first bytes decide (text is
   /// CARMEN). `sensor`: rawlog sensor label or CARMEN line type (FLASER, RLASER,
-  /// ROBOTLASER1); empty = the first laser met.
-  /// @throws std::runtime_error naming the file when it cannot be opened.
+  /// ROBOTLASER1); empty = the first laser scan met that parses.
+  /// @throws std::runtime_error naming the file when it cannot be opened;
+  /// std::invalid_argument naming the file when `sensor` is no CARMEN laser type.
   explicit LaserLogReader(const std::string& path, const std::string& sensor = {});
   ~LaserLogReader();
 
