@@ -62,11 +62,21 @@ TEST(RawlogScanReader, ReadsTheSensoryFrameLayoutOfTheIntelLog) {
   EXPECT_GT(reader.entriesRead(), scans);  // actions and sensory frames alternate
 }
 
-TEST(RawlogScanReader, UnknownLabelYieldsNothing) {
+// Decision 49: a label no scan has is an error at the end, naming the file and the labels.
+TEST(RawlogScanReader, UnknownLabelIsAnErrorListingTheLogsLabels) {
   if (!fs::exists(kTelecom)) GTEST_SKIP() << "missing " << kTelecom;
   RawlogScanReader reader(kTelecom, "NO_SUCH_LASER");
+  try {
+    reader.next();
+    FAIL() << "an unknown label read without error";
+  } catch (const std::runtime_error& e) {
+    ASSERT_EQ(reader.labelsSeen().size(), 1u);
+    EXPECT_NE(std::string(e.what()).find("rawlog '" + kTelecom + "': no laser scan labelled 'NO_SUCH_LASER' (its laser "
+                                         "labels: '" + reader.labelsSeen()[0] + "')"),
+              std::string::npos)
+        << e.what();
+  }
   EXPECT_FALSE(reader.next().has_value());
-  EXPECT_EQ(reader.labelsSeen().size(), 1u);
 }
 
 TEST(RawlogScanReader, TruncatedFileKeepsEarlierScansThenNamesFileAndEntry) {

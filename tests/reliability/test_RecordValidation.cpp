@@ -1,6 +1,6 @@
 // Issue 16, class 2, 3 and 5 at the reader: every numeric field of a record is checked; a bad
 // record is skipped with its place, nothing non-finite reaches an output, sizes are capped;
-// a log's laser is decided by what parsed.
+// a log's laser is decided by what parsed, and a label it lacks fails with bounded memory.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -22,6 +22,7 @@
 #include "lidarseg/core/Angles.h"
 #include "lidarseg/logs/LineReader.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
+#include "lidarseg/mrpt/RawlogScanReader.h"
 
 namespace lidarseg {
 namespace {
@@ -241,6 +242,74 @@ TEST(RecordValidation, ACarmenLogFromAPipeLosesNothing) {
   }
   writer.join();
   EXPECT_EQ(n, 200u);
+}
+
+// A rawlog in the observations layout: `others` scans of the lasers "LMS" and "SICK" in
+// turn, then one scan of "LAST" (a 10-beam scan each).
+std::string writeManyLabels(const std::string& name, std::size_t others) {
+  fs::create_directories(kTmp);
+  const std::string path = kTmp + "/" + name + ".rawlog";
+  mrpt::io::CFileGZOutputStream out(path);
+  auto archive = mrpt::serialization::archiveFrom(out);
+  for (std::size_t k = 0; k <= others; ++k) {
+    ScanSpec sp;
+    sp.beams = 10;
+    auto scan = scanAt(sp, 100.0 + 0.01 * static_cast<double>(k));
+    scan->sensorLabel = k == others ? "LAST" : (k % 2 == 0 ? "LMS" : "SICK");
+    archive << *scan;
+  }
+  return path;
+}
+
+// Issue 16, class 5: `-l NOPE` kept every observation of the log in memory before failing.
+// The reader keeps at most kMaxCompanions of them, and the error lists the labels the log has.
+TEST(InputPlumbing, ALabelNoScanHasFailsListingTheLabelsWithBoundedMemory) {
+  constexpr std::size_t kOthers = 2500;
+  const std::string path = writeManyLabels("labels", kOthers);
+  mrpt_adapter::RawlogScanReader reader(path, "NOPE");
+  try {
+    while (reader.next()) {
+    }
+    FAIL() << "a label no scan has ended without an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("rawlog '" + path + "': no laser scan labelled 'NOPE' (its laser labels: "
+                                         "'LMS', 'SICK', 'LAST')"),
+              std::string::npos)
+        << e.what();
+  }
+  // Everything read was an unmatched observation; all but the latest (at most twice the
+  // cap while reading) were let go.
+  EXPECT_GE(reader.droppedCompanions() + 2 * mrpt_adapter::RawlogScanReader::kMaxCompanions, kOthers + 1);
+  EXPECT_FALSE(reader.next());  // the error is given once
+
+  // Through the tools' reader, the same message.
+  try {
+    mrpt_adapter::LaserLogReader tools_reader(path, "NOPE");
+    while (tools_reader.next()) {
+    }
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("no laser scan labelled 'NOPE'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(InputPlumbing, ALaserRarerThanTheOtherSensorsKeepsOnlyTheLatestCompanions) {
+  constexpr std::size_t kOthers = 2500;
+  mrpt_adapter::LaserLogReader reader(writeManyLabels("rare", kOthers), "LAST");
+  const auto r = reader.next();
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->companions.size(), mrpt_adapter::RawlogScanReader::kMaxCompanions);
+  // The latest are kept: the last companion is the scan just before.
+  const auto last = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(r->companions.back());
+  ASSERT_TRUE(last);
+  EXPECT_NEAR(mrpt::Clock::toDouble(last->timestamp), 100.0 + 0.01 * (kOthers - 1), 1e-6);
+  EXPECT_FALSE(reader.next());
+  std::string warnings;
+  for (const auto& w : reader.warnings()) warnings += w + "\n";
+  EXPECT_NE(warnings.find(std::to_string(kOthers - mrpt_adapter::RawlogScanReader::kMaxCompanions) +
+                          " observations not kept"),
+            std::string::npos)
+      << warnings;
 }
 
 // Issue 16, class 5: a malformed first laser line decided a CARMEN log's laser type, and the

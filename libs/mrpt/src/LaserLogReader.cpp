@@ -108,6 +108,11 @@ std::vector<std::string> LaserLogReader::warnings() const {
     if (rawlog_->droppedOdometryCount() > rawlog_->droppedOdometry().size()) {
       out.push_back(path_ + ": " + std::to_string(rawlog_->droppedOdometryCount()) + " non-finite odometry values in all");
     }
+    if (rawlog_->droppedCompanions() > 0) {
+      out.push_back(path_ + ": " + std::to_string(rawlog_->droppedCompanions()) +
+                    " observations not kept: more than " + std::to_string(RawlogScanReader::kMaxCompanions) +
+                    " came between two scans of '" + rawlog_->sensorLabel() + "' (only the latest are kept)");
+    }
   }
   return out;
 }

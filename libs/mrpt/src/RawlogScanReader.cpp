@@ -44,7 +44,7 @@ class RawlogScanReader::CountingStream : public mrpt::io::CStream {
 };
 
 RawlogScanReader::RawlogScanReader(const std::string& path, std::string sensor_label)
-    : path_(path), label_(std::move(sensor_label)) {
+    : path_(path), label_(std::move(sensor_label)), label_requested_(!label_.empty()) {
   file_ = std::make_unique<mrpt::io::CFileGZInputStream>();
   bool opened = false;
   try {
@@ -102,12 +102,34 @@ void RawlogScanReader::dropOdometry(const char* what) {
 
 bool RawlogScanReader::accept(const mrpt::obs::CObservation2DRangeScan::Ptr& scan) {
   if (!scan) return false;
-  if (std::find(labels_seen_.begin(), labels_seen_.end(), scan->sensorLabel) ==
-      labels_seen_.end()) {
-    labels_seen_.push_back(scan->sensorLabel);
+  if (std::find(labels_seen_.begin(), labels_seen_.end(), scan->sensorLabel) == labels_seen_.end()) {
+    if (labels_seen_.size() < kMaxLabelsListed) {
+      labels_seen_.push_back(scan->sensorLabel);
+    } else {
+      more_labels_ = true;
+    }
   }
   if (label_.empty()) label_ = scan->sensorLabel;
   return scan->sensorLabel == label_;
+}
+
+void RawlogScanReader::keepCompanion(const mrpt::obs::CObservation::Ptr& obs) {
+  companions_.push_back(obs);
+  // Trimmed in batches (amortised O(1)) to the latest kMaxCompanions: a label no scan has,
+  // or a laser far rarer than the other sensors, must not keep the whole log in memory.
+  if (companions_.size() >= 2 * kMaxCompanions) {
+    const std::size_t excess = companions_.size() - kMaxCompanions;
+    companions_.erase(companions_.begin(), companions_.begin() + static_cast<std::ptrdiff_t>(excess));
+    dropped_companions_ += excess;
+  }
+}
+
+void RawlogScanReader::throwLabelAbsent() const {
+  std::string labels;
+  for (const std::string& l : labels_seen_) labels += (labels.empty() ? "'" : ", '") + l + "'";
+  if (more_labels_) labels += " and more";
+  throw std::runtime_error("rawlog '" + path_ + "': no laser scan labelled '" + label_ + "' (its laser labels: " +
+                           labels + ")");
 }
 
 void RawlogScanReader::take(const mrpt::obs::CObservation::Ptr& obs) {
@@ -123,13 +145,18 @@ void RawlogScanReader::take(const mrpt::obs::CObservation::Ptr& obs) {
   }
   auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs);
   if (!accept(scan)) {
-    companions_.push_back(obs);
+    keepCompanion(obs);
     return;
   }
   RawlogScan out;
   out.entry_index = entries_read_ - 1;
   out.observation = scan;
   out.odometry = odometry_;
+  if (companions_.size() > kMaxCompanions) {
+    const std::size_t excess = companions_.size() - kMaxCompanions;
+    companions_.erase(companions_.begin(), companions_.begin() + static_cast<std::ptrdiff_t>(excess));
+    dropped_companions_ += excess;
+  }
   out.companions = std::move(companions_);
   companions_.clear();
   pending_.push_back(std::move(out));
@@ -154,6 +181,7 @@ std::optional<RawlogScan> RawlogScanReader::next() {
       if (counter_->bytes() == before) {  // nothing left: the log ends between entries
         at_end_ = true;
         checkCompressedEnd();
+        if (label_requested_ && scans_returned_ == 0 && !labels_seen_.empty()) throwLabelAbsent();
         return std::nullopt;
       }
       std::string what = e.what();

@@ -55,7 +55,8 @@ class LaserLogReader {
   ~LaserLogReader();
 
   /// The next scan, or std::nullopt at the end.
-  /// @throws std::runtime_error naming the file and entry/line for a truncated or corrupt file.
+  /// @throws std::runtime_error naming the file and entry/line for a truncated or corrupt file,
+  /// and at the end of a rawlog without a scan of the requested label, listing its labels.
   std::optional<LaserRecord> next();
 
   LogFormat format() const { return format_; }

@@ -39,9 +39,20 @@ struct RawlogScan {
 /// without loading the whole file.
 ///
 /// When the log holds several lasers, only those with the requested sensor label are
-/// returned; with no label requested, the label of the first scan is used.
+/// returned; with no label requested, the label of the first scan is used. A requested
+/// label no scan has is an error at the end of the file, listing the labels the log has.
+///
+/// Memory stays bounded whatever the layout: at most kMaxCompanions observations are kept
+/// between two returned scans (the latest; the others are counted in droppedCompanions()),
+/// and at most kMaxLabelsListed distinct labels are remembered.
 class RawlogScanReader {
  public:
+  /// Observations kept as one scan's companions (an image or odometry reading is the one
+  /// just before the scan; a thousand covers a 1 kHz sensor beside a 1 Hz laser).
+  static constexpr std::size_t kMaxCompanions = 1000;
+  /// Distinct laser labels remembered for labelsSeen() and the messages.
+  static constexpr std::size_t kMaxLabelsListed = 100;
+
   /// Opens the file.
   /// @throws std::runtime_error naming the file when it cannot be opened.
   explicit RawlogScanReader(const std::string& path, std::string sensor_label = {});
@@ -51,14 +62,17 @@ class RawlogScanReader {
 
   /// The next scan, or std::nullopt at the end of the file.
   /// @throws std::runtime_error naming the file and entry index when the file is truncated
-  /// or holds data that is not a valid MRPT object.
+  /// or holds data that is not a valid MRPT object; naming the file and the labels it has
+  /// when it ends without a scan of the requested label.
   std::optional<RawlogScan> next();
 
   const std::string& path() const { return path_; }
   /// The label scans are filtered by (empty until the first scan when none was given).
   const std::string& sensorLabel() const { return label_; }
-  /// Laser labels seen so far, including skipped ones.
+  /// Laser labels seen so far, including skipped ones (the first kMaxLabelsListed).
   const std::vector<std::string>& labelsSeen() const { return labels_seen_; }
+  /// Observations dropped because more than kMaxCompanions came between two scans.
+  std::size_t droppedCompanions() const { return dropped_companions_; }
   /// Number of top-level rawlog entries read so far.
   std::size_t entriesRead() const { return entries_read_; }
   /// Odometry readings or movements dropped because a value was not finite ("entry N: ..."),
@@ -83,6 +97,11 @@ class RawlogScanReader {
   std::optional<mrpt::poses::CPose2D> odometry_;
   std::vector<mrpt::obs::CObservation::Ptr> companions_;
   std::vector<std::string> labels_seen_;
+  bool more_labels_ = false;  // distinct labels beyond kMaxLabelsListed were seen
+  bool label_requested_ = false;
+  std::size_t dropped_companions_ = 0;
+  void keepCompanion(const mrpt::obs::CObservation::Ptr& obs);
+  [[noreturn]] void throwLabelAbsent() const;
   std::size_t entries_read_ = 0;
   std::size_t scans_returned_ = 0;
   std::vector<std::string> dropped_odometry_;
