@@ -20,19 +20,27 @@ namespace fs = std::filesystem;
 const std::string kWorlds = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/";
 const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/features";
 
+// This test's own folder: CTest runs the tests of a file as parallel processes, and every
+// tool locks its output folder for its whole run (issue 16).
+std::string testDir() {
+  const std::string dir = kTmp + "/" + ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
 // 12 m of the hospital's bottom corridor (doors of every kind on both sides), simulated
 // once per test process under the test's own name.
 const std::string& simulatedPrefix() {
   static const std::string prefix = [] {
     const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
     fs::create_directories(kTmp);
-    const std::string traj = kTmp + "/corridor.traj";
+    const std::string traj = testDir() + "/corridor.traj";
     std::ofstream(traj) << "speed 1.0\nturn_radius 0.6\nwaypoint 5 0\nwaypoint 17 0\n";
     SimulateOptions o;
     o.world_path = kWorlds + "hospital.world";
     o.trajectory_path = traj;
     o.seed = 5;
-    o.out_prefix = kTmp + "/corridor_" + name;
+    o.out_prefix = testDir() + "/corridor_" + name;
     o.camera_every_scans = 0;
     SimulateApp(o).run();
     return o.out_prefix;
@@ -45,10 +53,10 @@ TEST(FeaturesApp, FindsTheHospitalsDoorsAndCornersAndWritesTheFiles) {
   FeaturesOptions o;
   o.input = prefix + ".rawlog";
   o.truth_path = prefix + ".features.csv";
-  o.out_csv = kTmp + "/found.csv";
-  o.report_dir = kTmp + "/report";
+  o.out_csv = testDir() + "/found.csv";
+  o.report_dir = testDir() + "/report";
   o.figure_scan = 100;
-  o.figure_path = kTmp + "/scan100.png";
+  o.figure_path = testDir() + "/scan100.png";
   const FeaturesReport r = FeaturesApp(o).run();
   EXPECT_GT(r.scans, 500u);
   ASSERT_TRUE(r.evaluation.has_value());
@@ -78,10 +86,10 @@ TEST(FeaturesApp, FindsTheHospitalsDoorsAndCornersAndWritesTheFiles) {
 TEST(FeaturesApp, BadInputsAreNamed) {
   const std::string prefix = simulatedPrefix();
   FeaturesOptions o;
-  o.input = kTmp + "/no-such.rawlog";
+  o.input = testDir() + "/no-such.rawlog";
   EXPECT_THROW(FeaturesApp(o).run(), std::exception);
   o.input = prefix + ".rawlog";
-  o.truth_path = kTmp + "/bad_truth.csv";
+  o.truth_path = testDir() + "/bad_truth.csv";
   std::ofstream(o.truth_path) << "scan,t,type,x,y,theta,width,id\n0,1,door,1,2,0,1,0\n";
   try {
     FeaturesApp(o).run();
@@ -90,7 +98,7 @@ TEST(FeaturesApp, BadInputsAreNamed) {
     EXPECT_NE(std::string(e.what()).find("bad_truth.csv:2"), std::string::npos) << e.what();
   }
   o.truth_path.clear();
-  o.config_path = kTmp + "/bad.ini";
+  o.config_path = testDir() + "/bad.ini";
   std::ofstream(o.config_path) << "[features]\ndoor_min_width_m = -1\n";
   try {
     FeaturesApp(o).run();
@@ -105,8 +113,8 @@ TEST(FeaturesApp, OdometryWritesTheFeaturesAndLandmarksForMrptsSlam) {
   OdometryOptions o;
   o.input = prefix + ".rawlog";
   o.progress = false;
-  o.features_out = kTmp + "/odometry_features.csv";
-  o.write_rawlog = kTmp + "/odometry_landmarks.rawlog";
+  o.features_out = testDir() + "/odometry_features.csv";
+  o.write_rawlog = testDir() + "/odometry_landmarks.rawlog";
   o.write_landmarks = true;
   OdometryApp(o).run();
   // The same detections as lidarseg-features on the same log (same defaults), row for row

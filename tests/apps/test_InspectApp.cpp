@@ -16,19 +16,27 @@ namespace {
 namespace fs = std::filesystem;
 const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/inspect";
 
+// This test's own folder: CTest runs the tests of a file as parallel processes, and every
+// tool locks its output folder for its whole run (issue 16).
+std::string testDir() {
+  const std::string dir = kTmp + "/" + ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
 // 10 m of the hospital's corridor with a camera image every 10 scans, simulated once per
 // test process under the test's own name (CTest runs the tests of this file in parallel).
 const std::string& simulatedLog() {
   static const std::string log = [] {
     const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
     fs::create_directories(kTmp);
-    const std::string traj = kTmp + "/corridor_" + name + ".traj";
+    const std::string traj = testDir() + "/corridor_" + name + ".traj";
     std::ofstream(traj) << "speed 1.0\nturn_radius 0.6\nwaypoint 5 0\nwaypoint 15 0\n";
     SimulateOptions o;
     o.world_path = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/hospital.world";
     o.trajectory_path = traj;
     o.seed = 4;
-    o.out_prefix = kTmp + "/corridor_" + name;
+    o.out_prefix = testDir() + "/corridor_" + name;
     o.camera_every_scans = 10;
     SimulateApp(o).run();
     return o.out_prefix + ".rawlog";
@@ -108,7 +116,7 @@ TEST(InspectSession, ReadsOnDemandStepsBothWaysAndReprocessesOnNewParameters) {
   EXPECT_DOUBLE_EQ(s.params().odometry.segmentation.wall_danielsson.threshold_m,
                    p.odometry.segmentation.wall_danielsson.threshold_m);
   // The tuned set saved as INI is what the other apps read.
-  const std::string ini = kTmp + "/tuned.ini";
+  const std::string ini = testDir() + "/tuned.ini";
   s.params().saveIni(ini);
   EXPECT_DOUBLE_EQ(inspect::InspectorParams::fromFile(ini).odometry.segmentation.wall_danielsson.threshold_m,
                    p.odometry.segmentation.wall_danielsson.threshold_m);
@@ -118,7 +126,7 @@ TEST(InspectApp, RendersPngAndSvgWithTheLayersAsked) {
   InspectOptions o;
   o.input = simulatedLog();
   o.frame = 150;
-  o.render_out = kTmp + "/frame150.png";
+  o.render_out = testDir() + "/frame150.png";
   ASSERT_EQ(InspectApp(o).run(), 0);
   const cv::Mat all = cv::imread(o.render_out);
   ASSERT_FALSE(all.empty());
@@ -127,12 +135,12 @@ TEST(InspectApp, RendersPngAndSvgWithTheLayersAsked) {
   const std::size_t red = pixelsOfColour(all, {20, 20, 220}, 10);
   EXPECT_GT(red, 50u);
   o.layers = "raw";
-  o.render_out = kTmp + "/frame150_raw.png";
+  o.render_out = testDir() + "/frame150_raw.png";
   ASSERT_EQ(InspectApp(o).run(), 0);
   EXPECT_EQ(pixelsOfColour(cv::imread(o.render_out), {20, 20, 220}, 10), 0u);
 
   o.layers = "all";
-  o.render_out = kTmp + "/frame150.svg";
+  o.render_out = testDir() + "/frame150.svg";
   ASSERT_EQ(InspectApp(o).run(), 0);
   std::ifstream in(o.render_out);
   const std::string svg((std::istreambuf_iterator<char>(in)), {});
@@ -144,7 +152,7 @@ TEST(InspectApp, RendersPngAndSvgWithTheLayersAsked) {
 
   InspectOptions bad;
   bad.input = simulatedLog();
-  bad.render_out = kTmp + "/x.jpg";
+  bad.render_out = testDir() + "/x.jpg";
   EXPECT_THROW(InspectApp{bad}, std::invalid_argument);
   bad.render_out.clear();
   bad.layers = "raw,segments";
@@ -156,7 +164,7 @@ TEST(InspectApp, RendersPngAndSvgWithTheLayersAsked) {
   }
   o.layers.clear();
   o.frame = 1000000;
-  o.render_out = kTmp + "/past.png";
+  o.render_out = testDir() + "/past.png";
   EXPECT_THROW(InspectApp(o).run(), std::out_of_range);
   EXPECT_FALSE(fs::exists(o.render_out));
 }
@@ -164,7 +172,7 @@ TEST(InspectApp, RendersPngAndSvgWithTheLayersAsked) {
 TEST(InspectApp, ReportHasTheTablePlotsAndWorstFramesFirst) {
   InspectOptions o;
   o.input = simulatedLog();
-  o.report_dir = kTmp + "/report";
+  o.report_dir = testDir() + "/report";
   o.gallery = 5;
   InspectApp app(o);
   inspect::Session s(o.input, "", {});

@@ -21,6 +21,14 @@ namespace fs = std::filesystem;
 const std::string kWorlds = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/";
 const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/odometry";
 
+// This test's own folder: CTest runs the tests of a file as parallel processes, and every
+// tool locks its output folder for its whole run (issue 16).
+std::string testDir() {
+  const std::string dir = kTmp + "/" + ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
 std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -32,13 +40,13 @@ const std::string& simulatedPrefix() {
   static const std::string prefix = [] {
     const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
     fs::create_directories(kTmp);
-    const std::string traj = kTmp + "/corner.traj";
+    const std::string traj = testDir() + "/corner.traj";
     std::ofstream(traj) << "speed 1.0\nturn_radius 0.6\nwaypoint 24 0\nwaypoint 34 0\nwaypoint 34 6\n";
     SimulateOptions o;
     o.world_path = kWorlds + "maze.world";
     o.trajectory_path = traj;
     o.seed = 11;
-    o.out_prefix = kTmp + "/corner_" + name;
+    o.out_prefix = testDir() + "/corner_" + name;
     o.camera_every_scans = 0;
     o.write_carmen = true;
     SimulateApp(o).run();
@@ -50,7 +58,7 @@ const std::string& simulatedPrefix() {
 OdometryOptions optionsFor(const std::string& input, const std::string& out) {
   OdometryOptions o;
   o.input = input;
-  o.out_dir = out.empty() ? std::string() : kTmp + "/" + out;
+  o.out_dir = out.empty() ? std::string() : testDir() + "/" + out;
   o.progress = false;
   o.scanner_rotation_hz = 50.0;
   return o;
@@ -127,7 +135,7 @@ TEST(OdometryApp, WrittenRawlogCarriesLidarsegOdometry) {
   const std::string prefix = simulatedPrefix();
   OdometryOptions o = optionsFor(prefix + ".rawlog", "");
   o.max_scans = 200;
-  o.write_rawlog = kTmp + "/with_lidarseg.rawlog";
+  o.write_rawlog = testDir() + "/with_lidarseg.rawlog";
   const OdometryReport r = OdometryApp(o).run();
   mrpt_adapter::RawlogScanReader reader(o.write_rawlog);
   std::size_t n = 0;
@@ -170,7 +178,7 @@ TEST(OdometryApp, WrittenRawlogCarriesLidarsegOdometry) {
 TEST(OdometryApp, TruncatedRawlogStopsWithFileAndEntryAndWritesNothing) {
   const std::string prefix = simulatedPrefix();
   const std::string bytes = slurp(prefix + ".rawlog");
-  const std::string cut = kTmp + "/truncated.rawlog";
+  const std::string cut = testDir() + "/truncated.rawlog";
   std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 3 + 17);
   OdometryOptions o = optionsFor(cut, "out_truncated");
   fs::remove_all(o.out_dir);
@@ -210,7 +218,7 @@ std::string carmenRoom(const std::string& name, const std::vector<std::string>& 
     os << " " << x << " 0 0 " << odo_x << " 0 0 " << t << " host " << t << "\n";
     t += (k == 25) ? 30.0 : (k == 5 ? 0.0 : 0.1);  // a time gap after scan 25, a repeated stamp at 6
   }
-  const std::string path = kTmp + "/" + name;
+  const std::string path = testDir() + "/" + name;
   fs::create_directories(kTmp);
   std::ofstream(path) << os.str();
   return path;
@@ -241,9 +249,9 @@ TEST(OdometryApp, BadLinesGapsJumpsAndEmptyScansAreCountedNotFatal) {
 }
 
 TEST(OdometryApp, MissingInputOrBadConfigIsAClearError) {
-  OdometryOptions o = optionsFor(kTmp + "/does-not-exist.rawlog", "");
+  OdometryOptions o = optionsFor(testDir() + "/does-not-exist.rawlog", "");
   EXPECT_THROW(OdometryApp(o).run(), std::runtime_error);
-  const std::string cfg = kTmp + "/bad.ini";
+  const std::string cfg = testDir() + "/bad.ini";
   fs::create_directories(kTmp);
   std::ofstream(cfg) << "[matcher]\nmax_weight = -2\n";
   OdometryOptions p = optionsFor(simulatedPrefix() + ".rawlog", "");
@@ -255,7 +263,7 @@ TEST(OdometryApp, MissingInputOrBadConfigIsAClearError) {
     EXPECT_NE(std::string(e.what()).find("max_weight"), std::string::npos) << e.what();
   }
   // A log without any laser line.
-  const std::string empty = kTmp + "/empty.log";
+  const std::string empty = testDir() + "/empty.log";
   std::ofstream(empty) << "# nothing\nODOM 0 0 0 0 0 0 1 h 1\n";
   EXPECT_THROW(OdometryApp(optionsFor(empty, "")).run(), std::runtime_error);
 }

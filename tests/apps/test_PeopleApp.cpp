@@ -13,6 +13,14 @@ namespace lidarseg::apps {
 namespace {
 namespace fs = std::filesystem;
 const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/people";
+
+// This test's own folder: CTest runs the tests of a file as parallel processes, and every
+// tool locks its output folder for its whole run (issue 16).
+std::string testDir() {
+  const std::string dir = kTmp + "/" + ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  std::filesystem::create_directories(dir);
+  return dir;
+}
 const std::string kVideo = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
 
 template <typename F>
@@ -30,21 +38,21 @@ std::string errorOf(F&& f) {
 // people detector reads those regions back by file name.
 TEST(PeopleApp, RegionsFromTheLidarDriveTheDetectorOnTheCameraImages) {
   fs::create_directories(kTmp);
-  const std::string traj = kTmp + "/corridor.traj";
+  const std::string traj = testDir() + "/corridor.traj";
   std::ofstream(traj) << "speed 1.0\nturn_radius 0.6\nwaypoint 5 0\nwaypoint 15 0\n";
   SimulateOptions s;
   s.world_path = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/hospital.world";
   s.trajectory_path = traj;
   s.seed = 2;
-  s.out_prefix = kTmp + "/corridor";
+  s.out_prefix = testDir() + "/corridor";
   s.camera_every_scans = 25;
   const SimulateReport sim = SimulateApp(s).run();
   ASSERT_GT(sim.images, 5u);
 
   FeaturesOptions f;
   f.input = s.out_prefix + ".rawlog";
-  f.rois_out = kTmp + "/rois.csv";
-  f.images_out = kTmp + "/rois_images";
+  f.rois_out = testDir() + "/rois.csv";
+  f.images_out = testDir() + "/rois_images";
   const FeaturesReport fr = FeaturesApp(f).run();
   // Every image but possibly the last (written after the last scan) is paired with a scan.
   EXPECT_GE(fr.images + 1, sim.images);
@@ -66,7 +74,7 @@ TEST(PeopleApp, RegionsFromTheLidarDriveTheDetectorOnTheCameraImages) {
   PeopleOptions p;
   p.input = s.out_prefix + "_Images";
   p.rois_path = f.rois_out;
-  p.report_dir = kTmp + "/report";
+  p.report_dir = testDir() + "/report";
   const PeopleReport pr = PeopleApp(p).run();
   EXPECT_EQ(pr.frames, sim.images);
   EXPECT_GT(pr.analysed_fraction.max, 0.0);
@@ -86,8 +94,8 @@ TEST(PeopleApp, PeopleInsideCommandLineRegionsAreStillFoundOnARealVideo) {
   p.rois = {"560,60,767,420", "180,130,330,300"};
   p.every = 20;
   p.max_frames = 12;
-  p.out_csv = kTmp + "/vtest.csv";
-  p.draw_dir = kTmp + "/vtest_frames";
+  p.out_csv = testDir() + "/vtest.csv";
+  p.draw_dir = testDir() + "/vtest_frames";
   p.draw_every = 6;
   const PeopleReport r = PeopleApp(p).run();
   EXPECT_EQ(r.frames, 12u);
@@ -118,17 +126,17 @@ TEST(PeopleApp, BadRegionsAndInputsAreNamed) {
   p.rois = {"10,10,5,20"};
   EXPECT_NE(errorOf([&] { PeopleApp{p}; }).find("u_min <= u_max"), std::string::npos);
 
-  const std::string no_column = kTmp + "/no_column.csv";
+  const std::string no_column = testDir() + "/no_column.csv";
   std::ofstream(no_column) << "frame,u_min,v_min,u_max\n0,1,2,3\n";
-  const std::string bad_line = kTmp + "/bad_line.csv";
+  const std::string bad_line = testDir() + "/bad_line.csv";
   std::ofstream(bad_line) << "frame,u_min,v_min,u_max,v_max\n0,1,2,30,40\n1,1,two,30,40\n";
-  const std::string short_line = kTmp + "/short_line.csv";
+  const std::string short_line = testDir() + "/short_line.csv";
   std::ofstream(short_line) << "frame,u_min,v_min,u_max,v_max\n0,1,2,30\n";
-  const std::string empty_dir = kTmp + "/empty_dir";
+  const std::string empty_dir = testDir() + "/empty_dir";
   fs::create_directories(empty_dir);
   {
     // A one-image input for the region errors to be reached.
-    const std::string pgm = kTmp + "/one.pgm";
+    const std::string pgm = testDir() + "/one.pgm";
     std::ofstream(pgm, std::ios::binary) << "P5\n64 128\n255\n" << std::string(64 * 128, '\x80');
     p.input = pgm;
   }
@@ -142,13 +150,13 @@ TEST(PeopleApp, BadRegionsAndInputsAreNamed) {
   p.rois_path = short_line;
   EXPECT_NE(errorOf([&] { PeopleApp(p).run(); }).find("short_line.csv:2: 4 fields"), std::string::npos)
       << errorOf([&] { PeopleApp(p).run(); });
-  p.rois_path = kTmp + "/absent.csv";
+  p.rois_path = testDir() + "/absent.csv";
   EXPECT_NE(errorOf([&] { PeopleApp(p).run(); }).find("absent.csv"), std::string::npos);
   p.rois_path.clear();
   p.rois = {"0,0,10,10"};
   p.input = empty_dir;
   EXPECT_NE(errorOf([&] { PeopleApp(p).run(); }).find("empty_dir': no image files"), std::string::npos);
-  p.input = kTmp + "/nothing_here.avi";
+  p.input = testDir() + "/nothing_here.avi";
   EXPECT_NE(errorOf([&] { PeopleApp(p).run(); }).find("nothing_here.avi': no such file"), std::string::npos);
 }
 

@@ -19,7 +19,7 @@ TEST(SegmentStatsApp, SummarisesEveryLevelOfTheRealLog) {
   SegmentStatsOptions o;
   o.input = kTelecom;
   o.config_path = std::string(LIDARSEG_CONFIG_DIR) + "/default.ini";
-  o.csv_path = std::string(LIDARSEG_TEST_TMP_DIR) + "/telecom.csv";
+  o.csv_path = std::string(LIDARSEG_TEST_TMP_DIR) + "/segment-stats/telecom.csv";
   const SegmentStatsReport r = SegmentStatsApp(o).run();
   EXPECT_EQ(r.scans, 225u);
   EXPECT_TRUE(r.skipped.empty());

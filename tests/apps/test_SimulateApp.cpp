@@ -17,6 +17,14 @@ namespace fs = std::filesystem;
 const std::string kWorlds = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/";
 const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/sim";
 
+// This test's own folder: CTest runs the tests of a file as parallel processes, and every
+// tool locks its output folder for its whole run (issue 16).
+std::string testDir() {
+  const std::string dir = kTmp + "/" + ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
 std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -25,13 +33,13 @@ std::string slurp(const std::string& path) {
 // A 12 m run along the hospital's bottom corridor, past four doors.
 SimulateOptions shortRun(const std::string& name, std::uint64_t seed) {
   fs::create_directories(kTmp);
-  const std::string traj = kTmp + "/short.traj";
+  const std::string traj = testDir() + "/short.traj";
   std::ofstream(traj) << "speed 1.5\nturn_radius 0.5\nwaypoint 0 0\nwaypoint 12 0\n";
   SimulateOptions o;
   o.world_path = kWorlds + "hospital.world";
   o.trajectory_path = traj;
   o.seed = seed;
-  o.out_prefix = kTmp + "/" + name;
+  o.out_prefix = testDir() + "/" + name;
   o.camera_every_scans = 50;
   o.write_carmen = true;
   return o;
@@ -45,19 +53,19 @@ TEST(SimulateApp, WritesEveryOutputAndTheSameBytesForTheSameSeed) {
   EXPECT_EQ(a.images, 9u);
   for (const char* ext : {".rawlog", ".gt.tum", ".odom.tum", ".features.csv", ".rois.csv", ".carmen.log",
                           "_Images/img_000004.png"}) {
-    const std::string pa = kTmp + "/a" + ext, pb = kTmp + "/b" + ext;
+    const std::string pa = testDir() + "/a" + ext, pb = testDir() + "/b" + ext;
     ASSERT_TRUE(fs::exists(pa)) << pa;
     EXPECT_EQ(slurp(pa), slurp(pb)) << ext << " differs for the same seed";
   }
-  EXPECT_NE(slurp(kTmp + "/a.rawlog"), slurp(kTmp + "/c.rawlog"));
-  EXPECT_EQ(slurp(kTmp + "/a.gt.tum"), slurp(kTmp + "/c.gt.tum"));  // the truth has no noise
-  EXPECT_FALSE(fs::exists(kTmp + "/a.rawlog.tmp"));
+  EXPECT_NE(slurp(testDir() + "/a.rawlog"), slurp(testDir() + "/c.rawlog"));
+  EXPECT_EQ(slurp(testDir() + "/a.gt.tum"), slurp(testDir() + "/c.gt.tum"));  // the truth has no noise
+  EXPECT_FALSE(fs::exists(testDir() + "/a.rawlog.tmp"));
   EXPECT_GT(a.door_sightings, 0u);
 }
 
 TEST(SimulateApp, GroundTruthMatchesTheTrajectoryAndTheRawlog) {
   SimulateApp(shortRun("gt", 3)).run();
-  std::ifstream gt(kTmp + "/gt.gt.tum");
+  std::ifstream gt(testDir() + "/gt.gt.tum");
   std::string line;
   std::getline(gt, line);  // header
   std::vector<std::array<double, 8>> rows;
@@ -73,7 +81,7 @@ TEST(SimulateApp, GroundTruthMatchesTheTrajectoryAndTheRawlog) {
   EXPECT_NEAR(rows[200][1], 6.0, 1e-6);  // 1.5 m/s * 4 s
   EXPECT_NEAR(rows[1][0] - rows[0][0], 0.02, 1e-6);  // 50 Hz (epoch seconds: ~2e-7 s resolution)
   // The rawlog's scans carry the same timestamps and a valid LMS100 geometry.
-  mrpt_adapter::RawlogScanReader reader(kTmp + "/gt.rawlog");
+  mrpt_adapter::RawlogScanReader reader(testDir() + "/gt.rawlog");
   std::size_t n = 0;
   while (auto s = reader.next()) {
     EXPECT_NEAR(mrpt::Clock::toDouble(s->observation->timestamp), rows[n][0], 1e-5);
@@ -84,7 +92,7 @@ TEST(SimulateApp, GroundTruthMatchesTheTrajectoryAndTheRawlog) {
   EXPECT_EQ(n, 401u);
   EXPECT_EQ(reader.sensorLabel(), "LIDAR");
   // CARMEN: one ROBOTLASER1 and one ODOM line per scan.
-  std::ifstream carmen(kTmp + "/gt.carmen.log");
+  std::ifstream carmen(testDir() + "/gt.carmen.log");
   std::size_t lasers = 0, odoms = 0;
   while (std::getline(carmen, line)) {
     lasers += line.rfind("ROBOTLASER1 ", 0) == 0;
@@ -95,7 +103,7 @@ TEST(SimulateApp, GroundTruthMatchesTheTrajectoryAndTheRawlog) {
 }
 
 TEST(SimulateApp, BadInputNamesTheFileAndLeavesNoOutput) {
-  const std::string bad = kTmp + "/bad.world";
+  const std::string bad = testDir() + "/bad.world";
   fs::create_directories(kTmp);
   std::ofstream(bad) << "wall 0 0 10 0\nwall 0 0 0\n";
   SimulateOptions o = shortRun("bad", 1);
@@ -106,11 +114,11 @@ TEST(SimulateApp, BadInputNamesTheFileAndLeavesNoOutput) {
   } catch (const std::runtime_error& e) {
     EXPECT_EQ(std::string(e.what()), bad + ":2: 'wall' expects 4 numbers, got 3");
   }
-  EXPECT_FALSE(fs::exists(kTmp + "/bad.rawlog"));
+  EXPECT_FALSE(fs::exists(testDir() + "/bad.rawlog"));
   o = shortRun("bad", 1);
   o.sensor = "lms200";
   EXPECT_THROW(SimulateApp(o).run(), std::invalid_argument);
-  EXPECT_FALSE(fs::exists(kTmp + "/bad.rawlog.tmp"));
+  EXPECT_FALSE(fs::exists(testDir() + "/bad.rawlog.tmp"));
 }
 
 }  // namespace

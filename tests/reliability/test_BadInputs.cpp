@@ -61,19 +61,22 @@ std::string gzip(const std::string& text) {
 // A short simulated run (maze, 61-beam sensor, 10 Hz): rawlog (gzip, as written) and CARMEN.
 const std::string& smallRun() {
   static const std::string prefix = [] {
-    fs::create_directories(kTmp);
+    // In the test's own folder: CTest runs these tests as parallel processes, and the
+    // simulator locks its output folder for its whole run.
     const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    std::ofstream(kTmp + "/short.traj") << "speed 1.0\nturn_radius 0.6\nwaypoint 24 0\nwaypoint 24.6 0\n";
-    std::ofstream(kTmp + "/small.ini") << "[simulation]\nnum_beams = 61\nfield_of_view_rad = 4.71238898\n"
-                                       << "frequency_hz = 10\ncamera_every_scans = 0\n";
+    const std::string dir = kTmp + "/" + name;
+    fs::create_directories(dir);
+    std::ofstream(dir + "/short.traj") << "speed 1.0\nturn_radius 0.6\nwaypoint 24 0\nwaypoint 24.6 0\n";
+    std::ofstream(dir + "/small.ini") << "[simulation]\nnum_beams = 61\nfield_of_view_rad = 4.71238898\n"
+                                      << "frequency_hz = 10\ncamera_every_scans = 0\n";
     apps::SimulateOptions o;
     o.world_path = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/maze.world";
-    o.trajectory_path = kTmp + "/short.traj";
-    o.config_path = kTmp + "/small.ini";
+    o.trajectory_path = dir + "/short.traj";
+    o.config_path = dir + "/small.ini";
     o.seed = 5;
     o.camera_every_scans = 0;
     o.write_carmen = true;
-    o.out_prefix = kTmp + "/small_" + name;
+    o.out_prefix = dir + "/small";
     apps::SimulateApp(o).run();
     return o.out_prefix;
   }();
@@ -421,7 +424,8 @@ TEST(BadOutputs, AnOutputThatIsTheInputIsRefusedAndTheInputKept) {
   EXPECT_NE(e.find("--write-rawlog"), std::string::npos) << e;
   EXPECT_NE(e.find("is the input"), std::string::npos) << e;
   o.write_rawlog.clear();
-  o.features_out = kTmp + "/../" + fs::path(kTmp).filename().string() + "/" + fs::path(input).filename().string();
+  const fs::path folder = fs::path(input).parent_path();  // the same file, spelt another way
+  o.features_out = (folder / ".." / folder.filename() / fs::path(input).filename()).string();
   EXPECT_NE(errorOf(o).find("--features-out"), std::string::npos);
   EXPECT_EQ(slurp(input), before);
 }

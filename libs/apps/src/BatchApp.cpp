@@ -421,6 +421,11 @@ void claimExperiment(const BatchJob& job) {
 
 std::vector<std::string> BatchApp::runMany(const BatchJob& base, const std::vector<std::uint64_t>& seeds,
                                            std::size_t jobs, const std::string& self_exe, bool progress) {
+  // Before any work: a second runner on this folder is refused at once (the jobs lock their
+  // own run folders and seeds).
+  OutputSet claimed;
+  claimed.claimOutputs({}, {{base.out_dir, "--out"}},
+                       {base.world_path, base.trajectory_path, base.sim_config_path, base.odometry_config_path});
   claimExperiment(base);
   std::vector<std::uint64_t> todo;
   for (auto s : seeds) {
@@ -460,10 +465,13 @@ std::vector<std::string> BatchApp::runMany(const BatchJob& base, const std::vect
                 << (ok ? " ok" : " FAILED") << ")\n";
     }
   }
+  claimed.commit();  // nothing of its own to publish; the folder is kept
   return failed;
 }
 
 BatchSummary BatchApp::aggregate(const std::string& out_dir, const std::string& title) {
+  OutputSet outputs;
+  outputs.claimFolder(out_dir);  // before reading: no runner may be adding runs meanwhile
   const MetricRows rows = readFinishedRuns(out_dir);
   const MetricStats stats = metricStats(rows);
   BatchSummary summary;
@@ -471,7 +479,6 @@ BatchSummary BatchApp::aggregate(const std::string& out_dir, const std::string& 
   for (const auto& r : rows) summary.seeds.push_back(static_cast<std::uint64_t>(r[0]));
   summary.table_markdown = table1Markdown(title, summary.seeds, stats);
   const fs::path out(out_dir);
-  OutputSet outputs;
   outputs.add((out / "aggregate.csv").string(), aggregateCsv(rows));
   outputs.add((out / "table1.md").string(), summary.table_markdown);
   outputs.add((out / "final_errors.png").string(),

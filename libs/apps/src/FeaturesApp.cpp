@@ -265,10 +265,15 @@ FeaturesApp::FeaturesApp(FeaturesOptions options) : options_(std::move(options))
 }
 
 FeaturesReport FeaturesApp::run() {
+  // Before any work: an output that is an input is refused, a second writer at once.
+  OutputSet outputs;
+  const FeaturesOptions& o = options_;
+  outputs.claimOutputs({{o.out_csv, "--out"}, {o.rois_out, "--rois-out"}, {o.figure_path, "--figure"}},
+                       {{o.report_dir, "--report"}, {o.images_out, "--images-out"}},
+                       {o.input, o.config_path, o.truth_path});
   const mrpt_adapter::LidarsegConfig config = loadConfig(options_.config_path);
   FeaturesReport report;
   report.input = options_.input;
-  OutputSet outputs;
   LogPass pass(options_, config, report, outputs);
   mrpt_adapter::LaserLogReader reader(options_.input, options_.sensor_label);
   if (!options_.images_out.empty()) std::filesystem::create_directories(options_.images_out);

@@ -9,6 +9,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <mutex>
 #include <stdexcept>
 
 #include <fcntl.h>
@@ -124,6 +126,22 @@ void refuseOverwritingInput(const std::string& output, const std::string& input,
   }
 }
 
+namespace {
+
+// The folder locks this process holds, by canonical folder, and how many output sets hold
+// each: a tool that claims its folder before the work and writes it through another set
+// later (the inspector's report, the batch runner's aggregation) shares its own lock, which
+// a second flock() from the same process would be refused (flock locks belong to the open
+// file, not the process).
+struct HeldLock {
+  int fd = -1;
+  int holders = 0;
+};
+std::mutex g_locks_mutex;
+std::map<std::string, HeldLock> g_locks;
+
+}  // namespace
+
 void OutputSet::claim(const std::string& path) {
   const std::string folder = folderOf(path);
   std::error_code ec;
@@ -131,6 +149,12 @@ void OutputSet::claim(const std::string& path) {
   // exists, so a folder made between two claims would get a second key and lock itself out.
   const std::string key = fs::weakly_canonical(fs::absolute(folder, ec), ec).string();
   if (std::find(locked_folders_.begin(), locked_folders_.end(), key) != locked_folders_.end()) return;
+  const std::lock_guard<std::mutex> guard(g_locks_mutex);
+  if (const auto held = g_locks.find(key); held != g_locks.end()) {
+    ++held->second.holders;
+    locked_folders_.push_back(key);
+    return;
+  }
   const bool created = !fs::exists(folder, ec);
   fs::create_directories(folder, ec);
   const std::string lock = (fs::path(folder) / ".lidarseg.lock").string();
@@ -154,9 +178,27 @@ void OutputSet::claim(const std::string& path) {
       fs::create_directories(folder, ec);
     }
   }
+  g_locks[key] = HeldLock{fd, 1};
   locked_folders_.push_back(key);
-  lock_fds_.push_back(fd);
   if (created) created_folders_.push_back(folder);
+}
+
+void OutputSet::claimFolder(const std::string& folder) { claim((fs::path(folder) / ".lidarseg.lock").string()); }
+
+void OutputSet::claimOutputs(const std::vector<NamedOutput>& files, const std::vector<NamedOutput>& folders,
+                             const std::vector<std::string>& inputs) {
+  // Every refusal first: a refused command line creates no folder and takes no lock.
+  for (const auto* outputs : {&files, &folders}) {
+    for (const NamedOutput& o : *outputs) {
+      for (const std::string& input : inputs) refuseOverwritingInput(o.path, input, o.option);
+    }
+  }
+  for (const NamedOutput& o : files) {
+    if (!o.path.empty()) claim(o.path);
+  }
+  for (const NamedOutput& o : folders) {
+    if (!o.path.empty()) claimFolder(o.path);
+  }
 }
 
 void OutputSet::add(const std::string& path, std::string content) {
@@ -191,15 +233,30 @@ OutputSet::~OutputSet() {
     if (!committed_) std::remove(p.temporary.c_str());
     releaseTemporary(p.temporary);
   }
-  // A run that published nothing leaves no folder of its own behind.
+  const std::lock_guard<std::mutex> guard(g_locks_mutex);
+  std::vector<std::string> released;  // folders no other set of this process holds
+  for (const std::string& key : locked_folders_) {
+    const auto held = g_locks.find(key);
+    if (held == g_locks.end() || --held->second.holders > 0) continue;
+    released.push_back(key);
+  }
+  // A run that published nothing leaves no folder of its own behind (its lock file removed
+  // while still held, see claim()).
   if (!committed_) {
     for (const auto& folder : created_folders_) {
       std::error_code ec;
+      const std::string key = fs::weakly_canonical(folder, ec).string();
+      if (std::find(released.begin(), released.end(), key) == released.end()) continue;
       fs::remove(fs::path(folder) / ".lidarseg.lock", ec);
       fs::remove(folder, ec);  // only when empty
     }
   }
-  for (const int fd : lock_fds_) ::close(fd);  // closing releases the flock
+  for (const std::string& key : released) {
+    const auto held = g_locks.find(key);
+    if (held == g_locks.end()) continue;
+    ::close(held->second.fd);  // closing releases the flock
+    g_locks.erase(held);
+  }
 }
 
 }  // namespace lidarseg::apps

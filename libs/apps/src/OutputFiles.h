@@ -26,9 +26,16 @@ void writeFileAtomically(const std::string& path, const std::string& content);
 /// never overwrite its input), naming both and the option.
 void refuseOverwritingInput(const std::string& output, const std::string& input, const std::string& option);
 
+/// An output named on the command line: its path (empty: not asked for) and its option.
+struct NamedOutput {
+  std::string path;
+  std::string option;
+};
+
 /// A set of outputs prepared under temporary names and put in place together by commit();
 /// destroyed without commit(), it removes its temporary files. Each output folder is locked
-/// for the set's lifetime: a second run writing into the same folder is refused.
+/// for the set's lifetime: a second run writing into the same folder is refused. Sets of
+/// one process share its locks (the last one destroyed releases a folder).
 class OutputSet {
  public:
   OutputSet() = default;
@@ -37,6 +44,13 @@ class OutputSet {
   /// Locks the folder that will hold `path` (created if needed) before any work is done.
   /// @throws std::runtime_error when another process holds its lock.
   void claim(const std::string& path);
+  /// Locks `folder` itself (created if needed), for a tool writing files into it.
+  void claimFolder(const std::string& folder);
+  /// What every tool does before its work: refuses any output that is one of `inputs`
+  /// (refuseOverwritingInput), then claims each output's folder; empty paths are skipped.
+  /// `folders` are output folders (claimed themselves), `files` output files.
+  void claimOutputs(const std::vector<NamedOutput>& files, const std::vector<NamedOutput>& folders,
+                    const std::vector<std::string>& inputs);
   /// Adds a text output.
   void add(const std::string& path, std::string content);
   /// Registers an output someone else writes: returns the temporary name to write it under.
@@ -51,8 +65,7 @@ class OutputSet {
     std::string path, temporary;
   };
   std::vector<Pending> pending_;
-  std::vector<std::string> locked_folders_;
-  std::vector<int> lock_fds_;
+  std::vector<std::string> locked_folders_;  // canonical; the locks are shared within the process
   std::vector<std::string> created_folders_;  // by claim(): removed again when nothing was published
   bool committed_ = false;
 };

@@ -248,6 +248,11 @@ PeopleApp::PeopleApp(PeopleOptions options) : options_(std::move(options)) {
 }
 
 PeopleReport PeopleApp::run() {
+  // Before any work: an output that is an input is refused, a second writer at once.
+  OutputSet outputs;
+  const PeopleOptions& o = options_;
+  outputs.claimOutputs({{o.out_csv, "--out"}}, {{o.report_dir, "--report"}, {o.draw_dir, "--draw"}},
+                       {o.input, o.rois_path, o.config_path});
   const vision::PeopleDetector detector(loadParams(options_.config_path));
   const RegionTable regions = readRegions(options_);
   const RestoreThreads restore{cv::getNumThreads()};
@@ -255,7 +260,6 @@ PeopleReport PeopleApp::run() {
   FrameSource source(options_.input);
   PeopleReport report;
   report.input = options_.input;
-  OutputSet outputs;
   FramePass pass(options_, detector, report, outputs);
   if (!options_.draw_dir.empty()) fs::create_directories(options_.draw_dir);
   cv::Mat frame;

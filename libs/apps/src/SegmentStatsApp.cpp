@@ -141,6 +141,9 @@ class ScanPass {
 SegmentStatsApp::SegmentStatsApp(SegmentStatsOptions options) : options_(std::move(options)) {}
 
 SegmentStatsReport SegmentStatsApp::run() {
+  // Before any work: an output that is an input is refused, a second writer at once.
+  OutputSet outputs;
+  outputs.claimOutputs({{options_.csv_path, "--csv"}}, {}, {options_.input, options_.config_path});
   SegmentStatsReport report;
   report.input = options_.input;
   ScanPass pass(loadParams(options_), report);
@@ -158,7 +161,8 @@ SegmentStatsReport SegmentStatsApp::run() {
                                   : " with sensor label '" + options_.sensor_label + "'"));
   }
   pass.summarise();
-  if (!options_.csv_path.empty()) writeFileAtomically(options_.csv_path, pass.csv());
+  if (!options_.csv_path.empty()) outputs.add(options_.csv_path, pass.csv());
+  outputs.commit();
   return report;
 }
 

@@ -19,6 +19,7 @@
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include "OutputFiles.h"
 #include "lidarseg/mrpt/ScanConverter.h"
 #include "lidarseg/mrpt/SimulationConfig.h"
 #include "lidarseg/sim/Simulation.h"
@@ -240,8 +241,19 @@ void RunOutputs::commit() {
 SimulateApp::SimulateApp(SimulateOptions options) : options_(std::move(options)) {}
 
 SimulateReport SimulateApp::run() {
+  if (options_.out_prefix.empty()) throw std::invalid_argument("no output prefix given (--out)");
+  // Before any work: an output that is an input is refused, a second writer at once; the
+  // lock is held until the temporaries of a failed run are removed.
+  OutputSet claimed;
+  std::vector<NamedOutput> files;
+  for (const char* ext : {".rawlog", ".gt.tum", ".odom.tum", ".features.csv", ".rois.csv", ".carmen.log"}) {
+    files.push_back({options_.out_prefix + ext, "--out"});
+  }
+  claimed.claimOutputs(files, {}, {options_.world_path, options_.trajectory_path, options_.config_path});
   try {
-    return runOrThrow();
+    SimulateReport report = runOrThrow();
+    claimed.commit();
+    return report;
   } catch (...) {
     // Leave nothing half-written behind.
     std::error_code ec;
@@ -252,7 +264,6 @@ SimulateReport SimulateApp::run() {
 }
 
 SimulateReport SimulateApp::runOrThrow() {
-  if (options_.out_prefix.empty()) throw std::invalid_argument("no output prefix given (--out)");
   const sim::World world = sim::loadWorldFile(options_.world_path);
   const sim::Trajectory trajectory = sim::loadTrajectoryFile(options_.trajectory_path);
   const sim::SimulationParams params = simulationParams(options_);

@@ -1,0 +1,185 @@
+// Issue 16, class 4, for every tool but lidarseg-odometry (whose CTest
+// app.lidarseg-odometry.signal-cleanup-and-lock covers it): the output folder is locked
+// before any work, so a second writer is refused at once, and an output that is one of the
+// tool's inputs is refused before anything is read or written.
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "lidarseg/apps/BatchApp.h"
+#include "lidarseg/apps/FeaturesApp.h"
+#include "lidarseg/apps/InspectApp.h"
+#include "lidarseg/apps/PeopleApp.h"
+#include "lidarseg/apps/SegmentStatsApp.h"
+#include "lidarseg/apps/SimulateApp.h"
+
+namespace lidarseg::apps {
+namespace {
+namespace fs = std::filesystem;
+const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/output-locks";
+
+// Another run writing into `dir`: its lock, taken the way the tools take it (flock on an open
+// file of its own, so this process's tools are refused as another process's would be).
+class AnotherWriter {
+ public:
+  explicit AnotherWriter(const std::string& dir) {
+    fs::create_directories(dir);
+    fd_ = ::open((dir + "/.lidarseg.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    locked_ = fd_ >= 0 && ::flock(fd_, LOCK_EX | LOCK_NB) == 0;
+  }
+  ~AnotherWriter() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  AnotherWriter(const AnotherWriter&) = delete;
+  AnotherWriter& operator=(const AnotherWriter&) = delete;
+  bool locked() const { return locked_; }
+
+ private:
+  int fd_ = -1;
+  bool locked_ = false;
+};
+
+template <typename F>
+std::string errorOf(F&& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// The input of every run below does not exist: a tool that read it before claiming its
+// output folder would report the missing input instead of the other writer.
+const std::string kAbsent = kTmp + "/absent-input.rawlog";
+
+void expectRefusedAtOnce(const std::string& error, const std::string& dir) {
+  EXPECT_NE(error.find("another run is writing into '" + dir + "'"), std::string::npos) << error;
+}
+
+}  // namespace
+
+TEST(OutputLocks, EveryToolClaimsItsOutputFolderBeforeItsWork) {
+  const std::string dir = kTmp + "/held";
+  fs::remove_all(dir);
+  const AnotherWriter other(dir);
+  ASSERT_TRUE(other.locked());
+
+  FeaturesOptions f;
+  f.input = kAbsent;
+  f.out_csv = dir + "/features.csv";
+  expectRefusedAtOnce(errorOf([&] { FeaturesApp(f).run(); }), dir);
+  f.out_csv.clear();
+  f.report_dir = dir;
+  expectRefusedAtOnce(errorOf([&] { FeaturesApp(f).run(); }), dir);
+
+  PeopleOptions p;
+  p.input = kAbsent;
+  p.rois = {"0,0,10,10"};
+  p.draw_dir = dir;
+  expectRefusedAtOnce(errorOf([&] { PeopleApp(p).run(); }), dir);
+
+  SimulateOptions s;
+  s.world_path = kAbsent;
+  s.trajectory_path = kAbsent;
+  s.out_prefix = dir + "/sim";
+  expectRefusedAtOnce(errorOf([&] { SimulateApp(s).run(); }), dir);
+
+  SegmentStatsOptions g;
+  g.input = kAbsent;
+  g.csv_path = dir + "/segments.csv";
+  expectRefusedAtOnce(errorOf([&] { SegmentStatsApp(g).run(); }), dir);
+
+  InspectOptions i;
+  i.input = kAbsent;
+  i.report_dir = dir;
+  expectRefusedAtOnce(errorOf([&] { InspectApp(i).run(); }), dir);
+
+  BatchJob b;
+  b.world_path = kAbsent;
+  b.trajectory_path = kAbsent;
+  b.out_dir = dir;
+  expectRefusedAtOnce(errorOf([&] { BatchApp::runMany(b, {1}, 1, "/bin/false", false); }), dir);
+  expectRefusedAtOnce(errorOf([&] { BatchApp::aggregate(dir, "t"); }), dir);
+
+  // Nothing was written beside the other writer's lock.
+  std::size_t entries = 0;
+  for (const auto& e : fs::directory_iterator(dir)) entries += e.path().filename() != ".lidarseg.lock";
+  EXPECT_EQ(entries, 0u);
+}
+
+TEST(OutputLocks, AFreeFolderIsTakenAndLeftReusable) {
+  // The same run once the other writer is gone: the missing input is now what is reported,
+  // and the folder the tool created for nothing is removed again.
+  const std::string dir = kTmp + "/free";
+  fs::remove_all(dir);
+  FeaturesOptions f;
+  f.input = kAbsent;
+  f.out_csv = dir + "/features.csv";
+  const std::string e = errorOf([&] { FeaturesApp(f).run(); });
+  EXPECT_NE(e.find("absent-input.rawlog"), std::string::npos) << e;
+  EXPECT_FALSE(fs::exists(dir));
+}
+
+TEST(OutputLocks, AnOutputThatIsAnInputIsRefusedAndTheInputKept) {
+  fs::create_directories(kTmp);
+  const std::string log = kTmp + "/input.log";
+  const std::string text = "FLASER 3 1 1 1 0 0 0 0 0 0 1 h 1\n";
+  std::ofstream(log, std::ios::binary) << text;
+
+  FeaturesOptions f;
+  f.input = log;
+  f.out_csv = log;
+  std::string e = errorOf([&] { FeaturesApp(f).run(); });
+  EXPECT_NE(e.find("--out '" + log + "' is the input"), std::string::npos) << e;
+  f.out_csv.clear();
+  f.rois_out = kTmp + "/./input.log";  // another spelling of the same file
+  e = errorOf([&] { FeaturesApp(f).run(); });
+  EXPECT_NE(e.find("--rois-out"), std::string::npos) << e;
+  EXPECT_NE(e.find("an output never overwrites its input"), std::string::npos) << e;
+
+  SegmentStatsOptions g;
+  g.input = log;
+  g.csv_path = log;
+  e = errorOf([&] { SegmentStatsApp(g).run(); });
+  EXPECT_NE(e.find("--csv '" + log + "' is the input"), std::string::npos) << e;
+
+  PeopleOptions p;
+  p.input = kTmp;
+  p.rois_path = log;  // an input of lidarseg-people too
+  p.out_csv = log;
+  e = errorOf([&] { PeopleApp(p).run(); });
+  EXPECT_NE(e.find("--out '" + log + "' is the input"), std::string::npos) << e;
+
+  SimulateOptions s;
+  s.world_path = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/maze.world";
+  s.trajectory_path = kTmp + "/input.log.gt.tum";
+  std::ofstream(s.trajectory_path) << "speed 1\n";
+  s.out_prefix = kTmp + "/input.log";  // PREFIX.gt.tum would be the trajectory
+  e = errorOf([&] { SimulateApp(s).run(); });
+  EXPECT_NE(e.find("is the input '" + s.trajectory_path + "'"), std::string::npos) << e;
+  EXPECT_EQ(slurp(s.trajectory_path), "speed 1\n");
+
+  InspectOptions i;
+  i.input = kTmp + "/input.png";
+  std::ofstream(i.input) << "x";
+  i.render_out = i.input;
+  e = errorOf([&] { InspectApp(i).run(); });
+  EXPECT_NE(e.find("--out '" + i.input + "' is the input"), std::string::npos) << e;
+
+  EXPECT_EQ(slurp(log), text);
+}
+
+}  // namespace lidarseg::apps
