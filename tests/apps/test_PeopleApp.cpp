@@ -1,5 +1,6 @@
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 
@@ -114,6 +115,62 @@ TEST(PeopleApp, PeopleInsideCommandLineRegionsAreStillFoundOnARealVideo) {
   EXPECT_EQ(rows, r.people_full + r.people_rois);
   EXPECT_TRUE(fs::exists(p.draw_dir + "/people_000000.png"));
   EXPECT_TRUE(fs::exists(p.draw_dir + "/people_000120.png"));
+}
+
+// Issue 16: a camera image whose header declares 20000 x 20000 pixels is refused before
+// decoding, naming the file and the cap, by both tools that read images: lidarseg-features
+// (a rawlog's externally stored images) skips it with that reason, lidarseg-people (a
+// folder or one file) stops with it.
+TEST(PeopleApp, AnImageDeclaringAHugeSizeIsRefusedByEveryTool) {
+  const std::string dir = testDir() + "/huge";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string traj = dir + "/short.traj";
+  std::ofstream(traj) << "speed 1.0\nturn_radius 0.6\nwaypoint 5 0\nwaypoint 7 0\n";
+  SimulateOptions s;
+  s.world_path = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/hospital.world";
+  s.trajectory_path = traj;
+  s.out_prefix = dir + "/sim";
+  s.camera_every_scans = 10;
+  ASSERT_GT(SimulateApp(s).run().images, 1u);
+  const std::string image = s.out_prefix + "_Images/img_000000.png";
+  std::string bytes;
+  {
+    std::ifstream in(image, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  ASSERT_GT(bytes.size(), 24u);
+  for (std::size_t at : {16u, 20u}) {  // IHDR width and height, big-endian: 20000
+    bytes[at] = 0;
+    bytes[at + 1] = 0;
+    bytes[at + 2] = static_cast<char>(0x4E);
+    bytes[at + 3] = static_cast<char>(0x20);
+  }
+  std::ofstream(image, std::ios::binary) << bytes;
+
+  // lidarseg-features skips an image it cannot read, with the reason, and draws the others.
+  FeaturesOptions f;
+  f.input = s.out_prefix + ".rawlog";
+  f.images_out = dir + "/drawn";
+  const FeaturesReport fr = FeaturesApp(f).run();
+  ASSERT_GT(fr.images, 1u);
+  std::string skipped;
+  for (const std::string& m : fr.skipped) skipped += m + "\n";
+  EXPECT_NE(skipped.find("image 0: '" + image + "': PNG image of 20000 x 20000 pixels"), std::string::npos)
+      << skipped;
+  EXPECT_NE(skipped.find("8192 x 8192"), std::string::npos) << skipped;
+  EXPECT_FALSE(fs::exists(f.images_out + "/rois_000000.png"));
+  EXPECT_TRUE(fs::exists(f.images_out + "/rois_000001.png"));
+
+  PeopleOptions p;
+  p.rois = {"0,0,10,10"};
+  for (const std::string& input : {s.out_prefix + "_Images", image}) {
+    p.input = input;
+    const std::string people_error = errorOf([&] { PeopleApp(p).run(); });
+    EXPECT_NE(people_error.find("'" + image + "': PNG image of 20000 x 20000 pixels"), std::string::npos)
+        << input << ": " << people_error;
+    EXPECT_NE(people_error.find("8192 x 8192"), std::string::npos) << people_error;
+  }
 }
 
 TEST(PeopleApp, BadRegionsAndInputsAreNamed) {

@@ -5,10 +5,10 @@
 #include <ostream>
 #include <stdexcept>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "lidarseg/mrpt/VisionConfig.h"
+#include "lidarseg/vision/ImageFile.h"
 
 namespace lidarseg::apps {
 
@@ -49,9 +49,7 @@ std::string CameraRois::fileOf(const mrpt::obs::CObservationImage& image) {
 cv::Mat CameraRois::pixels(const mrpt::obs::CObservationImage& image) const {
   if (image.image.isExternallyStored()) {
     const std::string path = images_dir_ + "/" + image.image.getExternalStorageFile();
-    cv::Mat m = cv::imread(path, cv::IMREAD_COLOR);
-    if (m.empty()) throw std::runtime_error("cannot read image '" + path + "'");
-    return m;
+    return vision::readImage(path);
   }
   cv::Mat m = image.image.asCvMat<cv::Mat>(mrpt::img::DEEP_COPY);
   if (m.channels() == 1) cv::cvtColor(m, m, cv::COLOR_GRAY2BGR);

@@ -21,6 +21,7 @@
 #include "lidarseg/pipeline/Timing.h"
 #include "lidarseg/mrpt/VisionConfig.h"
 #include "lidarseg/mrpt/LidarsegConfig.h"
+#include "lidarseg/vision/ImageFile.h"
 #include "lidarseg/vision/PeopleDetector.h"
 #include "lidarseg/vision/RegionsOfInterest.h"
 
@@ -53,8 +54,8 @@ class FrameSource {
       if (files_.empty()) throw std::runtime_error("'" + input + "': no image files (png, jpg, bmp, ppm, pgm)");
     } else if (!fs::exists(input)) {
       throw std::runtime_error("'" + input + "': no such file or directory");
-    } else if (!cv::imread(input, cv::IMREAD_COLOR).empty()) {
-      files_.push_back(input);
+    } else if (vision::readImageHeader(input) || cv::haveImageReader(input)) {
+      files_.push_back(input);  // read (and its size checked) by next()
     } else {
       video_.open(input);
       if (!video_.isOpened()) throw std::runtime_error("'" + input + "': neither an image nor a video OpenCV can read");
@@ -69,8 +70,7 @@ class FrameSource {
     }
     if (next_file_ >= files_.size()) return false;
     const std::string& path = files_[next_file_++];
-    frame = cv::imread(path, cv::IMREAD_COLOR);
-    if (frame.empty()) throw std::runtime_error("cannot read image '" + path + "'");
+    frame = vision::readImage(path);
     file = fs::path(path).filename().string();
     return true;
   }

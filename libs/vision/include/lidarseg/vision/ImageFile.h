@@ -1,0 +1,36 @@
+#pragma once
+/// @file ImageFile.h
+/// Reading an image file with its size checked from the header, before anything is decoded.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+namespace lidarseg::vision {
+
+/// Largest width or height of an image read from a file (pixels): 8192 x 8192 is 201 MB as
+/// BGR. A header declaring more is refused before decoding (decision 48).
+inline constexpr std::uint64_t kMaxImageSidePx = 8192;
+
+/// What an image file's header says.
+struct ImageHeader {
+  std::string format;  ///< "PNG", "JPEG", "BMP" or "PNM"
+  std::uint64_t width = 0, height = 0;  ///< pixels, as declared
+};
+
+/// The header of a PNG, JPEG, BMP or PNM (PBM/PGM/PPM) file, read without decoding pixels.
+/// @return std::nullopt when the file is not a regular file or does not start like one of
+/// these formats.
+/// @throws std::runtime_error naming the file when it starts like one of them but its header
+/// is cut short or invalid.
+std::optional<ImageHeader> readImageHeader(const std::string& path);
+
+/// The image (BGR, 8 bits per channel), its size checked first: readImageHeader(), then
+/// both sides in [1, kMaxImageSidePx], then OpenCV's decoder.
+/// @throws std::runtime_error naming the file (and the cap) for a size beyond the cap, a
+/// format whose size cannot be read before decoding, or a file OpenCV cannot decode.
+cv::Mat readImage(const std::string& path);
+
+}  // namespace lidarseg::vision

@@ -1,0 +1,158 @@
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "lidarseg/vision/ImageFile.h"
+
+namespace lidarseg::vision {
+namespace {
+namespace fs = std::filesystem;
+const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/image_file";
+
+std::string bytesOf(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+void writeBytes(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+// A 40 x 30 test card in `ext`'s format.
+std::string card(const std::string& ext) {
+  fs::create_directories(kTmp);
+  cv::Mat m(30, 40, CV_8UC3, cv::Scalar(10, 120, 230));
+  cv::rectangle(m, {5, 5}, {20, 25}, cv::Scalar(0, 0, 0), cv::FILLED);
+  if (ext == "pgm") cv::cvtColor(m, m, cv::COLOR_BGR2GRAY);
+  const std::string path = kTmp + "/card." + ext;
+  if (!cv::imwrite(path, m)) throw std::runtime_error("cannot write " + path);
+  return path;
+}
+
+void putBigEndian(std::string& b, std::size_t at, std::uint32_t v, int n) {
+  for (int i = n - 1; i >= 0; --i, v >>= 8) b[at + static_cast<std::size_t>(i)] = static_cast<char>(v & 0xFF);
+}
+
+// The offset of the first JPEG frame header (SOF0/SOF2) marker, found by walking segments.
+std::size_t jpegFrameHeader(const std::string& b) {
+  std::size_t i = 2;
+  while (i + 4 < b.size()) {
+    const auto m = static_cast<unsigned char>(b[i + 1]);
+    if (m == 0xC0 || m == 0xC2) return i;
+    i += 2 + (static_cast<unsigned char>(b[i + 2]) << 8 | static_cast<unsigned char>(b[i + 3]));
+  }
+  throw std::runtime_error("no SOF");
+}
+
+template <typename F>
+std::string errorOf(F&& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+}  // namespace
+
+TEST(ImageFile, HeadersGiveTheSizeOfEveryFormatWithoutDecoding) {
+  for (const std::string ext : {"png", "jpg", "bmp", "ppm", "pgm"}) {
+    const std::string path = card(ext);
+    const auto h = readImageHeader(path);
+    ASSERT_TRUE(h) << ext;
+    EXPECT_EQ(h->width, 40u) << ext;
+    EXPECT_EQ(h->height, 30u) << ext;
+    const cv::Mat m = readImage(path);
+    EXPECT_EQ(m.cols, 40) << ext;
+    EXPECT_EQ(m.rows, 30) << ext;
+    EXPECT_EQ(m.type(), CV_8UC3) << ext;
+  }
+  // PNM with comments between the numbers.
+  const std::string pgm = kTmp + "/commented.pgm";
+  writeBytes(pgm, "P5\n# a comment\n# another\n 7\t5 \n255\n" + std::string(35, '\x40'));
+  const auto h = readImageHeader(pgm);
+  ASSERT_TRUE(h);
+  EXPECT_EQ(h->format, "PNM");
+  EXPECT_EQ(h->width, 7u);
+  EXPECT_EQ(h->height, 5u);
+  EXPECT_EQ(readImage(pgm).cols, 7);
+}
+
+// Issue 16: a 20000 x 20000 header took 6 GB. The refusal names the file and the cap and
+// comes from the header: the pixel data behind it is a 40 x 30 image (a decoder would fail
+// on it only after allocating the declared size).
+TEST(ImageFile, AHugeDeclaredSizeIsRefusedBeforeDecoding) {
+  std::string png = bytesOf(card("png"));
+  putBigEndian(png, 16, 20000, 4);
+  putBigEndian(png, 20, 20000, 4);
+  const std::string huge_png = kTmp + "/huge.png";
+  writeBytes(huge_png, png);
+
+  std::string jpg = bytesOf(card("jpg"));
+  const std::size_t sof = jpegFrameHeader(jpg);
+  putBigEndian(jpg, sof + 5, 20000, 2);  // height
+  putBigEndian(jpg, sof + 7, 20000, 2);  // width
+  const std::string huge_jpg = kTmp + "/huge.jpg";
+  writeBytes(huge_jpg, jpg);
+
+  std::string bmp = bytesOf(card("bmp"));
+  putBigEndian(bmp, 18, 0x204E0000, 4);  // 20000, little-endian
+  const std::string huge_bmp = kTmp + "/huge.bmp";
+  writeBytes(huge_bmp, bmp);
+
+  const std::string huge_pgm = kTmp + "/huge.pgm";
+  writeBytes(huge_pgm, "P5\n20000 20000\n255\n" + std::string(100, '\0'));
+  const std::string endless_pgm = kTmp + "/endless.pgm";
+  writeBytes(endless_pgm, "P5\n99999999999999999999999 2\n255\n");
+
+  for (const std::string& path : {huge_png, huge_jpg, huge_bmp, huge_pgm, endless_pgm}) {
+    const std::string e = errorOf([&] { readImage(path); });
+    EXPECT_NE(e.find("'" + path + "'"), std::string::npos) << e;
+    EXPECT_NE(e.find("up to 8192 x 8192 pixels"), std::string::npos) << e;
+    EXPECT_EQ(e.find("decode"), std::string::npos) << "decoded before the check: " << e;
+  }
+  EXPECT_NE(errorOf([&] { readImage(huge_png); }).find("PNG image of 20000 x 20000 pixels"), std::string::npos);
+  EXPECT_NE(errorOf([&] { readImage(huge_jpg); }).find("JPEG image of 20000 x 20000 pixels"), std::string::npos);
+
+  // Exactly at the cap: the header passes (the decoder then fails on the short data).
+  putBigEndian(png, 16, 8192, 4);
+  putBigEndian(png, 20, 8192, 4);
+  writeBytes(huge_png, png);
+  EXPECT_EQ(readImageHeader(huge_png)->width, 8192u);
+}
+
+TEST(ImageFile, CutOrUnknownFilesAreNamed) {
+  const std::string png = bytesOf(card("png"));
+  const std::string cut = kTmp + "/cut.png";
+  writeBytes(cut, png.substr(0, 12));
+  EXPECT_NE(errorOf([&] { readImage(cut); }).find("'" + cut + "': invalid PNG header"), std::string::npos)
+      << errorOf([&] { readImage(cut); });
+  const std::string jpg = bytesOf(card("jpg"));
+  const std::string cut_jpg = kTmp + "/cut.jpg";
+  writeBytes(cut_jpg, jpg.substr(0, jpegFrameHeader(jpg) + 3));
+  EXPECT_NE(errorOf([&] { readImage(cut_jpg); }).find("'" + cut_jpg + "': invalid JPEG header"), std::string::npos)
+      << errorOf([&] { readImage(cut_jpg); });
+  const std::string zero = kTmp + "/zero.pgm";
+  writeBytes(zero, "P5\n0 10\n255\n");
+  EXPECT_NE(errorOf([&] { readImage(zero); }).find("0 x 10 pixels"), std::string::npos);
+  const std::string text = kTmp + "/text.png";
+  writeBytes(text, "not an image at all\n");
+  EXPECT_FALSE(readImageHeader(text));
+  EXPECT_NE(errorOf([&] { readImage(text); }).find("cannot read image '" + text + "'"), std::string::npos);
+  EXPECT_NE(errorOf([&] { readImage(kTmp + "/absent.png"); }).find("absent.png"), std::string::npos);
+  EXPECT_FALSE(readImageHeader(kTmp));  // a directory
+  if (cv::haveImageWriter(kTmp + "/x.tiff")) {
+    const std::string tiff = card("tiff");
+    EXPECT_NE(errorOf([&] { readImage(tiff); }).find("size cannot be checked before decoding"), std::string::npos)
+        << errorOf([&] { readImage(tiff); });
+  }
+}
+
+}  // namespace lidarseg::vision
