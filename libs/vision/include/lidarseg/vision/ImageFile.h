@@ -11,7 +11,7 @@
 namespace lidarseg::vision {
 
 /// Largest width or height of an image read from a file (pixels): 8192 x 8192 is 201 MB as
-/// BGR. A header declaring more is refused before decoding (decision 48).
+/// BGR. A header declaring more is refused before decoding (decision 52).
 inline constexpr std::uint64_t kMaxImageSidePx = 8192;
 
 /// What an image file's header says.
