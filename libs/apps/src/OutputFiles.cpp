@@ -69,6 +69,14 @@ void writeTemporary(const std::string& tmp, const std::string& content) {
   }
 }
 
+// The key a folder is locked under. Absolute first: weakly_canonical leaves a relative path
+// relative while no prefix of it exists, so a folder made between two claims would get a
+// second key and lock itself out.
+std::string folderKey(const std::string& folder) {
+  std::error_code ec;
+  return fs::weakly_canonical(fs::absolute(folder, ec), ec).string();
+}
+
 std::string folderOf(const std::string& path) {
   const fs::path parent = fs::path(path).parent_path();
   return parent.empty() ? std::string(".") : parent.string();
@@ -145,9 +153,7 @@ std::map<std::string, HeldLock> g_locks;
 void OutputSet::claim(const std::string& path) {
   const std::string folder = folderOf(path);
   std::error_code ec;
-  // Absolute first: weakly_canonical leaves a relative path relative while no prefix of it
-  // exists, so a folder made between two claims would get a second key and lock itself out.
-  const std::string key = fs::weakly_canonical(fs::absolute(folder, ec), ec).string();
+  const std::string key = folderKey(folder);
   if (std::find(locked_folders_.begin(), locked_folders_.end(), key) != locked_folders_.end()) return;
   const std::lock_guard<std::mutex> guard(g_locks_mutex);
   if (const auto held = g_locks.find(key); held != g_locks.end()) {
@@ -245,7 +251,7 @@ OutputSet::~OutputSet() {
   if (!committed_) {
     for (const auto& folder : created_folders_) {
       std::error_code ec;
-      const std::string key = fs::weakly_canonical(folder, ec).string();
+      const std::string key = folderKey(folder);
       if (std::find(released.begin(), released.end(), key) == released.end()) continue;
       fs::remove(fs::path(folder) / ".lidarseg.lock", ec);
       fs::remove(folder, ec);  // only when empty
