@@ -75,7 +75,7 @@ case "$cmd" in
     if [ ! -f "$sim.rawlog" ]; then
       log "generating the bundled simulated dataset $sim.rawlog"
       "$bin/lidarseg-simulate" --world "$ROOT/config/worlds/maze.world" \
-        --trajectory "$ROOT/config/worlds/maze.traj" --sensor lms100 --seed 1 --out "$sim" >/dev/null
+        --trajectory "$ROOT/config/worlds/maze.traj" --sensor-model lms100 --seed 1 --out "$sim" >/dev/null
     fi
     # MRPT's real Telecom log, the simulated maze with its ground truth and, when
     # ../shared/datasets is there, two real CARMEN logs against their corrected poses.

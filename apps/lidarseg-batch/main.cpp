@@ -50,7 +50,8 @@ int main(int argc, char** argv) {
     if (command != "run" && command != "one") return usage();
     TCLAP::ValueArg<std::string> world("", "world", "world file", true, "", "FILE", cmd);
     TCLAP::ValueArg<std::string> trajectory("", "trajectory", "trajectory file", true, "", "FILE", cmd);
-    TCLAP::ValueArg<std::string> sensor("", "sensor", "sensor profile", false, "lms100", "NAME", cmd);
+    TCLAP::ValueArg<std::string> sensor("", "sensor-model", "simulated sensor: lms100, utm30lx, sick180", false, "lms100",
+                                        "NAME", cmd);
     TCLAP::ValueArg<std::string> sim_config("", "sim-config", "INI with [simulation]", false, "", "FILE", cmd);
     TCLAP::ValueArg<std::string> config("c", "config", "INI with lidarseg-odometry's sections", false, "", "FILE", cmd);
     TCLAP::ValueArg<std::string> out("o", "out", "results folder", true, "", "DIR", cmd);
@@ -59,9 +60,12 @@ int main(int argc, char** argv) {
     TCLAP::ValueArg<std::size_t> jobs("j", "jobs", "runs at a time (run; default: all cores)", false, 0, "N", cmd);
     TCLAP::SwitchArg no_icp("", "no-icp", "do not run MRPT ICP", cmd);
     TCLAP::SwitchArg keep("", "keep-data", "keep the simulated rawlogs", cmd);
-    TCLAP::SwitchArg quiet("q", "quiet", "no progress", cmd);
+    TCLAP::SwitchArg quiet("q", "quiet", "no progress on stderr", cmd);
     TCLAP::ValueArg<std::string> title("", "title", "title of the aggregated table", false, "", "TEXT", cmd);
-    if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc - 1, argv + 1, "lidarseg-batch " + command)) return *status;
+    if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc - 1, argv + 1, "lidarseg-batch " + command,
+                                                             {{"--sensor", "--sensor-model"}})) {
+      return *status;
+    }
 
     lidarseg::apps::BatchJob job;
     job.world_path = world.getValue();

@@ -14,13 +14,16 @@ int main(int argc, char** argv) {
                                         "FILE", cmd);
     TCLAP::ValueArg<std::string> label("l", "sensor-label", "laser to use (default: first)", false, "", "LABEL", cmd);
     TCLAP::ValueArg<std::size_t> max_scans("n", "max-scans", "stop after N scans (0: all)", false, 0, "N", cmd);
-    TCLAP::ValueArg<std::string> out("o", "out", "features CSV (t,type,x,y,theta,width,confidence,...)", false, "",
-                                     "FILE.csv", cmd);
-    TCLAP::ValueArg<std::string> truth("", "truth", "ground truth PREFIX.features.csv of lidarseg-simulate", false, "",
+    TCLAP::ValueArg<std::string> out("o", "out",
+                                     "output folder: features.csv (t,type,x,y,theta,width,confidence,...), "
+                                     "features.md, features.json",
+                                     false, "", "DIR", cmd);
+    TCLAP::ValueArg<std::string> truth("", "gt", "ground truth: PREFIX.features.csv of lidarseg-simulate", false, "",
                                        "FILE", cmd);
+    TCLAP::SwitchArg quiet("q", "quiet", "no progress on stderr", cmd);
     TCLAP::ValueArg<double> gate("", "gate", "match gate against the truth (m)", false, 0.2, "M", cmd);
-    TCLAP::ValueArg<std::string> report("r", "report", "directory for features.md and features.json", false, "", "DIR",
-                                        cmd);
+    TCLAP::ValueArg<std::string> report("r", "report", "deprecated (use -o): folder for features.md and features.json",
+                                        false, "", "DIR", cmd);
     TCLAP::ValueArg<std::size_t> figure_scan("", "figure-scan", "scan to draw (with --figure)", false, 0, "N", cmd);
     TCLAP::ValueArg<std::string> figure("", "figure", "PNG of that scan: raw points, segments, doors, corners", false,
                                         "", "FILE.png", cmd);
@@ -30,17 +33,19 @@ int main(int argc, char** argv) {
                                       false, "", "FILE.csv", cmd);
     TCLAP::ValueArg<std::string> images("", "images-out", "camera images with the ROI boxes drawn (paper Fig. 7)",
                                         false, "", "DIR", cmd);
-    if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc, argv, "lidarseg-features")) return *status;
+    if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc, argv, "lidarseg-features", {{"--truth", "--gt"}})) return *status;
 
     lidarseg::apps::FeaturesOptions options;
     options.input = input.getValue();
     options.config_path = config.getValue();
     options.sensor_label = label.getValue();
     options.max_scans = max_scans.getValue();
-    options.out_csv = out.getValue();
+    const auto target = lidarseg::apps::outputTarget(out.getValue(), ".csv", "lidarseg-features");
+    options.out_csv = target.folder.empty() ? target.legacy_file : target.folder + "/features.csv";
+    options.report_dir = report.getValue().empty() ? target.folder : report.getValue();
     options.truth_path = truth.getValue();
     options.gate_m = gate.getValue();
-    options.report_dir = report.getValue();
+    options.progress = !quiet.getValue();
     if (!figure.getValue().empty()) {
       options.figure_scan = figure_scan.getValue();
       options.figure_path = figure.getValue();

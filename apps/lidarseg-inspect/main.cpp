@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
     TCLAP::ValueArg<std::string> label("l", "sensor-label", "laser to use (default: first)", false, "", "LABEL", cmd);
     TCLAP::MultiArg<std::string> trajectory("", "trajectory", "another trajectory to show (repeatable)", false,
                                             "NAME=FILE.tum", cmd);
-    TCLAP::ValueArg<std::string> truth("", "truth", "ground truth TUM file (default: <log>.gt.tum when present)", false,
+    TCLAP::ValueArg<std::string> truth("", "gt", "ground truth TUM file (default: <log>.gt.tum when present)", false,
                                        "", "FILE.tum", cmd);
     TCLAP::ValueArg<std::size_t> frame("f", "frame", "scan to open at / to draw", false, 0, "N", cmd);
     TCLAP::ValueArg<double> time("", "time", "open at the scan nearest this time (s from the first scan)", false, 0,
@@ -28,18 +28,21 @@ int main(int argc, char** argv) {
                                         false, "", "LIST", cmd);
     TCLAP::ValueArg<int> width("", "width", "picture width (pixels)", false, 1100, "PX", cmd);
     TCLAP::ValueArg<int> height("", "height", "picture height (pixels)", false, 850, "PX", cmd);
-    TCLAP::ValueArg<std::string> render("", "out", "headless: draw --frame to FILE.png or FILE.svg and exit", false, "",
+    TCLAP::ValueArg<std::string> render("", "draw", "headless: draw --frame to FILE.png or FILE.svg and exit", false, "",
                                         "FILE", cmd);
     TCLAP::ValueArg<std::string> screenshot("", "screenshot", "open the window at --frame, save a screenshot, exit",
                                             false, "", "FILE.png", cmd);
-    TCLAP::ValueArg<std::string> report("", "report", "static HTML report of the whole log in DIR", false, "", "DIR",
+    TCLAP::ValueArg<std::string> out("o", "out", "output folder: a static HTML report of the whole log", false, "", "DIR",
+                                     cmd);
+    TCLAP::SwitchArg quiet("q", "quiet", "no progress on stderr", cmd);
+    TCLAP::ValueArg<std::string> report("", "report", "deprecated (use -o): report folder", false, "", "DIR",
                                         cmd);
     TCLAP::ValueArg<std::size_t> gallery("", "gallery", "frames in the report's gallery", false, 12, "N", cmd);
     TCLAP::ValueArg<std::string> save("", "save", "where the window's 's' key saves the parameters", false,
                                       "lidarseg-inspect.ini", "FILE.ini", cmd);
-    TCLAP::ValueArg<std::size_t> render_frame("", "render", "same as --frame, for --out", false, 0, "N", cmd);
+    TCLAP::ValueArg<std::size_t> render_frame("", "render", "same as --frame, for --draw", false, 0, "N", cmd);
     TCLAP::SwitchArg trace("", "trace", "window: print each shown scan on stdout (for scripts driving it)", cmd);
-    if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc, argv, "lidarseg-inspect")) return *status;
+    if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc, argv, "lidarseg-inspect", {{"--truth", "--gt"}})) return *status;
 
     lidarseg::apps::InspectOptions o;
     o.input = input.getValue();
@@ -52,9 +55,18 @@ int main(int argc, char** argv) {
     o.layers = layers.getValue();
     o.width = width.getValue();
     o.height = height.getValue();
-    o.render_out = render.getValue();
+    // -o used to be the picture of --frame: a .png or .svg name keeps that meaning for one release.
+    const std::string out_value = out.getValue();
+    const bool picture = out_value.size() > 4 && (out_value.compare(out_value.size() - 4, 4, ".png") == 0 ||
+                                                  out_value.compare(out_value.size() - 4, 4, ".svg") == 0);
+    if (picture) {
+      std::cerr << "lidarseg-inspect: note: --out " << out_value
+                << " draws the frame as before; that is --draw now (docs/cli.md)\n";
+    }
+    o.render_out = picture ? out_value : render.getValue();
     o.screenshot_out = screenshot.getValue();
-    o.report_dir = report.getValue();
+    o.report_dir = !picture && !out_value.empty() ? out_value : report.getValue();
+    o.progress = !quiet.getValue();
     o.gallery = gallery.getValue();
     o.save_path = save.getValue();
     o.trace = trace.getValue();

@@ -20,7 +20,7 @@ struct CommandLine {
   TCLAP::UnlabeledValueArg<std::string> input{"input", "MRPT .rawlog or CARMEN .clf/.log[.gz]", true, "", "FILE", cmd};
   TCLAP::ValueArg<std::string> config{"c", "config", "INI/YAML with [segmentation] [matcher] [odometry] [icp]",
                                       false, "", "FILE", cmd};
-  TCLAP::ValueArg<std::string> sensor{"l", "sensor", "rawlog sensor label or CARMEN laser type", false, "",
+  TCLAP::ValueArg<std::string> sensor{"l", "sensor-label", "rawlog sensor label or CARMEN laser type", false, "",
                                       "LABEL", cmd};
   TCLAP::ValueArg<std::size_t> max_scans{"n", "max-scans", "stop after N scans (0: all)", false, 0, "N", cmd};
   TCLAP::ValueArg<std::string> baseline{"", "baseline", "also run baselines in the same run: 'icp' (MRPT ICP with lidarseg's keyframes), 'icp-s2s' (scan to scan), or 'icp,icp-s2s'", false,
@@ -117,7 +117,7 @@ void warnIfLost(const lidarseg::apps::OdometryReport& report, double max_lost_ra
 int main(int argc, char** argv) {
   try {
     CommandLine command_line;
-    if (const auto status = lidarseg::apps::parseCommandLine(command_line.cmd, argc, argv, "lidarseg-odometry")) {
+    if (const auto status = lidarseg::apps::parseCommandLine(command_line.cmd, argc, argv, "lidarseg-odometry", {{"--sensor", "--sensor-label"}})) {
       return *status;
     }
     const std::optional<OdometryOptions> options = optionsOf(command_line);

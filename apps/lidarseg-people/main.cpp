@@ -24,14 +24,17 @@ int main(int argc, char** argv) {
     TCLAP::ValueArg<std::size_t> max_frames("n", "max-frames", "stop after N analysed frames (0: all)", false, 0, "N",
                                             cmd);
     TCLAP::ValueArg<std::size_t> every("", "every", "analyse every N-th frame", false, 1, "N", cmd);
-    TCLAP::ValueArg<int> threads("", "threads", "OpenCV worker threads", false, 1, "N", cmd);
-    TCLAP::ValueArg<std::string> out("o", "out", "detections CSV (frame,mode,u_min,v_min,u_max,v_max,score)", false,
-                                     "", "FILE.csv", cmd);
-    TCLAP::ValueArg<std::string> report("r", "report", "directory for people.md and people.json", false, "", "DIR",
-                                        cmd);
+    TCLAP::ValueArg<int> threads("j", "jobs", "OpenCV worker threads", false, 1, "N", cmd);
+    TCLAP::SwitchArg quiet("q", "quiet", "no progress on stderr", cmd);
+    TCLAP::ValueArg<std::string> out("o", "out",
+                                     "output folder: people.csv (frame,mode,u_min,v_min,u_max,v_max,score), people.md, "
+                                     "people.json",
+                                     false, "", "DIR", cmd);
+    TCLAP::ValueArg<std::string> report("r", "report", "deprecated (use -o): folder for people.md and people.json", false,
+                                        "", "DIR", cmd);
     TCLAP::ValueArg<std::string> draw("", "draw", "directory for annotated frames", false, "", "DIR", cmd);
     TCLAP::ValueArg<std::size_t> draw_every("", "draw-every", "draw every N-th analysed frame", false, 50, "N", cmd);
-    if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc, argv, "lidarseg-people")) return *status;
+    if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc, argv, "lidarseg-people", {{"--threads", "--jobs"}})) return *status;
 
     lidarseg::apps::PeopleOptions options;
     options.input = input.getValue();
@@ -41,8 +44,10 @@ int main(int argc, char** argv) {
     options.max_frames = max_frames.getValue();
     options.every = every.getValue();
     options.threads = threads.getValue();
-    options.out_csv = out.getValue();
-    options.report_dir = report.getValue();
+    const auto target = lidarseg::apps::outputTarget(out.getValue(), ".csv", "lidarseg-people");
+    options.out_csv = target.folder.empty() ? target.legacy_file : target.folder + "/people.csv";
+    options.report_dir = report.getValue().empty() ? target.folder : report.getValue();
+    options.progress = !quiet.getValue();
     options.draw_dir = draw.getValue();
     options.draw_every = draw_every.getValue();
     lidarseg::apps::PeopleApp app(options);

@@ -20,8 +20,11 @@ int main(int argc, char** argv) {
                                        false, "", "LABEL", cmd);
     TCLAP::ValueArg<std::size_t> max_scans("n", "max-scans", "stop after N scans (0: all)", false,
                                            0, "N", cmd);
-    TCLAP::ValueArg<std::string> csv("", "csv", "write per-scan counts and times to FILE", false,
+    TCLAP::ValueArg<std::string> csv("", "csv", "deprecated (use -o): write per-scan counts and times to FILE", false,
                                      "", "FILE", cmd);
+    TCLAP::ValueArg<std::string> out("o", "out", "output folder: segments.csv (per-scan counts and times)", false, "",
+                                     "DIR", cmd);
+    TCLAP::SwitchArg quiet("q", "quiet", "no progress on stderr", cmd);
     if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc, argv, "lidarseg-segment")) return *status;
 
     lidarseg::apps::SegmentStatsOptions options;
@@ -30,7 +33,8 @@ int main(int argc, char** argv) {
     options.section = section.getValue();
     options.sensor_label = label.getValue();
     options.max_scans = max_scans.getValue();
-    options.csv_path = csv.getValue();
+    options.csv_path = out.getValue().empty() ? csv.getValue() : out.getValue() + "/segments.csv";
+    options.progress = !quiet.getValue();
     lidarseg::apps::SegmentStatsApp app(options);
     lidarseg::apps::SegmentStatsApp::print(app.run(), std::cout);
     return 0;

@@ -12,16 +12,22 @@ int main(int argc, char** argv) {
     TCLAP::CmdLine cmd("Simulate a lidar + camera run with ground truth (MRPT rawlog output)", ' ', "0.1.0");
     TCLAP::ValueArg<std::string> world("w", "world", "world file (config/worlds/*.world)", true, "", "FILE", cmd);
     TCLAP::ValueArg<std::string> traj("t", "trajectory", "trajectory file (config/worlds/*.traj)", true, "", "FILE", cmd);
-    TCLAP::ValueArg<std::string> sensor("s", "sensor", "sensor profile: lms100, utm30lx, sick180", false, "lms100", "NAME", cmd);
+    TCLAP::ValueArg<std::string> sensor("", "sensor-model", "simulated sensor: lms100, utm30lx, sick180", false, "lms100",
+                                        "NAME", cmd);
     TCLAP::ValueArg<std::string> config("c", "config", "INI/YAML with a [simulation] section", false, "", "FILE", cmd);
     TCLAP::ValueArg<std::uint64_t> seed("", "seed", "noise seed (same seed, same bytes)", false, 1, "N", cmd);
-    TCLAP::ValueArg<std::string> out("o", "out", "output prefix (writes PREFIX.rawlog, ...)", true, "", "PREFIX", cmd);
+    TCLAP::ValueArg<std::string> out("o", "out",
+                                     "output folder (a name ending in / or an existing folder: writes DIR/WORLD.rawlog, "
+                                     "...), or a file prefix (writes PREFIX.rawlog, ...)",
+                                     true, "", "DIR", cmd);
+    TCLAP::SwitchArg quiet("q", "quiet", "no progress on stderr", cmd);
     TCLAP::ValueArg<std::string> scan_stamp("", "scan-stamp", "stamp each scan at its first, middle or last beam",
                                             false, "", "first|middle|last", cmd);
     TCLAP::SwitchArg no_rs("", "no-rolling-shutter", "measure every beam of a scan from one pose", cmd);
     TCLAP::ValueArg<long> camera("", "camera-every", "an image every N scans (0: no camera)", false, -1, "N", cmd);
     TCLAP::SwitchArg carmen("", "carmen", "also write PREFIX.carmen.log (ROBOTLASER1/ODOM)", cmd);
-    if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc, argv, "lidarseg-simulate")) return *status;
+    if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc, argv, "lidarseg-simulate",
+                                                             {{"-s", "--sensor-model"}, {"--sensor", "--sensor-model"}})) return *status;
 
     lidarseg::apps::SimulateOptions o;
     o.world_path = world.getValue();
@@ -29,7 +35,8 @@ int main(int argc, char** argv) {
     o.sensor = sensor.getValue();
     o.config_path = config.getValue();
     o.seed = seed.getValue();
-    o.out_prefix = out.getValue();
+    o.out_prefix = lidarseg::apps::simulationPrefix(out.getValue(), world.getValue());
+    o.progress = !quiet.getValue();
     o.rolling_shutter = !no_rs.getValue();
     o.scan_stamp = scan_stamp.getValue();
     o.camera_every_scans = camera.getValue();

@@ -45,16 +45,62 @@ std::string describeError(const std::exception& e) {
   return message;
 }
 
-std::optional<int> parseCommandLine(TCLAP::CmdLine& cmd, int argc, char** argv, const std::string& tool) {
+namespace {
+
+// argv with the renamed flags' old spellings replaced (each noted on stderr).
+std::vector<std::string> withNewNames(int argc, char** argv, const std::vector<RenamedFlag>& renamed,
+                                      const std::string& tool) {
+  std::vector<std::string> args(argv, argv + argc);
+  bool flags = true;
+  for (std::size_t i = 1; i < args.size() && flags; ++i) {
+    std::string& a = args[i];
+    if (a == "--") {
+      flags = false;
+      continue;
+    }
+    for (const RenamedFlag& r : renamed) {
+      const bool exact = a == r.old_name;
+      const bool with_value = r.old_name.rfind("--", 0) == 0 && a.rfind(r.old_name + "=", 0) == 0;
+      if (!exact && !with_value) continue;
+      std::cerr << tool << ": note: " << r.old_name << " is now " << r.new_name
+                << " (docs/cli.md); the old spelling goes in a later release\n";
+      a = r.new_name + a.substr(r.old_name.size());
+      break;
+    }
+  }
+  return args;
+}
+
+}  // namespace
+
+OutputTarget outputTarget(const std::string& value, const std::string& legacy_suffix, const std::string& tool) {
+  OutputTarget t;
+  const bool legacy = value.size() > legacy_suffix.size() &&
+                      value.compare(value.size() - legacy_suffix.size(), legacy_suffix.size(), legacy_suffix) == 0;
+  if (legacy) {
+    std::cerr << tool << ": note: -o " << value << ": -o names an output folder now (docs/cli.md); a " << legacy_suffix
+              << " file is still written there for one release\n";
+    t.legacy_file = value;
+  } else {
+    t.folder = value;
+  }
+  return t;
+}
+
+std::optional<int> parseCommandLine(TCLAP::CmdLine& cmd, int argc, char** argv, const std::string& tool,
+                                    const std::vector<RenamedFlag>& renamed) {
   installCleanupOnSignals();  // every tool: an interrupted run leaves no temporary file
   // One switch object per process: TCLAP keeps a pointer to it.
-  static TCLAP::SwitchArg verbose("", "verbose", "on an error, the whole message (MRPT's backtrace included)");
+  static TCLAP::SwitchArg verbose("v", "verbose", "on an error, the whole message (MRPT's backtrace included)");
   cmd.add(verbose);
   RecordingOutput output(tool);
   // setOutput() makes TCLAP forget its own default output, which it would otherwise delete.
   delete cmd.getOutput();
   cmd.setOutput(&output);
-  const bool run = cmd.parse(argc, argv);
+  std::vector<std::string> args = withNewNames(argc, argv, renamed, tool);
+  std::vector<const char*> pointers;
+  for (const std::string& a : args) pointers.push_back(a.c_str());
+  const bool run = cmd.parse(static_cast<int>(pointers.size()), pointers.data());
   cmd.setOutput(nullptr);  // nothing may print through the local output any more
   g_verbose = verbose.getValue();
   if (run) return std::nullopt;

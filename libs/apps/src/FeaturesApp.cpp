@@ -15,6 +15,7 @@
 #include "OutputFiles.h"
 #include "Plots.h"
 #include "Png.h"
+#include "lidarseg/pipeline/Progress.h"
 #include "lidarseg/pipeline/Timing.h"
 #include "lidarseg/core/FeatureDetector.h"
 #include "lidarseg/core/ScanSegmenter.h"
@@ -25,6 +26,7 @@
 namespace lidarseg::apps {
 
 using pipeline::Clock;
+using pipeline::Progress;
 using pipeline::microsecondsSince;
 using pipeline::Json;
 using pipeline::finiteOrNull;
@@ -277,11 +279,14 @@ FeaturesReport FeaturesApp::run() {
   LogPass pass(options_, config, report, outputs);
   mrpt_adapter::LaserLogReader reader(options_.input, options_.sensor_label);
   if (!options_.images_out.empty()) std::filesystem::create_directories(options_.images_out);
+  Progress progress("lidarseg-features", options_.progress, options_.max_scans);
   while (auto record = reader.next()) {
     pass.addImages(*record);
     if (options_.max_scans > 0 && report.scans >= options_.max_scans) break;
     pass.addScan(*record);
+    progress.update(report.scans);
   }
+  progress.done(report.scans);
   if (report.scans == 0) throw std::runtime_error(options_.input + ": no laser scan read");
   for (const std::string& issue : reader.issues()) report.skipped.push_back(issue);
   pass.summarise();

@@ -10,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "lidarseg/pipeline/Format.h"
+#include "lidarseg/pipeline/Progress.h"
 #include "OutputFiles.h"
 #include "Plots.h"
 #include "Png.h"
@@ -98,12 +99,17 @@ void compareWithTruth(std::vector<ScanRow>& rows, const eval::StampedTrajectory&
 }
 
 // Every scan's row, compared with the truth when there is one.
-std::vector<ScanRow> scanRows(inspect::Session& session, const eval::StampedTrajectory* truth) {
+std::vector<ScanRow> scanRows(inspect::Session& session, const eval::StampedTrajectory* truth, bool show_progress) {
   const std::size_t n = session.countAll();
   const auto traj = session.trajectory(n - 1);
   std::vector<ScanRow> rows;
   rows.reserve(n);
-  for (std::size_t i = 0; i < n; ++i) rows.push_back(scanRow(session.frame(i), traj[i]));
+  pipeline::Progress progress("lidarseg-inspect", show_progress, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    rows.push_back(scanRow(session.frame(i), traj[i]));
+    progress.update(i + 1);
+  }
+  progress.done(n);
   if (truth) compareWithTruth(rows, *truth, session.mountOfFirstScan());
   return rows;
 }
@@ -240,7 +246,7 @@ InspectReport InspectApp::writeReport(inspect::Session& session) {
   const std::string& dir = options_.report_dir;
   fs::create_directories(dir + "/frames");
   const eval::StampedTrajectory* truth = groundTruth(session);
-  const std::vector<ScanRow> rows = scanRows(session, truth);
+  const std::vector<ScanRow> rows = scanRows(session, truth, options_.progress);
   InspectReport report = results(rows);
   report.gallery = worstFirst(rows, options_.gallery);
 

@@ -18,6 +18,7 @@
 #include "lidarseg/pipeline/JsonText.h"
 #include "OutputFiles.h"
 #include "Png.h"
+#include "lidarseg/pipeline/Progress.h"
 #include "lidarseg/pipeline/Timing.h"
 #include "lidarseg/mrpt/VisionConfig.h"
 #include "lidarseg/mrpt/LidarsegConfig.h"
@@ -28,6 +29,7 @@
 namespace lidarseg::apps {
 
 using pipeline::Clock;
+using pipeline::Progress;
 using pipeline::microsecondsSince;
 using pipeline::Json;
 using pipeline::finiteOrNull;
@@ -264,11 +266,14 @@ PeopleReport PeopleApp::run() {
   if (!options_.draw_dir.empty()) fs::create_directories(options_.draw_dir);
   cv::Mat frame;
   std::string file;
+  Progress progress("lidarseg-people", options_.progress, options_.max_frames);
   for (std::size_t index = 0; source.next(frame, file); ++index) {
     if (index % options_.every != 0) continue;
     if (options_.max_frames > 0 && report.frames >= options_.max_frames) break;
     pass.addFrame(index, frame, regions.of(index, file));
+    progress.update(report.frames);
   }
+  progress.done(report.frames);
   if (report.frames == 0) throw std::runtime_error("'" + options_.input + "': no frame read");
   pass.summarise();
   writeOutputs(options_, report, pass, outputs);

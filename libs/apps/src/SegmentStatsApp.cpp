@@ -2,6 +2,7 @@
 #include "lidarseg/core/Angles.h"
 
 #include "OutputFiles.h"
+#include "lidarseg/pipeline/Progress.h"
 #include "lidarseg/pipeline/Timing.h"
 
 #include <cmath>
@@ -19,6 +20,7 @@
 namespace lidarseg::apps {
 
 using pipeline::Clock;
+using pipeline::Progress;
 using pipeline::microsecondsSince;
 
 namespace {
@@ -148,10 +150,13 @@ SegmentStatsReport SegmentStatsApp::run() {
   report.input = options_.input;
   ScanPass pass(loadParams(options_), report);
   mrpt_adapter::LaserLogReader reader(options_.input, options_.sensor_label);
+  Progress progress("lidarseg-segment", options_.progress, options_.max_scans);
   while (auto record = reader.next()) {
     if (options_.max_scans > 0 && report.scans + report.skipped.size() >= options_.max_scans) break;
     pass.addScan(*record);
+    progress.update(report.scans);
   }
+  progress.done(report.scans);
   report.sensor_label = reader.sensor();
   for (const auto& issue : reader.issues()) report.skipped.push_back(issue);
   if (report.scans == 0 && report.skipped.empty()) {

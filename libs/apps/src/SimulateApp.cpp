@@ -1,4 +1,5 @@
 #include "lidarseg/apps/SimulateApp.h"
+#include "lidarseg/pipeline/Progress.h"
 #include "lidarseg/core/Angles.h"
 
 #include <cmath>
@@ -274,10 +275,21 @@ SimulateReport SimulateApp::runOrThrow() {
   report.rawlog_path = options_.out_prefix + ".rawlog";
   report.length_m = trajectory.length();
   report.duration_s = trajectory.duration();
-  for (std::size_t i = 0; i < simulation.numScans(); ++i)
+  pipeline::Progress progress("lidarseg-simulate", options_.progress, simulation.numScans());
+  for (std::size_t i = 0; i < simulation.numScans(); ++i) {
     outputs.write(i, simulation.next(), report);
+    progress.update(i + 1);
+  }
+  progress.done(simulation.numScans());
   outputs.commit();
   return report;
+}
+
+std::string simulationPrefix(const std::string& out, const std::string& world_path) {
+  std::error_code ec;
+  const bool folder = (!out.empty() && out.back() == '/') || fs::is_directory(out, ec);
+  if (!folder) return out;
+  return (fs::path(out) / fs::path(world_path).stem()).string();
 }
 
 }  // namespace lidarseg::apps

@@ -6,6 +6,7 @@
 #include <exception>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
@@ -14,13 +15,31 @@ namespace lidarseg::apps {
 /// Exit status of a usage error (a bad flag or value, a missing argument).
 inline constexpr int kUsageError = 2;
 
+/// A flag the one vocabulary of docs/cli.md renamed, still accepted for one release: the old
+/// spelling (`--sensor`, `-s`) is read as the new one (`--sensor-label`) with a note on stderr.
+struct RenamedFlag {
+  std::string old_name;  ///< with its dashes: "--sensor", "-s"
+  std::string new_name;  ///< with its dashes: "--sensor-label"
+};
+
 /// Installs the SIGINT/SIGTERM cleanup of temporary files, then parses `argv` into `cmd`'s
-/// arguments (adding --verbose, which makes describeError() keep the whole message: MRPT's
-/// backtraces included).
+/// arguments (adding -v/--verbose, which makes describeError() keep the whole message:
+/// MRPT's backtraces included). The old spellings in `renamed` are read as their new
+/// names (also as `--old=value`), before a `--` that ends the flags.
 /// @return std::nullopt when the tool should run; otherwise the status to exit with:
 ///         0 after --help or --version (printed on stdout), kUsageError after a usage error
 ///         (one line "TOOL: usage error: ..." on stderr).
-std::optional<int> parseCommandLine(TCLAP::CmdLine& cmd, int argc, char** argv, const std::string& tool);
+std::optional<int> parseCommandLine(TCLAP::CmdLine& cmd, int argc, char** argv, const std::string& tool,
+                                    const std::vector<RenamedFlag>& renamed = {});
+
+/// What `-o/--out VALUE` names for a tool whose output used to be one file (docs/cli.md):
+/// an output folder, or, for one release, the file itself when VALUE ends in
+/// `legacy_suffix` (".csv"), with a note on stderr.
+struct OutputTarget {
+  std::string folder;       ///< empty when VALUE is the old file form (or empty)
+  std::string legacy_file;  ///< VALUE in the old file form, else empty
+};
+OutputTarget outputTarget(const std::string& value, const std::string& legacy_suffix, const std::string& tool);
 
 /// The one-line message of an error for the user: MRPT's exceptions (a banner, a backtrace,
 /// then "Message: ...") are reduced to their message, unless --verbose was given.

@@ -45,6 +45,8 @@ struct FeaturesOptions {
   std::string rois_out;
   /// Directory for the camera images with their ROI boxes drawn (doors red, corners green).
   std::string images_out;
+  /// Progress with rate and ETA on stderr (shown only when stderr is a terminal; -q: off).
+  bool progress = true;
 };
 
 /// Everything `lidarseg-features` measured.

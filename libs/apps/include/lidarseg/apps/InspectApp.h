@@ -42,6 +42,8 @@ struct InspectOptions {
   /// Window: print "shown scan N" on stdout each time a picture is shown (after every key),
   /// so that a script driving the window can wait on its state rather than on time.
   bool trace = false;
+  /// Progress of --out/--report with rate and ETA on stderr (only on a terminal; -q: off).
+  bool progress = true;
 };
 
 /// What `--report` measured (also written into index.html).

@@ -45,6 +45,8 @@ struct PeopleOptions {
   /// detections blue, detections inside the regions red), every `draw_every` analysed frame.
   std::string draw_dir;
   std::size_t draw_every = 50;
+  /// Progress with rate and ETA on stderr (shown only when stderr is a terminal; -q: off).
+  bool progress = true;
 };
 
 /// Everything `lidarseg-people` measured.

@@ -26,6 +26,8 @@ struct SegmentStatsOptions {
   std::size_t max_scans = 0;
   /// Optional per-scan CSV output (written atomically).
   std::string csv_path;
+  /// Progress with rate and ETA on stderr (shown only when stderr is a terminal; -q: off).
+  bool progress = true;
 };
 
 /// Statistics of one cascade level over a whole log.

@@ -26,6 +26,8 @@ struct SimulateOptions {
   /// -1: keep the configuration's value; 0: no camera; N: an image every N scans.
   long camera_every_scans = -1;
   bool write_carmen = false;  ///< also write PREFIX.carmen.log
+  /// Progress with rate and ETA on stderr (shown only when stderr is a terminal; -q: off).
+  bool progress = true;
 };
 
 /// What a run produced.
@@ -52,5 +54,10 @@ class SimulateApp {
   SimulateReport runOrThrow();
   SimulateOptions options_;
 };
+
+/// The file prefix of a simulated run written to `out` (docs/cli.md): a folder when `out`
+/// ends in '/' or is an existing folder (then DIR/WORLD, WORLD the world file's stem),
+/// else `out` itself, the older prefix form.
+std::string simulationPrefix(const std::string& out, const std::string& world_path);
 
 }  // namespace lidarseg::apps
