@@ -11,6 +11,7 @@
 #include <mrpt/obs/CRawlog.h>
 #include <nlohmann/json.hpp>
 
+#include "lidarseg/eval/StampedTrajectory.h"
 #include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/apps/SimulateApp.h"
 #include "lidarseg/mrpt/RawlogScanReader.h"
@@ -82,11 +83,18 @@ TEST(OdometryApp, SimulatedRunBothMethodsEveryOutput) {
   EXPECT_EQ(r.lidarseg.trajectory.size(), r.frames);
   EXPECT_EQ(r.icp->trajectory.size(), r.frames);
   EXPECT_GT(r.speedup_median, 1.0);
-  for (const char* f : {"lidarseg.tum", "icp.tum", "timing.csv", "summary.json", "results.md",
+  for (const char* f : {"lidarseg.tum", "icp.tum", "wheel-odometry.tum", "timing.csv", "summary.json", "results.md",
                         "trajectories.png", "timing.png"}) {
     EXPECT_TRUE(fs::exists(o.out_dir + "/" + f)) << f;
     EXPECT_FALSE(fs::exists(o.out_dir + "/" + f + ".tmp")) << f;
   }
+  // The log's wheel odometry beside lidarseg's poses, one row per scan, from the origin.
+  const auto wheel = eval::readTum(o.out_dir + "/wheel-odometry.tum");
+  ASSERT_EQ(wheel.size(), r.frames);
+  EXPECT_EQ(wheel.front().pose.x, 0.0);
+  EXPECT_EQ(wheel.front().pose.y, 0.0);
+  EXPECT_EQ(wheel.front().stamp_s, r.lidarseg.trajectory.front().stamp_s);
+  EXPECT_EQ(slurp(o.out_dir + "/lidarseg.tum").find(" -0.000000000 "), std::string::npos);
   const std::string json = slurp(o.out_dir + "/summary.json");
   for (const char* key : {"\"input\"", "\"frames\"", "\"methods\"", "\"lidarseg\"", "\"icp\"", "\"time_ms\"",
                           "\"median\"", "\"p99\"", "\"trajectory\"", "\"table1\"", "\"edx_m\"",

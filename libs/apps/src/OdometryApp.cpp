@@ -142,7 +142,7 @@ OdometryReport OdometryApp::run() {
   OdometryReport report = odometry.finish(o.max_lost_ratio);
   collectReaderCounts(reader, report);
   evaluateAll(odometry, refs, report);
-  writeOutputs(report, refs, odometry.logPoses(), outputs);
+  writeOutputs(report, refs, odometry.logPoses(), odometry.wheelOdometry(), outputs);
   return report;
 }
 
@@ -251,8 +251,8 @@ void OdometryApp::evaluateAll(const pipeline::OdometryRun& odometry, References&
 }
 
 // Trajectories, timings, summary, table and pictures, all put in place together.
-void OdometryApp::writeOutputs(OdometryReport& report, const References& refs,
-                               const eval::StampedTrajectory& log_poses, OutputSet& outputs) const {
+void OdometryApp::writeOutputs(OdometryReport& report, const References& refs, const eval::StampedTrajectory& log_poses,
+                               const eval::StampedTrajectory& wheel_odometry, OutputSet& outputs) const {
   const OdometryOptions& o = options_;
   if (!o.out_dir.empty()) {
     fs::create_directories(o.out_dir);
@@ -265,6 +265,21 @@ void OdometryApp::writeOutputs(OdometryReport& report, const References& refs,
       outputs.add(path("icp-s2s.tum"),
                   pipeline::tumText(report.icp_s2s->trajectory, "MRPT ICP (scan to scan) robot poses, odometry frame"));
     }
+    // The log's own wheel odometry and poses, for tools such as evo to compare with.
+    const auto from_first = [](eval::StampedTrajectory t) {
+      if (t.empty()) return t;
+      const Pose2D first = t.front().pose;
+      for (auto& p : t) p.pose = relative(p.pose, first);
+      return t;
+    };
+    if (!wheel_odometry.empty()) {
+      outputs.add(path("wheel-odometry.tum"),
+                  pipeline::tumText(from_first(wheel_odometry), "the log's wheel odometry, from the first scan's pose"));
+    }
+    if (!log_poses.empty()) {
+      outputs.add(path("log-poses.tum"),
+                  pipeline::tumText(from_first(log_poses), "the log's own poses (CARMEN: corrected), from the first scan's pose"));
+    }
     outputs.add(path("timing.csv"), pipeline::timingCsv(report));
     outputs.add(path("summary.json"), pipeline::summaryJson(report));
     outputs.add(path("results.md"), pipeline::markdownTable(report));
@@ -272,6 +287,8 @@ void OdometryApp::writeOutputs(OdometryReport& report, const References& refs,
     report.outputs = {path("lidarseg.tum"), path("timing.csv"), path("summary.json"), path("results.md")};
     if (report.icp) report.outputs.push_back(path("icp.tum"));
     if (report.icp_s2s) report.outputs.push_back(path("icp-s2s.tum"));
+    if (!wheel_odometry.empty()) report.outputs.push_back(path("wheel-odometry.tum"));
+    if (!log_poses.empty()) report.outputs.push_back(path("log-poses.tum"));
   }
   outputs.commit();
   if (!o.features_out.empty()) report.outputs.push_back(o.features_out);

@@ -28,13 +28,18 @@ StampedTrajectory readTum(const std::string& path) {
   return out;
 }
 
+namespace {
+// v as written with 9 decimals, without a "-0.000000000" for what rounds to zero.
+double noNegativeZero(double v) { return std::abs(v) < 5e-10 ? 0.0 : v; }
+}  // namespace
+
 void writeTum(std::ostream& os, const StampedTrajectory& trajectory, const std::string& header) {
   if (!header.empty()) os << "# " << header << "\n";
   os << std::fixed;
   for (const auto& p : trajectory) {
     const double half = 0.5 * p.pose.yaw;
-    os << std::setprecision(9) << p.stamp_s << ' ' << p.pose.x << ' ' << p.pose.y << " 0 0 0 "
-       << std::sin(half) << ' ' << std::cos(half) << '\n';
+    os << std::setprecision(9) << p.stamp_s << ' ' << noNegativeZero(p.pose.x) << ' ' << noNegativeZero(p.pose.y)
+       << " 0 0 0 " << noNegativeZero(std::sin(half)) << ' ' << std::cos(half) << '\n';
   }
 }
 

@@ -68,6 +68,7 @@ RunStep OdometryRun::process(const mrpt_adapter::LaserRecord& record) {
   }
   if (settings_.use_odometry && record.odometry) last_odometry_ = record.odometry;
   if (record.log_pose) log_poses_.push_back({out.time.output_stamp_s, *record.log_pose});
+  if (record.odometry) wheel_odometry_.push_back({out.time.output_stamp_s, *record.odometry});
   if (!out.time.first) steps_.push_back(out.time.dt_s);
   stamps_.accept(out.time);
   ++counts_.frames;

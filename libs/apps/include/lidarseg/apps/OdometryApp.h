@@ -110,7 +110,7 @@ class OdometryApp {
   void collectReaderCounts(const mrpt_adapter::LaserLogReader& reader, OdometryReport& report) const;
   void evaluateAll(const pipeline::OdometryRun& odometry, References& refs, OdometryReport& report) const;
   void writeOutputs(OdometryReport& report, const References& refs, const eval::StampedTrajectory& log_poses,
-                    OutputSet& outputs) const;
+                    const eval::StampedTrajectory& wheel_odometry, OutputSet& outputs) const;
   void addPlots(const OdometryReport& report, const References& refs, const eval::StampedTrajectory& log_poses,
                 OutputSet& outputs) const;
 

@@ -48,6 +48,9 @@ class OdometryRun {
   const OdometryReport& counts() const { return counts_; }
   /// The poses the log holds beside its scans (CARMEN "corrected" logs), at the output stamps.
   const eval::StampedTrajectory& logPoses() const { return log_poses_; }
+  /// The log's wheel odometry of every processed scan that has one (robot poses in the
+  /// log's odometry frame), at the output stamps.
+  const eval::StampedTrajectory& wheelOdometry() const { return wheel_odometry_; }
   /// Median model time step between scans (s); 0.1 before two scans.
   double medianStep() const;
   /// Ends the run: the counts with every method's report moved in (lidarseg, then the
@@ -63,7 +66,7 @@ class OdometryRun {
   std::unique_ptr<IcpMethod> icp_, icp_s2s_;
   std::vector<OdometryMethod*> methods_;
   OdometryReport counts_;
-  eval::StampedTrajectory log_poses_;
+  eval::StampedTrajectory log_poses_, wheel_odometry_;
   std::optional<Pose2D> last_odometry_;
   std::vector<double> steps_;
 };
