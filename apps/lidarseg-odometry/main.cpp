@@ -124,6 +124,7 @@ int main(int argc, char** argv) {
     if (!options) return 2;
     const auto report = lidarseg::apps::OdometryApp(*options).run();
     lidarseg::apps::OdometryApp::print(report, std::cout);
+    lidarseg::apps::OdometryApp::printWarnings(report, std::cerr);
     warnIfLost(report, options->max_lost_ratio);
     return report.log_error.empty() ? 0 : 3;
   } catch (const std::exception& e) {

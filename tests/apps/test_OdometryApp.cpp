@@ -1,5 +1,6 @@
 // lidarseg-odometry run as a class: outputs, errors against ground truth, both log
 // formats, and what bad input gets.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -274,6 +275,27 @@ TEST(OdometryApp, MissingInputOrBadConfigIsAClearError) {
   const std::string empty = testDir() + "/empty.log";
   std::ofstream(empty) << "# nothing\nODOM 0 0 0 0 0 0 1 h 1\n";
   EXPECT_THROW(OdometryApp(optionsFor(empty, "")).run(), std::runtime_error);
+}
+
+// Results on stdout, warnings on stderr: one line per kind with its full count and the
+// first occurrence, never the whole list.
+TEST(OdometryApp, WarningsAreSummarisedApartFromTheResults) {
+  OdometryReport r;
+  r.frames = 500;
+  r.time_gaps = 449;
+  for (int i = 0; i < 100; ++i) r.warnings.push_back("log.clf:" + std::to_string(1130 + i) + ": time gap of 1.6 s; restart");
+  r.warnings.push_back("log.clf:2000: the laser's geometry changes: 180 beams, then 181");
+  r.skipped_count = 3;
+  r.skipped = {"log.clf:12: bad FLASER line"};
+  std::ostringstream out, err;
+  OdometryApp::print(r, out);
+  OdometryApp::printWarnings(r, err);
+  EXPECT_EQ(out.str().find("warning"), std::string::npos) << out.str();
+  const std::string e = err.str();
+  EXPECT_NE(e.find("449 x, the first: log.clf:1130: time gap"), std::string::npos) << e;
+  EXPECT_NE(e.find("1 x, the first: log.clf:2000: the laser's geometry"), std::string::npos) << e;
+  EXPECT_NE(e.find("3 scans or lines skipped, the first: log.clf:12"), std::string::npos) << e;
+  EXPECT_EQ(std::count(e.begin(), e.end(), '\n'), 3);
 }
 
 }  // namespace
