@@ -11,6 +11,8 @@
 #   ./run.sh fuzz [SECONDS]  build the libFuzzer targets with clang (ASan + UBSan) and run each
 #                    for SECONDS (default 60) from its committed seed corpus (docs/reliability.md)
 #   ./run.sh tsan    ThreadSanitizer build; the batch runner's tests and apps under it
+#   ./run.sh shared  shared-library build, installed and used by a separate project (CMake
+#                    package and pkg-config)
 #   ./run.sh real    lidarseg-odometry with MRPT ICP (keyframed and scan to scan) on every real
 #                    log (../shared/datasets and MRPT's datasets): build/results/real/ and the
 #                    table of docs/results.md
@@ -145,6 +147,21 @@ case "$cmd" in
       grep -E "^stat::number_of_executed_units|^stat::peak_rss_mb|^#[0-9]+.*DONE" "$work/$t.log" | sed "s/^/  $t /" >&2 || true
     done
     [ "${#failed[@]}" -eq 0 ] || { log "fuzz targets with findings: ${failed[*]}"; exit 1; }
+    ;;
+  shared)
+    # Shared libraries (as MRPT ships them): build, install into a scratch prefix, then a
+    # separate project uses them through find_package(lidarseg) and the core through
+    # pkg-config, and an installed tool runs from the prefix (its RPATH finds the libraries).
+    install_deps
+    dir="$ROOT/build/shared"
+    configure_build "$dir" -DCMAKE_BUILD_TYPE=Release -DBUILD_SHARED_LIBS=ON \
+      -DLIDARSEG_BUILD_TESTS=OFF -DLIDARSEG_BUILD_BENCHMARKS=OFF
+    cmake -DLIDARSEG_BUILD_DIR="$dir" -DCONSUMER_SOURCE_DIR="$ROOT/tests/package/consumer" \
+      -DWORK_DIR="$dir/package" -DRAWLOG="$DEFAULT_RAWLOG" -DOPTIONS="$ROOT/config/default.ini" \
+      -P "$ROOT/tests/package/run_consumer.cmake"
+    ls "$dir"/package/prefix/lib*/liblidarseg_core.so* >/dev/null || { log "no shared liblidarseg_core.so installed"; exit 1; }
+    "$dir/package/prefix/bin/lidarseg-segment" -q -n 20 "$DEFAULT_RAWLOG" | head -3
+    log "shared libraries: built, installed and used"
     ;;
   tsan)
     install_deps

@@ -43,9 +43,15 @@ endfunction()
 function(lidarseg_add_library name)
   cmake_parse_arguments(ARG "NO_INSTALL" "" "SOURCES;DEPENDS" ${ARGN})
   set(target lidarseg_${name})
-  add_library(${target} ${ARG_SOURCES})
+  if(ARG_NO_INSTALL)
+    # Internal to the tools: linked into them, never shipped, whatever BUILD_SHARED_LIBS says.
+    add_library(${target} STATIC ${ARG_SOURCES})
+  else()
+    add_library(${target} ${ARG_SOURCES})
+  endif()
   add_library(lidarseg::${name} ALIAS ${target})
-  set_target_properties(${target} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME ${target})
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME ${target}
+    VERSION ${PROJECT_VERSION} SOVERSION ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR})
   target_include_directories(${target} PUBLIC
     $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
@@ -54,7 +60,8 @@ function(lidarseg_add_library name)
   if(NOT ARG_NO_INSTALL)
     install(TARGETS ${target} EXPORT lidarsegTargets
       ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
-      LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+      LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+      RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
     install(DIRECTORY include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
   endif()
 endfunction()

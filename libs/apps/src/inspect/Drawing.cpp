@@ -42,7 +42,7 @@ std::string base64(const std::string& bytes) {
   std::string out;
   out.reserve((bytes.size() + 2) / 3 * 4);
   for (std::size_t i = 0; i < bytes.size(); i += 3) {
-    const auto at = [&](std::size_t k) { return k < bytes.size() ? static_cast<unsigned char>(bytes[k]) : 0u; };
+    const auto at = [&](std::size_t j) { return j < bytes.size() ? static_cast<unsigned char>(bytes[j]) : 0u; };
     const unsigned n = (at(i) << 16) | (at(i + 1) << 8) | at(i + 2);
     out += k[(n >> 18) & 63];
     out += k[(n >> 12) & 63];
