@@ -18,7 +18,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "OutputFiles.h"
+#include "lidarseg/pipeline/OutputFiles.h"
 #include "Plots.h"
 #include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/apps/SimulateApp.h"
@@ -28,6 +28,9 @@
 #include "lidarseg/eval/Csv.h"
 
 namespace lidarseg::apps {
+
+using pipeline::writeFileAtomically;
+using pipeline::OutputSet;
 
 namespace fs = std::filesystem;
 

@@ -2,9 +2,11 @@
 
 #include <iostream>
 
-#include "OutputFiles.h"
+#include "lidarseg/pipeline/OutputFiles.h"
 
 namespace lidarseg::apps {
+
+using pipeline::installCleanupOnSignals;
 
 namespace {
 

@@ -12,7 +12,7 @@
 #include "FeatureCsv.h"
 #include "lidarseg/pipeline/Format.h"
 #include "lidarseg/pipeline/JsonText.h"
-#include "OutputFiles.h"
+#include "lidarseg/pipeline/OutputFiles.h"
 #include "Plots.h"
 #include "Png.h"
 #include "lidarseg/pipeline/Progress.h"
@@ -24,6 +24,9 @@
 #include "lidarseg/mrpt/ScanConverter.h"
 
 namespace lidarseg::apps {
+
+using pipeline::writeFileAtomically;
+using pipeline::OutputSet;
 
 using pipeline::Clock;
 using pipeline::Progress;

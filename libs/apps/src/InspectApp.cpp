@@ -18,12 +18,16 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "Png.h"
-#include "OutputFiles.h"
+#include "lidarseg/pipeline/OutputFiles.h"
 #include "lidarseg/apps/inspect/Drawing.h"
 #include "lidarseg/eval/StampedTrajectory.h"
 #include "lidarseg/eval/Csv.h"
 
 namespace lidarseg::apps {
+
+using pipeline::writeFileAtomically;
+using pipeline::refuseOverwritingInput;
+using pipeline::OutputSet;
 
 namespace fs = std::filesystem;
 using inspect::Layers;

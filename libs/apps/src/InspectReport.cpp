@@ -11,13 +11,15 @@
 
 #include "lidarseg/pipeline/Format.h"
 #include "lidarseg/pipeline/Progress.h"
-#include "OutputFiles.h"
+#include "lidarseg/pipeline/OutputFiles.h"
 #include "Plots.h"
 #include "Png.h"
 #include "lidarseg/apps/InspectApp.h"
 #include "lidarseg/core/Statistics.h"
 
 namespace lidarseg::apps {
+
+using pipeline::OutputSet;
 
 using pipeline::fixed;
 using pipeline::escapeXml;

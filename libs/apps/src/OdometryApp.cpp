@@ -15,7 +15,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include "FeatureCsv.h"
-#include "OutputFiles.h"
+#include "lidarseg/pipeline/OutputFiles.h"
 #include "Plots.h"
 #include "lidarseg/pipeline/Progress.h"
 #include "lidarseg/core/FeatureDetector.h"
@@ -26,6 +26,10 @@
 #include "lidarseg/pipeline/ReportWriters.h"
 
 namespace lidarseg::apps {
+
+using pipeline::installCleanupOnSignals;
+using pipeline::refuseOverwritingInput;
+using pipeline::OutputSet;
 
 using pipeline::Progress;
 

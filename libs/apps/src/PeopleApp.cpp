@@ -16,7 +16,7 @@
 
 #include "lidarseg/pipeline/Format.h"
 #include "lidarseg/pipeline/JsonText.h"
-#include "OutputFiles.h"
+#include "lidarseg/pipeline/OutputFiles.h"
 #include "Png.h"
 #include "lidarseg/pipeline/Progress.h"
 #include "lidarseg/pipeline/Timing.h"
@@ -27,6 +27,8 @@
 #include "lidarseg/vision/RegionsOfInterest.h"
 
 namespace lidarseg::apps {
+
+using pipeline::OutputSet;
 
 using pipeline::Clock;
 using pipeline::Progress;

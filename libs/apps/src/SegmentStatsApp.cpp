@@ -1,7 +1,7 @@
 #include "lidarseg/apps/SegmentStatsApp.h"
 #include "lidarseg/core/Angles.h"
 
-#include "OutputFiles.h"
+#include "lidarseg/pipeline/OutputFiles.h"
 #include "lidarseg/pipeline/Progress.h"
 #include "lidarseg/pipeline/Timing.h"
 
@@ -18,6 +18,8 @@
 #include "lidarseg/mrpt/SegmentationConfig.h"
 
 namespace lidarseg::apps {
+
+using pipeline::OutputSet;
 
 using pipeline::Clock;
 using pipeline::Progress;

@@ -20,7 +20,7 @@
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
 
-#include "OutputFiles.h"
+#include "lidarseg/pipeline/OutputFiles.h"
 #include "lidarseg/mrpt/ScanConverter.h"
 #include "lidarseg/mrpt/SimulationConfig.h"
 #include "lidarseg/sim/Simulation.h"
@@ -28,6 +28,9 @@
 #include "lidarseg/sim/WorldFile.h"
 
 namespace lidarseg::apps {
+
+using pipeline::NamedOutput;
+using pipeline::OutputSet;
 
 namespace fs = std::filesystem;
 

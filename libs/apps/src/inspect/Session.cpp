@@ -12,7 +12,7 @@
 
 #include "lidarseg/pipeline/Format.h"
 #include "../CameraRois.h"
-#include "../OutputFiles.h"
+#include "lidarseg/pipeline/OutputFiles.h"
 #include "lidarseg/pipeline/Timing.h"
 #include "lidarseg/pipeline/OdometryRun.h"
 #include "lidarseg/mrpt/LidarsegConfig.h"
@@ -25,6 +25,8 @@
 #include "lidarseg/mrpt/VisionConfig.h"
 
 namespace lidarseg::apps::inspect {
+
+using pipeline::writeFileAtomically;
 
 using pipeline::Clock;
 using pipeline::microsecondsSince;

@@ -17,13 +17,14 @@ class LaserLogReader;
 }
 
 namespace lidarseg::pipeline {
+class OutputSet;
 class OdometryRun;
 struct RunSettings;
 }  // namespace lidarseg::pipeline
 
 namespace lidarseg::apps {
 
-class OutputSet;
+using pipeline::OutputSet;
 /// The report lidarseg-odometry's run returns (lidarseg::pipeline's, one for every tool).
 using pipeline::MethodReport;
 using pipeline::OdometryReport;

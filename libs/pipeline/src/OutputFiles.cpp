@@ -1,4 +1,4 @@
-#include "OutputFiles.h"
+#include "lidarseg/pipeline/OutputFiles.h"
 
 #include <algorithm>
 #include <array>
@@ -18,7 +18,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-namespace lidarseg::apps {
+namespace lidarseg::pipeline {
 
 namespace fs = std::filesystem;
 
@@ -265,4 +265,4 @@ OutputSet::~OutputSet() {
   }
 }
 
-}  // namespace lidarseg::apps
+}  // namespace lidarseg::pipeline

@@ -1,11 +1,12 @@
 #pragma once
-// Private to lidarseg::apps: writing outputs without ever leaving a partial file, a file
-// another run is writing, or a temporary file after an interruption.
+/// @file
+/// lidarseg::pipeline: writing outputs without ever leaving a partial file, a file
+/// another run is writing, or a temporary file after an interruption.
 
 #include <string>
 #include <vector>
 
-namespace lidarseg::apps {
+namespace lidarseg::pipeline {
 
 /// A temporary name for `path`, unique to this process and call ("path.tmp.PID.N"), and
 /// removed by the SIGINT/SIGTERM handler until released (see installCleanupOnSignals()).
@@ -70,4 +71,4 @@ class OutputSet {
   bool committed_ = false;
 };
 
-}  // namespace lidarseg::apps
+}  // namespace lidarseg::pipeline
