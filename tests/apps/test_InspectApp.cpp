@@ -9,7 +9,7 @@
 #include "lidarseg/apps/InspectApp.h"
 #include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/apps/SimulateApp.h"
-#include "lidarseg/apps/inspect/Session.h"
+#include "lidarseg/inspect/Session.h"
 
 namespace lidarseg::apps {
 namespace {

@@ -1,4 +1,5 @@
 #include "lidarseg/apps/FeaturesApp.h"
+#include "lidarseg/vision/ImageFile.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,13 +9,12 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "CameraRois.h"
+#include "lidarseg/mrpt/CameraRois.h"
 #include "FeatureCsv.h"
 #include "lidarseg/pipeline/Format.h"
 #include "lidarseg/pipeline/JsonText.h"
 #include "lidarseg/pipeline/OutputFiles.h"
 #include "Plots.h"
-#include "Png.h"
 #include "lidarseg/pipeline/Progress.h"
 #include "lidarseg/pipeline/Timing.h"
 #include "lidarseg/core/FeatureDetector.h"
@@ -24,6 +24,13 @@
 #include "lidarseg/mrpt/ScanConverter.h"
 
 namespace lidarseg::apps {
+
+using mrpt_adapter::CameraRois;
+using mrpt_adapter::drawRois;
+using mrpt_adapter::writeRoiCsvHeader;
+using mrpt_adapter::writeRoiCsvRows;
+
+using vision::encodePng;
 
 using pipeline::writeFileAtomically;
 using pipeline::OutputSet;

@@ -1,4 +1,5 @@
 #include "lidarseg/apps/InspectApp.h"
+#include "lidarseg/vision/ImageFile.h"
 
 #include <algorithm>
 #include <cctype>
@@ -17,13 +18,14 @@
 #include <mrpt/img/CImage.h>
 #include <opencv2/imgcodecs.hpp>
 
-#include "Png.h"
 #include "lidarseg/pipeline/OutputFiles.h"
-#include "lidarseg/apps/inspect/Drawing.h"
+#include "lidarseg/inspect/Drawing.h"
 #include "lidarseg/eval/StampedTrajectory.h"
 #include "lidarseg/eval/Csv.h"
 
 namespace lidarseg::apps {
+
+using vision::encodePng;
 
 using pipeline::writeFileAtomically;
 using pipeline::refuseOverwritingInput;

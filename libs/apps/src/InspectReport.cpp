@@ -13,11 +13,13 @@
 #include "lidarseg/pipeline/Progress.h"
 #include "lidarseg/pipeline/OutputFiles.h"
 #include "Plots.h"
-#include "Png.h"
+#include "lidarseg/vision/ImageFile.h"
 #include "lidarseg/apps/InspectApp.h"
 #include "lidarseg/core/Statistics.h"
 
 namespace lidarseg::apps {
+
+using vision::encodePng;
 
 using pipeline::OutputSet;
 

@@ -17,7 +17,6 @@
 #include "lidarseg/pipeline/Format.h"
 #include "lidarseg/pipeline/JsonText.h"
 #include "lidarseg/pipeline/OutputFiles.h"
-#include "Png.h"
 #include "lidarseg/pipeline/Progress.h"
 #include "lidarseg/pipeline/Timing.h"
 #include "lidarseg/mrpt/VisionConfig.h"
@@ -27,6 +26,8 @@
 #include "lidarseg/vision/RegionsOfInterest.h"
 
 namespace lidarseg::apps {
+
+using vision::encodePng;
 
 using pipeline::OutputSet;
 

@@ -10,9 +10,11 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "Png.h"
+#include "lidarseg/vision/ImageFile.h"
 
 namespace lidarseg::apps {
+
+using vision::encodePng;
 
 namespace {
 

@@ -156,4 +156,10 @@ cv::Mat readImage(const std::string& path) {
   return image;
 }
 
+std::string encodePng(const cv::Mat& image) {
+  std::vector<unsigned char> png;
+  if (!cv::imencode(".png", image, png)) throw std::runtime_error("cannot encode a PNG image");
+  return std::string(png.begin(), png.end());
+}
+
 }  // namespace lidarseg::vision

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "lidarseg/apps/inspect/Session.h"
+#include "lidarseg/inspect/Session.h"
 
 namespace lidarseg::apps {
 

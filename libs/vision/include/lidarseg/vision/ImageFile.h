@@ -1,6 +1,7 @@
 #pragma once
 /// @file ImageFile.h
-/// Reading an image file with its size checked from the header, before anything is decoded.
+/// Reading an image file with its size checked from the header, before anything is decoded;
+/// encoding an image as PNG bytes.
 
 #include <cstdint>
 #include <optional>
@@ -32,5 +33,9 @@ std::optional<ImageHeader> readImageHeader(const std::string& path);
 /// @throws std::runtime_error naming the file (and the cap) for a size beyond the cap, a
 /// format whose size cannot be read before decoding, or a file OpenCV cannot decode.
 cv::Mat readImage(const std::string& path);
+
+/// The image (BGR or grey) as PNG file bytes.
+/// @throws std::runtime_error when OpenCV cannot encode it.
+std::string encodePng(const cv::Mat& image);
 
 }  // namespace lidarseg::vision

@@ -10,7 +10,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
-namespace lidarseg::apps::inspect {
+namespace lidarseg::inspect {
 
 /// sRGB colour, 0..255.
 struct Rgb {
@@ -64,4 +64,4 @@ cv::Mat renderPng(const Drawing& drawing, const cv::Size& size);
 /// The same picture as an SVG document (the camera image embedded as a PNG data URI).
 std::string renderSvg(const Drawing& drawing, const cv::Size& size);
 
-}  // namespace lidarseg::apps::inspect
+}  // namespace lidarseg::inspect

@@ -1,4 +1,4 @@
-#include "CameraRois.h"
+#include "lidarseg/mrpt/CameraRois.h"
 
 #include <filesystem>
 #include <iomanip>
@@ -10,7 +10,7 @@
 #include "lidarseg/mrpt/VisionConfig.h"
 #include "lidarseg/vision/ImageFile.h"
 
-namespace lidarseg::apps {
+namespace lidarseg::mrpt_adapter {
 
 namespace {
 // Where a rawlog's externally stored images are: "<name>_Images" beside it (MRPT's
@@ -78,4 +78,4 @@ void writeRoiCsvRows(std::ostream& os, std::size_t image, std::size_t scan, doub
   }
 }
 
-}  // namespace lidarseg::apps
+}  // namespace lidarseg::mrpt_adapter

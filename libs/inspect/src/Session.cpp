@@ -1,4 +1,4 @@
-#include "lidarseg/apps/inspect/Session.h"
+#include "lidarseg/inspect/Session.h"
 #include "lidarseg/core/Angles.h"
 
 #include <algorithm>
@@ -11,7 +11,7 @@
 #include <mrpt/obs/CObservationImage.h>
 
 #include "lidarseg/pipeline/Format.h"
-#include "../CameraRois.h"
+#include "lidarseg/mrpt/CameraRois.h"
 #include "lidarseg/pipeline/OutputFiles.h"
 #include "lidarseg/pipeline/Timing.h"
 #include "lidarseg/pipeline/OdometryRun.h"
@@ -24,7 +24,10 @@
 #include "lidarseg/mrpt/ScanConverter.h"
 #include "lidarseg/mrpt/VisionConfig.h"
 
-namespace lidarseg::apps::inspect {
+namespace lidarseg::inspect {
+
+using mrpt_adapter::CameraRois;
+using mrpt_adapter::drawRois;
 
 using pipeline::writeFileAtomically;
 
@@ -388,4 +391,4 @@ Drawing Session::draw(std::size_t index, const Layers& layers) {
   return d;
 }
 
-}  // namespace lidarseg::apps::inspect
+}  // namespace lidarseg::inspect

@@ -1,6 +1,7 @@
 #pragma once
-// Private to lidarseg::apps: the regions of interest of a log's camera images (paper Fig. 7),
-// shared by lidarseg-features and the inspector.
+/// @file
+/// The regions of interest of a log's camera images (paper Fig. 7),
+/// shared by lidarseg-features and the inspector.
 
 #include <cstddef>
 #include <iosfwd>
@@ -16,7 +17,7 @@
 #include "lidarseg/vision/CameraModel.h"
 #include "lidarseg/vision/RegionsOfInterest.h"
 
-namespace lidarseg::apps {
+namespace lidarseg::mrpt_adapter {
 
 /// Projects a scan's features into a camera image of the same log.
 class CameraRois {
@@ -51,4 +52,4 @@ void writeRoiCsvHeader(std::ostream& os);
 void writeRoiCsvRows(std::ostream& os, std::size_t image, std::size_t scan, double t, const std::string& file,
                      const std::vector<vision::Roi>& rois);
 
-}  // namespace lidarseg::apps
+}  // namespace lidarseg::mrpt_adapter

@@ -14,7 +14,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "lidarseg/apps/inspect/Drawing.h"
+#include "lidarseg/inspect/Drawing.h"
 #include "lidarseg/core/Feature.h"
 #include "lidarseg/core/FeatureDetector.h"
 #include "lidarseg/core/SegmentOdometry.h"
@@ -31,7 +31,7 @@ namespace lidarseg::pipeline {
 class OdometryRun;
 }  // namespace lidarseg::pipeline
 
-namespace lidarseg::apps::inspect {
+namespace lidarseg::inspect {
 
 /// Everything the inspector's pipeline can be tuned with.
 struct InspectorParams {
@@ -151,4 +151,4 @@ class Session {
   std::vector<Reference> references_;
 };
 
-}  // namespace lidarseg::apps::inspect
+}  // namespace lidarseg::inspect

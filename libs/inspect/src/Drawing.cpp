@@ -1,4 +1,4 @@
-#include "lidarseg/apps/inspect/Drawing.h"
+#include "lidarseg/inspect/Drawing.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,9 +8,11 @@
 #include <opencv2/imgproc.hpp>
 
 #include "lidarseg/pipeline/Format.h"
-#include "../Png.h"
+#include "lidarseg/vision/ImageFile.h"
 
-namespace lidarseg::apps::inspect {
+namespace lidarseg::inspect {
+
+using vision::encodePng;
 
 using pipeline::escapeXml;
 
@@ -162,4 +164,4 @@ std::string renderSvg(const Drawing& d, const cv::Size& size) {
   return os.str();
 }
 
-}  // namespace lidarseg::apps::inspect
+}  // namespace lidarseg::inspect
