@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "ErrorOf.h"
 #include "lidarseg/apps/FeaturesApp.h"
 #include "lidarseg/apps/PeopleApp.h"
 #include "lidarseg/apps/SimulateApp.h"
@@ -24,15 +25,7 @@ std::string testDir() {
 }
 const std::string kVideo = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
 
-template <typename F>
-std::string errorOf(F&& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using lidarseg::testing::errorOf;
 
 // The whole chain on a simulated hospital corridor: doors and corners of the lidar become
 // regions of each camera image (lidarseg-features --rois-out / --images-out), and the

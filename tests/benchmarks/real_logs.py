@@ -12,19 +12,14 @@ import argparse
 import glob
 import json
 import os
-import subprocess
 import sys
+
+from compare_with_icp import run_odometry
 
 
 def run(bin_dir, config, log, out, extra):
-    cmd = [os.path.join(bin_dir, "lidarseg-odometry"), "-q", "--no-plots", "-c", config,
-           "--baseline", "icp,icp-s2s", "-o", out] + extra + [log]
-    with open(out + ".txt", "w") as stdout:
-        rc = subprocess.call(cmd, stdout=stdout, stderr=subprocess.STDOUT)
-    if rc != 0:
-        sys.exit("lidarseg-odometry failed (%d) on %s: see %s.txt" % (rc, log, out))
-    with open(os.path.join(out, "summary.json")) as f:
-        return json.load(f)
+    """lidarseg-odometry with both baselines, no pictures; its summary.json."""
+    return run_odometry(bin_dir, config, log, out, ["--no-plots"] + extra)
 
 
 def cell(method, key):

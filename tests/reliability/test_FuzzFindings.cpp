@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "ErrorOf.h"
 #include "lidarseg/apps/RegionTable.h"
 #include "lidarseg/core/ScanSegmenter.h"
 #include "lidarseg/eval/FeatureEvaluation.h"
@@ -28,15 +29,7 @@ std::string write(const std::string& name, const std::string& text) {
   return path;
 }
 
-template <typename F>
-std::string errorOf(F f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "no error";
-}
+using lidarseg::testing::errorOf;
 
 // F1 (fuzz_sim_inputs): a wall at 2.6e58 m made the ray caster's grid size overflow an int
 // (undefined behaviour). World files now refuse |value| > 1e6 with file:line, and the ray

@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include "ErrorOf.h"
 #include "lidarseg/apps/BatchApp.h"
 #include "lidarseg/apps/FeaturesApp.h"
 #include "lidarseg/apps/InspectApp.h"
@@ -46,15 +47,7 @@ class AnotherWriter {
   bool locked_ = false;
 };
 
-template <typename F>
-std::string errorOf(F&& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using lidarseg::testing::errorOf;
 
 std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "ErrorOf.h"
 #include "lidarseg/vision/ImageFile.h"
 
 namespace lidarseg::vision {
@@ -50,15 +51,7 @@ std::size_t jpegFrameHeader(const std::string& b) {
   throw std::runtime_error("no SOF");
 }
 
-template <typename F>
-std::string errorOf(F&& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using lidarseg::testing::errorOf;
 
 }  // namespace
 

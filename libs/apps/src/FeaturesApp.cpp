@@ -29,12 +29,9 @@ using mrpt_adapter::CameraRois;
 using mrpt_adapter::drawRois;
 using mrpt_adapter::writeRoiCsvHeader;
 using mrpt_adapter::writeRoiCsvRows;
-
 using vision::encodePng;
-
 using pipeline::writeFileAtomically;
 using pipeline::OutputSet;
-
 using pipeline::Clock;
 using pipeline::Progress;
 using pipeline::microsecondsSince;

@@ -28,9 +28,7 @@
 namespace lidarseg::apps {
 
 using vision::encodePng;
-
 using pipeline::OutputSet;
-
 using pipeline::Clock;
 using pipeline::Progress;
 using pipeline::microsecondsSince;
