@@ -21,7 +21,6 @@
 #include "lidarseg/core/ScanSegmenter.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/mrpt/LidarsegConfig.h"
-#include "lidarseg/mrpt/ScanConverter.h"
 
 namespace lidarseg::apps {
 
@@ -117,13 +116,7 @@ class LogPass {
 
   // The record's scan: segmented, its features detected (both timed), counted, written and scored.
   void addScan(const mrpt_adapter::LaserRecord& record) {
-    Scan scan;
-    try {
-      scan = converter_.convert(*record.observation);
-    } catch (const std::exception& e) {
-      report_.skipped.push_back(record.where + ": " + e.what());
-      return;
-    }
+    const Scan& scan = record.scan;
     report_.beams_per_scan = std::max(report_.beams_per_scan, scan.size());
     auto t0 = Clock::now();
     segmenter_.process(scan, segmentation_);
@@ -214,7 +207,6 @@ class LogPass {
   std::map<std::size_t, std::vector<eval::TrueFeature>> truth_;  // by scan index
   FeaturesReport& report_;
   OutputSet& outputs_;
-  mrpt_adapter::ScanConverter converter_;
   Segmentation segmentation_;
   std::vector<Feature> features_;
   std::optional<LastScan> last_;

@@ -206,9 +206,9 @@ void OdometryApp::processLog(mrpt_adapter::LaserLogReader& reader, pipeline::Odo
     if (!step.processed) continue;
     if (want_features) {
       detector.detect(odometry.lidarseg().core().lastSegmentation(), features);
-      const auto& sp = record->observation->sensorPose;
+      const Pose2D& sp = record->sensor_on_robot;
       if (!o.features_out.empty()) {
-        writeFeatureCsvRows(features_csv, step.time.output_stamp_s, record->index, {sp.x(), sp.y(), sp.yaw()},
+        writeFeatureCsvRows(features_csv, step.time.output_stamp_s, record->index, sp,
                             features);
       }
     }

@@ -14,7 +14,6 @@
 
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/mrpt/LidarsegConfig.h"
-#include "lidarseg/mrpt/ScanConverter.h"
 #include "lidarseg/mrpt/SegmentationConfig.h"
 
 namespace lidarseg::apps {
@@ -67,11 +66,9 @@ class ScanPass {
 
   // The record's scan; listed as skipped when it cannot be converted or segmented.
   void addScan(const mrpt_adapter::LaserRecord& record) {
-    const auto& obs = *record.observation;
-    Scan scan;
+    const Scan& scan = record.scan;
     double wd_us = 0.0, cascade_us = 0.0;
     try {
-      scan = converter_.convert(obs);
       const auto t0 = Clock::now();
       segmenter_.wallDanielsson().segment(scan, seg_);
       wd_us = microsecondsSince(t0);
@@ -84,7 +81,7 @@ class ScanPass {
     }
     if (report_.scans == 0) {
       report_.beams_per_scan = scan.size();
-      report_.field_of_view_deg = static_cast<double>(obs.aperture) * kRadToDeg;
+      report_.field_of_view_deg = static_cast<double>(record.observation->aperture) * kRadToDeg;
       report_.max_range_m = scan.max_range_m;
     }
     ++report_.scans;
@@ -132,7 +129,6 @@ class ScanPass {
 
   const ScanSegmenter segmenter_;
   SegmentStatsReport& report_;
-  mrpt_adapter::ScanConverter converter_;
   Segmentation seg_;
   std::array<LevelAccumulator, kNumCascadeLevels> acc_;
   std::vector<double> t_wd_, t_cascade_, t_total_, valid_beams_;

@@ -21,7 +21,6 @@
 #include "lidarseg/mrpt/FeatureConfig.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/mrpt/OdometryConfig.h"
-#include "lidarseg/mrpt/ScanConverter.h"
 #include "lidarseg/mrpt/VisionConfig.h"
 
 namespace lidarseg::inspect {
@@ -188,9 +187,8 @@ const Frame& Session::frame(std::size_t index) {
   f.keyframe_segments = s.keyframe_segments;
   f.error = s.error;
   if (f.error.empty()) {
-    mrpt_adapter::ScanConverter converter;
     const ScanSegmenter segmenter(params_.odometry.segmentation);
-    segmenter.process(converter.convert(*record.observation), f.segmentation);
+    segmenter.process(record.scan, f.segmentation);
     const FeatureDetector detector(params_.features);
     const auto t0 = Clock::now();
     detector.detect(f.segmentation, f.features);

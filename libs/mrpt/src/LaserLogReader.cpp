@@ -1,4 +1,5 @@
 #include "lidarseg/mrpt/LaserLogReader.h"
+#include "lidarseg/mrpt/LaserOdometry.h"
 
 #include <cmath>
 #include <filesystem>
@@ -194,6 +195,9 @@ std::optional<LaserRecord> LaserLogReader::next() {
       r.where = where;
       r.stamp_s = mrpt::Clock::toDouble(scan->observation->timestamp);
       r.observation = scan->observation;
+      r.scan = converter_.convert(*r.observation);
+      r.scan.stamp_s = r.stamp_s;
+      r.sensor_on_robot = sensorOnRobot(*r.observation);
       if (scan->odometry) r.odometry = toPose2D(*scan->odometry);
       r.companions = std::move(scan->companions);
       watchGeometry(r);
@@ -220,6 +224,14 @@ std::optional<LaserRecord> LaserLogReader::next() {
     r.where = path_ + ":" + std::to_string(laser->line);
     r.stamp_s = laser->stamp_s;
     r.observation = toObservation(*laser);
+    // The core scan from the line's own (double) ranges: the observation's beams, layout
+    // and validity, without its float rounding.
+    r.scan = converter_.convert(*r.observation);
+    r.scan.stamp_s = r.stamp_s;
+    for (std::size_t i = 0; i < r.scan.ranges_m.size(); ++i) {
+      if (r.scan.valid[i] != 0) r.scan.ranges_m[i] = laser->ranges_m[i];
+    }
+    r.sensor_on_robot = sensorOnRobot(*r.observation);
     // Raw wheel odometry: the last ODOM line when the log has them (corrected logs
     // rewrite the laser line's odometry fields), else the laser line's own fields.
     r.odometry = carmen_->lastOdometry() ? *carmen_->lastOdometry() : laser->robot_pose;

@@ -39,14 +39,18 @@ void LaserOdometry::reset() {
 LaserOdometryStep LaserOdometry::process(const mrpt::obs::CObservation2DRangeScan& obs,
                                          const std::optional<mrpt::poses::CPose2D>& robot_odometry_increment,
                                          std::optional<double> stamp_s) {
-  LaserOdometryStep out;
   Scan scan = converter_.convert(obs);
   scan.stamp_s = stamp_s ? *stamp_s : mrpt::Clock::toDouble(obs.timestamp);
-  const Pose2D S = sensorOnRobot(obs);
+  std::optional<Pose2D> increment;
+  if (robot_odometry_increment) increment = toPose2D(*robot_odometry_increment);
+  return process(scan, sensorOnRobot(obs), increment);
+}
+
+LaserOdometryStep LaserOdometry::process(const Scan& scan, const Pose2D& S,
+                                         const std::optional<Pose2D>& robot_odometry_increment) {
+  LaserOdometryStep out;
   std::optional<Pose2D> prior;
-  if (robot_odometry_increment) {
-    prior = compose(compose(inverse(S), toPose2D(*robot_odometry_increment)), S);
-  }
+  if (robot_odometry_increment) prior = compose(compose(inverse(S), *robot_odometry_increment), S);
   out.core = odometry_.process(scan, prior);
   // Robot increment = S * sensor increment * S^-1.
   const Pose2D robot_increment = compose(compose(S, out.core.increment), inverse(S));

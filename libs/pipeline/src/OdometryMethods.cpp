@@ -15,9 +15,11 @@ using mrpt_adapter::toPose2D;
 LidarsegMethod::LidarsegMethod(const OdometryParams& params) : OdometryMethod("lidarseg"), odometry_(params) {}
 
 void LidarsegMethod::process(const ScanInput& scan) {
-  std::optional<mrpt::poses::CPose2D> prior;
-  if (scan.prior) prior = toMrpt(*scan.prior);
-  last_ = odometry_.process(*scan.record.observation, prior, scan.time.model_stamp_s);
+  // The record's core scan on the stamp policy's clock (a copy of the ranges, not of an
+  // MRPT observation).
+  Scan timed = scan.record.scan;
+  timed.stamp_s = scan.time.model_stamp_s;
+  last_ = odometry_.process(timed, scan.record.sensor_on_robot, scan.prior);
   record(scan);
 }
 

@@ -11,6 +11,8 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
 #include "lidarseg/core/Pose2D.h"
+#include "lidarseg/core/ScanRecord.h"
+#include "lidarseg/mrpt/ScanConverter.h"
 
 namespace lidarseg::logs {
 class CarmenLogReader;
@@ -23,21 +25,13 @@ class RawlogScanReader;
 /// Format of a laser log.
 enum class LogFormat { kRawlog, kCarmen };
 
-/// One scan of a log, with what the log says about the robot at that time.
-struct LaserRecord {
-  /// 0-based index of the scan among the scans returned.
-  std::size_t index = 0;
-  /// Where the scan is in the file, for messages: "file, entry 12" or "file:345".
-  std::string where;
-  /// Time of the scan in the log's clock (s); CARMEN: the line's ipc timestamp.
-  double stamp_s = 0.0;
-  /// The scan (CARMEN lines are converted: aperture, direction, sensor pose, max range).
+/// One scan of a log: the core record (ranges in the sensor frame, mounting, stamp,
+/// odometry, log pose) and the MRPT observation it came from, for the MRPT-side consumers
+/// (MRPT ICP, the rawlog writer).
+struct LaserRecord : ScanRecord {
+  /// The scan as an MRPT observation (CARMEN lines are converted: aperture, direction,
+  /// sensor pose, max range; float ranges). ScanRecord::scan keeps the log's own values.
   mrpt::obs::CObservation2DRangeScan::Ptr observation;
-  /// Wheel odometry of the robot (odometry frame), when the log has it.
-  std::optional<Pose2D> odometry;
-  /// Robot pose written in the log beside the scan (CARMEN laser lines: in "corrected"
-  /// logs, the corrected pose), usable as a reference.
-  std::optional<Pose2D> log_pose;
   /// Other observations read since the previous scan (rawlogs only).
   std::vector<mrpt::obs::CObservation::Ptr> companions;
 };
@@ -93,6 +87,7 @@ class LaserLogReader {
   std::string path_;
   LogFormat format_ = LogFormat::kRawlog;
   std::unique_ptr<RawlogScanReader> rawlog_;
+  ScanConverter converter_;  // observations to core scans (beam layouts cached)
   std::unique_ptr<logs::CarmenLogReader> carmen_;
   std::size_t returned_ = 0;
   std::size_t skipped_ = 0;

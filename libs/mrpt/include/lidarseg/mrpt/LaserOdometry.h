@@ -39,6 +39,12 @@ class LaserOdometry {
   /// @throws std::invalid_argument for a scan that cannot be converted (fewer than 2
   ///         beams, bad aperture); the odometry's state is unchanged then.
   /// @param stamp_s the scan's time for the motion model (s); empty: its own timestamp.
+  /// The same step on a core scan (sensor frame, `scan.stamp_s` the model's clock) from a
+  /// sensor mounted at `sensor_on_robot` (T_robot_sensor), as a log reader's ScanRecord
+  /// gives them: no MRPT observation is converted.
+  LaserOdometryStep process(const Scan& scan, const Pose2D& sensor_on_robot,
+                            const std::optional<Pose2D>& robot_odometry_increment = {});
+
   LaserOdometryStep process(const mrpt::obs::CObservation2DRangeScan& scan,
                             const std::optional<mrpt::poses::CPose2D>& robot_odometry_increment = {},
                             std::optional<double> stamp_s = {});

@@ -1,0 +1,35 @@
+#pragma once
+/// @file ScanRecord.h
+/// One scan of a log as the algorithms need it, whatever the log's format: the ranges in the
+/// sensor frame, the sensor's mounting on the robot, and what the log says of the robot at
+/// that time.
+
+#include <cstddef>
+#include <optional>
+#include <string>
+
+#include "lidarseg/core/Pose2D.h"
+#include "lidarseg/core/Scan.h"
+
+namespace lidarseg {
+
+/// One scan of a log (built by a log reader, e.g. mrpt_adapter::LaserLogReader).
+struct ScanRecord {
+  /// 0-based index of the scan among the scans returned.
+  std::size_t index = 0;
+  /// Where the scan is in the file, for messages: "file, entry 12" or "file:345".
+  std::string where;
+  /// Time of the scan in the log's clock (s); CARMEN: the line's ipc timestamp.
+  double stamp_s = 0.0;
+  /// The ranges, sensor frame (x forward, y left; m), `scan.stamp_s` = stamp_s.
+  Scan scan;
+  /// Pose of the sensor on the robot (T_robot_sensor; m, rad), planar.
+  Pose2D sensor_on_robot;
+  /// Wheel odometry of the robot (odometry frame), when the log has it.
+  std::optional<Pose2D> odometry;
+  /// Robot pose written in the log beside the scan (CARMEN laser lines: in "corrected"
+  /// logs, the corrected pose), usable as a reference.
+  std::optional<Pose2D> log_pose;
+};
+
+}  // namespace lidarseg
