@@ -148,11 +148,13 @@ std::vector<std::size_t> worstFirst(const std::vector<ScanRow>& rows, std::size_
 // trajectory.png: lidarseg's path and every reference's from its pose at the first scan.
 std::string trajectoryPlot(const std::vector<ScanRow>& rows, const std::vector<inspect::Reference>& references) {
   std::vector<PlotSeries> series;
-  PlotSeries mine{"lidarseg", 40, 40, 200, {}, {}, false};
+  PlotSeries mine = makeSeries("lidarseg", kLidarsegColour);
   for (const ScanRow& r : rows) mine.x.push_back(r.pose.x), mine.y.push_back(r.pose.y);
   series.push_back(mine);
   for (const auto& ref : references) {
-    PlotSeries s{ref.name, 30, 160, 30, {}, {}, false};
+    const bool truth = ref.name.find("truth") != std::string::npos || ref.name == "gt";
+    const bool icp = ref.name.find("icp") != std::string::npos || ref.name.find("ICP") != std::string::npos;
+    PlotSeries s = makeSeries(ref.name, truth ? kTruthColour : icp ? kIcpColour : kOtherColour);
     const auto first = eval::nearestIndex(ref.poses, rows.front().t, 1.0);
     if (!first) continue;
     for (std::size_t k = *first; k < ref.poses.size() && ref.poses[k].stamp_s <= rows.back().t + 1e-6; ++k) {
@@ -161,27 +163,28 @@ std::string trajectoryPlot(const std::vector<ScanRow>& rows, const std::vector<i
     }
     series.push_back(s);
   }
-  return plotTrajectoriesPng(series, "trajectories (odometry frame, m)");
+  return plotTrajectoriesPng(series, "Trajectories (odometry frame)");
 }
 
 // error_over_time.png: the position error against the truth, or without one the match sd.
 std::string errorPlot(const std::vector<ScanRow>& rows, bool with_truth) {
-  PlotSeries over_time{with_truth ? "position error vs ground truth (m)" : "match sd (m)", 200, 60, 40, {}, {}, false};
+  PlotSeries over_time = makeSeries(with_truth ? "lidarseg: position error against the ground truth" : "lidarseg: match sd",
+                                    kLidarsegColour);
   for (const ScanRow& r : rows) {
     const double v = with_truth ? r.drift_m : r.sd_xy_m;
     if (std::isfinite(v)) over_time.x.push_back(r.t - rows.front().t), over_time.y.push_back(v);
   }
-  return plotXYPng({over_time}, with_truth ? "position error over time" : "match uncertainty over time", "time (s)",
+  return plotXYPng({over_time}, with_truth ? "Position error over time" : "Match uncertainty over time", "time (s)",
                    with_truth ? "error (m)" : "sd (m)");
 }
 
 // timing.png: the histogram of the time per scan.
 std::string timingPlot(const std::vector<ScanRow>& rows) {
-  PlotSeries times{"W-D + cascade + matching", 200, 100, 0, {}, {}, false};
+  PlotSeries times = makeSeries("lidarseg: W-D + cascade + matching", kLidarsegColour);
   for (const ScanRow& r : rows) {
     if (r.total_us > 0) times.x.push_back(r.total_us);
   }
-  return plotHistogramsPng({times}, "time per scan", "microseconds");
+  return plotHistogramsPng({times}, "Time per scan", "microseconds");
 }
 
 // The page's head, title and the log's name.

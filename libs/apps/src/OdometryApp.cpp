@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <filesystem>
 #include <sstream>
 #include <stdexcept>
@@ -288,7 +289,7 @@ void OdometryApp::writeOutputs(OdometryReport& report, const References& refs, c
     outputs.add(path("timing.csv"), pipeline::timingCsv(report));
     outputs.add(path("summary.json"), pipeline::summaryJson(report));
     outputs.add(path("results.md"), pipeline::markdownTable(report));
-    if (o.plots) addPlots(report, refs, log_poses, outputs);
+    if (o.plots) addPlots(report, refs, log_poses, wheel_odometry, outputs);
     report.outputs = {path("lidarseg.tum"), path("timing.csv"), path("summary.json"), path("results.md")};
     if (report.icp) report.outputs.push_back(path("icp.tum"));
     if (report.icp_s2s) report.outputs.push_back(path("icp-s2s.tum"));
@@ -301,15 +302,17 @@ void OdometryApp::writeOutputs(OdometryReport& report, const References& refs, c
 }
 
 // trajectories.png (every method from where the reference starts) and timing.png.
-void OdometryApp::addPlots(const OdometryReport& report, const References& refs,
-                           const eval::StampedTrajectory& log_poses, OutputSet& outputs) const {
+void OdometryApp::addPlots(const OdometryReport& report, const References& refs, const eval::StampedTrajectory& log_poses,
+                           const eval::StampedTrajectory& wheel_odometry, OutputSet& outputs) const {
   const auto path = [&](const char* name) { return (fs::path(options_.out_dir) / name).string(); };
   std::vector<PlotSeries> series;
-  const auto add = [&](const std::string& name, const eval::StampedTrajectory& t, int b, int g, int r,
-                       const Pose2D& anchor) {
-    PlotSeries s{name, b, g, r, {}, {}, false};
+  // Every trajectory from the reference's pose at lidarseg's first scan.
+  const auto add = [&](const std::string& name, const eval::StampedTrajectory& t, Colour colour, const Pose2D& anchor) {
+    if (t.empty()) return;
+    PlotSeries s = makeSeries(name, colour);
+    const Pose2D first_inverse = inverse(t.front().pose);
     for (const auto& p : t) {
-      const Pose2D q = compose(anchor, p.pose);
+      const Pose2D q = compose(anchor, compose(first_inverse, p.pose));
       s.x.push_back(q.x);
       s.y.push_back(q.y);
     }
@@ -320,16 +323,27 @@ void OdometryApp::addPlots(const OdometryReport& report, const References& refs,
   if (reference != nullptr) {
     const auto k = eval::nearestIndex(*reference, report.lidarseg.trajectory.front().stamp_s, refs.gt_tolerance_s);
     if (k) anchor = (*reference)[*k].pose;
-    add(refs.gt ? "ground truth" : "log poses", *reference, 0, 0, 0, {});
+    PlotSeries s = makeSeries(refs.gt ? "ground truth" : "log poses", kTruthColour);
+    for (const auto& p : *reference) s.x.push_back(p.pose.x), s.y.push_back(p.pose.y);
+    series.push_back(std::move(s));
   }
-  add("lidarseg", report.lidarseg.trajectory, 200, 80, 0, anchor);
-  if (report.icp) add("MRPT ICP keyframed", report.icp->trajectory, 0, 0, 220, anchor);
-  if (report.icp_s2s) add("MRPT ICP s2s", report.icp_s2s->trajectory, 160, 0, 160, anchor);
-  outputs.add(path("trajectories.png"), plotTrajectoriesPng(series, "Trajectories: " + inputName(options_.input)));
+  add("wheel odometry", wheel_odometry, kWheelColour, anchor);
+  add("lidarseg", report.lidarseg.trajectory, kLidarsegColour, anchor);
+  if (report.icp) add("MRPT ICP keyframed", report.icp->trajectory, kIcpColour, anchor);
+  if (report.icp_s2s) add("MRPT ICP scan to scan", report.icp_s2s->trajectory, kIcpS2sColour, anchor);
   std::vector<PlotSeries> hist;
-  hist.push_back({"lidarseg", 200, 80, 0, report.lidarseg.time_us, {}, false});
-  if (report.icp) hist.push_back({"MRPT ICP keyframed", 0, 0, 220, report.icp->time_us, {}, false});
-  outputs.add(path("timing.png"), plotHistogramsPng(hist, "Time per scan", "microseconds"));
+  hist.push_back(makeSeries("lidarseg", kLidarsegColour));
+  hist.back().x = report.lidarseg.time_us;
+  if (report.icp) {
+    hist.push_back(makeSeries("MRPT ICP keyframed", kIcpColour));
+    hist.back().x = report.icp->time_us;
+  }
+  try {
+    outputs.add(path("trajectories.png"), plotTrajectoriesPng(series, "Trajectories: " + inputName(options_.input)));
+    outputs.add(path("timing.png"), plotHistogramsPng(hist, "Time per scan", "microseconds"));
+  } catch (const std::runtime_error& e) {
+    std::cerr << "lidarseg-odometry: warning: no pictures: " << e.what() << "\n";
+  }
 }
 
 std::string OdometryApp::markdownTable(const OdometryReport& report) { return pipeline::markdownTable(report); }

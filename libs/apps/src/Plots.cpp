@@ -1,16 +1,30 @@
 #include "Plots.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iterator>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "lidarseg/vision/ImageFile.h"
+
+extern char** environ;
 
 namespace lidarseg::apps {
 
@@ -18,186 +32,170 @@ using vision::encodePng;
 
 namespace {
 
-constexpr int kWidth = 1000, kHeight = 800;
-constexpr int kLeft = 90, kRight = 30, kTop = 50, kBottom = 70;
+namespace fs = std::filesystem;
 
-struct Range {
-  double lo = std::numeric_limits<double>::infinity();
-  double hi = -std::numeric_limits<double>::infinity();
-  void add(double v) {
-    if (!std::isfinite(v)) return;
-    lo = std::min(lo, v);
-    hi = std::max(hi, v);
-  }
-  bool valid() const { return lo <= hi; }
-  void pad(double fraction, double min_span) {
-    if (!valid()) {
-      lo = 0.0;
-      hi = 1.0;
+// A scratch folder removed with everything in it when the plot is done.
+class ScratchFolder {
+ public:
+  ScratchFolder() {
+    const char* tmp = std::getenv("TMPDIR");
+    std::string pattern = std::string(tmp != nullptr && *tmp != '\0' ? tmp : "/tmp") + "/lidarseg-plot.XXXXXX";
+    if (::mkdtemp(pattern.data()) == nullptr) {
+      throw std::runtime_error("cannot make a scratch folder for a plot: " + std::string(std::strerror(errno)));
     }
-    double span = std::max(hi - lo, min_span);
-    const double mid = 0.5 * (lo + hi);
-    span *= 1.0 + 2.0 * fraction;
-    lo = mid - 0.5 * span;
-    hi = mid + 0.5 * span;
+    path_ = pattern;
   }
+  ~ScratchFolder() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  ScratchFolder(const ScratchFolder&) = delete;
+  ScratchFolder& operator=(const ScratchFolder&) = delete;
+  std::string file(const std::string& name) const { return path_ + "/" + name; }
+
+ private:
+  std::string path_;
 };
 
-cv::Scalar colour(const PlotSeries& s) { return cv::Scalar(s.blue, s.green, s.red); }
+// gnuplot's quoting of a text: single quotes, a quote doubled.
+std::string quoted(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
 
-std::string label(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
+std::string rgb(const PlotSeries& s) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "#%02x%02x%02x", s.red & 255, s.green & 255, s.blue & 255);
   return buf;
 }
 
-// A "nice" tick step for a span.
-double niceStep(double span, int ticks) {
-  const double raw = span / std::max(ticks, 1);
-  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 5.0, 10.0}) {
-    if (m * mag >= raw) return m * mag;
+// Runs gnuplot on `script` (which writes `png`) and returns the PNG's bytes.
+std::string runGnuplot(const ScratchFolder& dir, const std::string& script) {
+  const std::string script_path = dir.file("plot.gp"), log_path = dir.file("gnuplot.log");
+  std::ofstream(script_path) << script;
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  std::string program = "gnuplot";
+  char* argv[] = {program.data(), const_cast<char*>(script_path.c_str()), nullptr};
+  pid_t pid = 0;
+  const int spawned = ::posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv, environ);
+  posix_spawn_file_actions_destroy(&actions);
+  int status = 0;
+  if (spawned == 0) {
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
   }
-  return 10.0 * mag;
+  if (spawned != 0 || (WIFEXITED(status) && WEXITSTATUS(status) == 127)) {
+    throw std::runtime_error("gnuplot is not installed (Debian package gnuplot-nox; ./run.sh deps)");
+  }
+  std::ifstream png(dir.file("plot.png"), std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(png)), std::istreambuf_iterator<char>());
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || bytes.empty()) {
+    std::ifstream log(log_path);
+    std::string first;
+    std::getline(log, first);
+    throw std::runtime_error("gnuplot failed to draw a plot: " + first);
+  }
+  return bytes;
 }
 
-struct Axes {
-  Range x, y;
-  int x0 = kLeft, x1 = kWidth - kRight, y0 = kHeight - kBottom, y1 = kTop;
-  cv::Point map(double vx, double vy) const {
-    const double u = (vx - x.lo) / (x.hi - x.lo);
-    const double v = (vy - y.lo) / (y.hi - y.lo);
-    return {static_cast<int>(std::lround(x0 + u * (x1 - x0))), static_cast<int>(std::lround(y0 + v * (y1 - y0)))};
-  }
-};
-
-void drawFrame(cv::Mat& img, const Axes& a, const std::string& title, const std::string& x_label,
-               const std::string& y_label, bool log_x) {
-  const cv::Scalar grid(225, 225, 225), ink(40, 40, 40);
-  const double sx = niceStep(a.x.hi - a.x.lo, 8), sy = niceStep(a.y.hi - a.y.lo, 8);
-  for (double v = std::ceil(a.x.lo / sx) * sx; v <= a.x.hi; v += sx) {
-    const cv::Point p = a.map(v, a.y.lo);
-    cv::line(img, {p.x, a.y0}, {p.x, a.y1}, grid, 1);
-    cv::putText(img, label(log_x ? std::pow(10.0, v) : v), {p.x - 20, a.y0 + 22}, cv::FONT_HERSHEY_SIMPLEX,
-                0.45, ink, 1, cv::LINE_AA);
-  }
-  for (double v = std::ceil(a.y.lo / sy) * sy; v <= a.y.hi; v += sy) {
-    const cv::Point p = a.map(a.x.lo, v);
-    cv::line(img, {a.x0, p.y}, {a.x1, p.y}, grid, 1);
-    cv::putText(img, label(v), {8, p.y + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.45, ink, 1, cv::LINE_AA);
-  }
-  cv::rectangle(img, {a.x0, a.y1}, {a.x1, a.y0}, ink, 1);
-  cv::putText(img, title, {a.x0, 32}, cv::FONT_HERSHEY_SIMPLEX, 0.7, ink, 1, cv::LINE_AA);
-  cv::putText(img, x_label, {(a.x0 + a.x1) / 2 - 60, kHeight - 20}, cv::FONT_HERSHEY_SIMPLEX, 0.55, ink, 1,
-              cv::LINE_AA);
-  cv::putText(img, y_label, {8, a.y1 - 12}, cv::FONT_HERSHEY_SIMPLEX, 0.5, ink, 1, cv::LINE_AA);
+// The common settings: one size and font for every picture, legend inside the frame on an
+// opaque box, a light grid, plain tick labels (no -0, no 1e+03).
+std::string preamble(const ScratchFolder& dir, const std::string& title, const std::string& x_label,
+                     const std::string& y_label) {
+  std::ostringstream gp;
+  gp << "set terminal pngcairo size 1000,800 enhanced font 'DejaVu Sans,12' linewidth 1.5\n"
+     << "set output " << quoted(dir.file("plot.png")) << "\n"
+     << "set encoding utf8\n"
+     << "set title " << quoted(title) << " noenhanced\n"
+     << "set xlabel " << quoted(x_label) << " noenhanced\n"
+     << "set ylabel " << quoted(y_label) << " noenhanced\n"
+     << "set grid lc rgb '#dddddd'\n"
+     << "set key inside top right box opaque noenhanced samplen 2\n"
+     << "set format x '%h'\nset format y '%h'\n"
+     << "set datafile missing 'nan'\n";
+  return gp.str();
 }
 
-void drawLegend(cv::Mat& img, const std::vector<PlotSeries>& series, const Axes& a) {
-  int y = a.y1 + 25;
-  for (const auto& s : series) {
-    cv::line(img, {a.x1 - 200, y - 5}, {a.x1 - 170, y - 5}, colour(s), 3, cv::LINE_AA);
-    cv::putText(img, s.name, {a.x1 - 160, y}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(40, 40, 40), 1,
-                cv::LINE_AA);
-    y += 22;
+// Writes each series to DIR/seriesK.dat ("x y" rows) and returns the plot command.
+std::string plotCommand(const ScratchFolder& dir, const std::vector<PlotSeries>& series) {
+  std::ostringstream plot;
+  plot << "plot ";
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    const PlotSeries& s = series[k];
+    const std::string data = dir.file("series" + std::to_string(k) + ".dat");
+    std::ofstream out(data);
+    out << std::setprecision(9);
+    for (std::size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
+      if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) out << s.x[i] << ' ' << s.y[i] << '\n';
+    }
+    plot << (k ? ", " : "") << quoted(data) << " using 1:2 "
+         << (s.markers ? "with points pt 7 ps 0.8" : "with lines lw 2") << " lc rgb '" << rgb(s) << "' title "
+         << quoted(s.name);
   }
-}
-
-void drawSeries(cv::Mat& img, const Axes& a, const PlotSeries& s) {
-  std::vector<cv::Point> pts;
-  pts.reserve(s.x.size());
-  for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
-    if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) pts.push_back(a.map(s.x[i], s.y[i]));
-  }
-  if (s.markers) {
-    for (const auto& p : pts) cv::circle(img, p, 4, colour(s), cv::FILLED, cv::LINE_AA);
-  } else if (pts.size() >= 2) {
-    cv::polylines(img, pts, false, colour(s), 2, cv::LINE_AA);
-  }
+  return plot.str() + "\n";
 }
 
 }  // namespace
 
 std::string plotTrajectoriesPng(const std::vector<PlotSeries>& series, const std::string& title) {
-  cv::Mat img(kHeight, kWidth, CV_8UC3, cv::Scalar(255, 255, 255));
-  Axes a;
-  for (const auto& s : series) {
-    for (double v : s.x) a.x.add(v);
-    for (double v : s.y) a.y.add(v);
-  }
-  a.x.pad(0.05, 1.0);
-  a.y.pad(0.05, 1.0);
-  // Equal scales: widen the narrower range.
-  const double px = (a.x.hi - a.x.lo) / (a.x1 - a.x0), py = (a.y.hi - a.y.lo) / (a.y0 - a.y1);
-  const double scale = std::max(px, py);
-  const double cx = 0.5 * (a.x.lo + a.x.hi), cy = 0.5 * (a.y.lo + a.y.hi);
-  a.x = {cx - 0.5 * scale * (a.x1 - a.x0), cx + 0.5 * scale * (a.x1 - a.x0)};
-  a.y = {cy - 0.5 * scale * (a.y0 - a.y1), cy + 0.5 * scale * (a.y0 - a.y1)};
-  drawFrame(img, a, title, "x (m)", "y (m)", false);
-  for (const auto& s : series) drawSeries(img, a, s);
-  for (const auto& s : series) {  // start (circle) and end (square) of each
-    if (s.x.empty()) continue;
-    cv::circle(img, a.map(s.x.front(), s.y.front()), 6, colour(s), 2, cv::LINE_AA);
-    const cv::Point e = a.map(s.x.back(), s.y.back());
-    cv::rectangle(img, {e.x - 5, e.y - 5}, {e.x + 5, e.y + 5}, colour(s), 2, cv::LINE_AA);
-  }
-  drawLegend(img, series, a);
-  return encodePng(img);
+  ScratchFolder dir;
+  std::string gp = preamble(dir, title, "x (m)", "y (m)");
+  gp += "set size ratio -1\n";  // one metre is as long on both axes
+  return runGnuplot(dir, gp + plotCommand(dir, series));
 }
 
 std::string plotHistogramsPng(const std::vector<PlotSeries>& series, const std::string& title,
                               const std::string& x_label) {
-  cv::Mat img(kHeight, kWidth, CV_8UC3, cv::Scalar(255, 255, 255));
-  Axes a;
-  for (const auto& s : series) {
+  // Logarithmic bins over every series' positive samples; each series' share per bin.
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const PlotSeries& s : series) {
     for (double v : s.x) {
-      if (v > 0.0) a.x.add(std::log10(v));
+      if (v > 0.0 && std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
     }
   }
-  a.x.pad(0.02, 0.5);
-  constexpr int kBins = 80;
-  const double w = (a.x.hi - a.x.lo) / kBins;
-  std::vector<std::vector<double>> counts;
-  double peak = 0.0;
-  for (const auto& s : series) {
-    std::vector<double> c(kBins, 0.0);
+  if (!(lo <= hi)) lo = 1.0, hi = 10.0;
+  const double l0 = std::log10(lo), l1 = std::max(std::log10(hi), l0 + 1e-3);
+  constexpr int kBins = 60;
+  const double w = (l1 - l0) / kBins;
+  std::vector<PlotSeries> shares;
+  for (const PlotSeries& s : series) {
+    PlotSeries h = s;
+    h.markers = false;
+    h.x.assign(kBins + 1, 0.0);
+    h.y.assign(kBins + 1, 0.0);
+    std::size_t n = 0;
     for (double v : s.x) {
-      if (!(v > 0.0)) continue;
-      const int b = std::clamp(static_cast<int>((std::log10(v) - a.x.lo) / w), 0, kBins - 1);
-      c[b] += 1.0;
+      if (!(v > 0.0) || !std::isfinite(v)) continue;
+      ++h.y[static_cast<std::size_t>(std::clamp(static_cast<int>((std::log10(v) - l0) / w), 0, kBins - 1))];
+      ++n;
     }
-    for (double& v : c) v = s.x.empty() ? 0.0 : v / static_cast<double>(s.x.size());
-    peak = std::max(peak, *std::max_element(c.begin(), c.end()));
-    counts.push_back(std::move(c));
-  }
-  a.y = {0.0, std::max(peak, 1e-9) * 1.1};
-  drawFrame(img, a, title, x_label + " (log scale)", "share of scans", true);
-  for (std::size_t k = 0; k < series.size(); ++k) {
-    for (int b = 0; b < kBins; ++b) {
-      if (counts[k][b] <= 0.0) continue;
-      const cv::Point p0 = a.map(a.x.lo + b * w, 0.0), p1 = a.map(a.x.lo + (b + 1) * w, counts[k][b]);
-      cv::rectangle(img, p0, p1, colour(series[k]), cv::FILLED);
+    for (int b = 0; b <= kBins; ++b) {
+      h.x[static_cast<std::size_t>(b)] = std::pow(10.0, l0 + w * b);  // left edge of bin b
+      if (n > 0) h.y[static_cast<std::size_t>(b)] /= static_cast<double>(n);
     }
+    shares.push_back(std::move(h));
   }
-  drawLegend(img, series, a);
-  return encodePng(img);
+  ScratchFolder dir;
+  std::string gp = preamble(dir, title, x_label + " (log scale)", "share of scans");
+  gp += "set logscale x 10\nset yrange [0:*]\nset format x '%g'\n";
+  std::string plot = plotCommand(dir, shares);
+  // Histograms as steps at the bins' left edges.
+  for (std::size_t pos = 0; (pos = plot.find("with lines lw 2", pos)) != std::string::npos;) {
+    plot.replace(pos, 15, "with steps lw 2");
+  }
+  return runGnuplot(dir, gp + plot);
 }
 
 std::string plotXYPng(const std::vector<PlotSeries>& series, const std::string& title,
                       const std::string& x_label, const std::string& y_label) {
-  cv::Mat img(kHeight, kWidth, CV_8UC3, cv::Scalar(255, 255, 255));
-  Axes a;
-  for (const auto& s : series) {
-    for (double v : s.x) a.x.add(v);
-    for (double v : s.y) a.y.add(v);
-  }
-  a.x.pad(0.03, 1.0);
-  a.y.add(0.0);
-  a.y.pad(0.05, 1e-3);
-  drawFrame(img, a, title, x_label, y_label, false);
-  for (const auto& s : series) drawSeries(img, a, s);
-  drawLegend(img, series, a);
-  return encodePng(img);
+  ScratchFolder dir;
+  const std::string gp = preamble(dir, title, x_label, y_label);
+  return runGnuplot(dir, gp + plotCommand(dir, series));
 }
 
 std::string scanFeaturesPng(const ScanPicture& scan, const std::string& title) {

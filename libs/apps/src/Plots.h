@@ -1,6 +1,7 @@
 #pragma once
 // Private to lidarseg::apps: the pictures of a run (trajectories, timing histograms,
-// per-run errors) as PNG images drawn with OpenCV.
+// per-run errors) as PNG images drawn by gnuplot (pngcairo); a scan's features with OpenCV.
+// @throws std::runtime_error when gnuplot is missing or fails.
 
 #include <array>
 #include <string>
@@ -16,6 +17,22 @@ struct PlotSeries {
   std::vector<double> x, y;
   bool markers = false;  ///< dots instead of a polyline
 };
+
+/// One colour per method or reference, the same in every picture of every tool.
+struct Colour {
+  int blue, green, red;
+};
+inline constexpr Colour kLidarsegColour{200, 80, 0};   ///< blue
+inline constexpr Colour kIcpColour{0, 0, 220};         ///< red: MRPT ICP keyframed
+inline constexpr Colour kIcpS2sColour{160, 0, 160};    ///< purple: MRPT ICP scan to scan
+inline constexpr Colour kTruthColour{0, 0, 0};         ///< black: ground truth, log poses
+inline constexpr Colour kWheelColour{140, 140, 140};   ///< grey: the log's wheel odometry
+inline constexpr Colour kOtherColour{30, 150, 30};     ///< green: any other trajectory
+
+/// An empty series named `name`, drawn in `colour`.
+inline PlotSeries makeSeries(const std::string& name, Colour colour, bool markers = false) {
+  return PlotSeries{name, colour.blue, colour.green, colour.red, {}, {}, markers};
+}
 
 /// Draws the series on equal-scale axes (trajectories, metres) with a legend, a grid and a
 /// scale bar. Returns the PNG bytes.

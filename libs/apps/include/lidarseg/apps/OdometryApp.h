@@ -117,7 +117,7 @@ class OdometryApp {
   void writeOutputs(OdometryReport& report, const References& refs, const eval::StampedTrajectory& log_poses,
                     const eval::StampedTrajectory& wheel_odometry, OutputSet& outputs) const;
   void addPlots(const OdometryReport& report, const References& refs, const eval::StampedTrajectory& log_poses,
-                OutputSet& outputs) const;
+                const eval::StampedTrajectory& wheel_odometry, OutputSet& outputs) const;
 
   OdometryOptions options_;
   std::string gt_path_;    // the ground truth used (given or found beside the input)
