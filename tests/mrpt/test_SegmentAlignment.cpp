@@ -87,8 +87,13 @@ TEST(SegmentAlignment, ParametersLoadLikeCicpsAndRejectBadKeys) {
   p.saveToConfigFile(saved, "copy");
   SegmentAlignment::TConfigParams q;
   q.loadFromConfigFile(saved, "copy");
-  EXPECT_DOUBLE_EQ(q.segmentation.wall_danielsson.threshold_m, 0.03);
+  EXPECT_EQ(q.segmentation.wall_danielsson.threshold_m, 0.03);  // exactly: the shortest text reads back
   EXPECT_EQ(q.level, CascadeLevel::kEroded);
+  // Written as a person would: "0.03", not "0.029999999999999999".
+  std::string text;
+  saved.getContent(text);
+  EXPECT_NE(text.find("wd_threshold_m = 0.03\n"), std::string::npos) << text;
+  EXPECT_EQ(text.find("9999999"), std::string::npos) << text;
   // Unknown key, bad level.
   cfg.setContent(std::string("[align]\nwd_treshold_m = 0.03\n"));
   try {

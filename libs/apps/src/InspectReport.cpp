@@ -239,9 +239,10 @@ std::string htmlGallery(const std::vector<ScanRow>& rows, const std::vector<std:
   return html.str();
 }
 
-// The end of the page: the script that counts the images loaded.
+// The end of the page: a script that counts the images loaded, into a hidden element that
+// the tests read (the reader never sees it).
 const char* const kHtmlFooter =
-    "<p id=\"image-check\">images not checked</p>\n"
+    "<p id=\"image-check\" hidden>images not checked</p>\n"
     "<script>window.addEventListener('load',function(){var ok=0,bad=0;"
     "document.querySelectorAll('img').forEach(function(i){if(i.complete&&i.naturalWidth>0)ok++;else bad++;});"
     "document.getElementById('image-check').textContent='images loaded='+ok+' broken='+bad;});</script>\n"

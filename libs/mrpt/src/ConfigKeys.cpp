@@ -213,6 +213,12 @@ void rethrowWithLocation(const std::invalid_argument& e, const std::string& sour
 }
 
 std::string formatValue(double v) {
+  // The shortest text that reads back as the same double: 0.3, not 0.29999999999999999.
+  for (int digits = 6; digits <= std::numeric_limits<double>::max_digits10; ++digits) {
+    std::ostringstream os;
+    os << std::setprecision(digits) << v;
+    if (std::strtod(os.str().c_str(), nullptr) == v) return os.str();
+  }
   std::ostringstream os;
   os << std::setprecision(std::numeric_limits<double>::max_digits10) << v;
   return os.str();
