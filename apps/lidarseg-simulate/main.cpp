@@ -10,8 +10,12 @@
 int main(int argc, char** argv) {
   try {
     TCLAP::CmdLine cmd("Simulate a lidar + camera run with ground truth (MRPT rawlog output)", ' ', "0.1.0");
-    TCLAP::ValueArg<std::string> world("w", "world", "world file (config/worlds/*.world)", true, "", "FILE", cmd);
-    TCLAP::ValueArg<std::string> traj("t", "trajectory", "trajectory file (config/worlds/*.traj)", true, "", "FILE", cmd);
+    TCLAP::ValueArg<std::string> world("w", "world", "world file (config/worlds/*.world)", false, "", "FILE", cmd);
+    TCLAP::ValueArg<std::string> traj("t", "trajectory", "trajectory file (config/worlds/*.traj)", false, "", "FILE", cmd);
+    TCLAP::ValueArg<std::uint64_t> building("", "building",
+                                            "a generated building of this seed and its loop, instead of -w/-t "
+                                            "(also writes PREFIX.world, PREFIX.traj, PREFIX.doors.csv)",
+                                            false, 0, "SEED", cmd);
     TCLAP::ValueArg<std::string> sensor("", "sensor-model", "simulated sensor: lms100, utm30lx, sick180", false, "lms100",
                                         "NAME", cmd);
     TCLAP::ValueArg<std::string> config("c", "config", "INI/YAML with a [simulation] section", false, "", "FILE", cmd);
@@ -32,10 +36,12 @@ int main(int argc, char** argv) {
     lidarseg::apps::SimulateOptions o;
     o.world_path = world.getValue();
     o.trajectory_path = traj.getValue();
+    if (building.isSet()) o.building_seed = building.getValue();
     o.sensor = sensor.getValue();
     o.config_path = config.getValue();
     o.seed = seed.getValue();
-    o.out_prefix = lidarseg::apps::simulationPrefix(out.getValue(), world.getValue());
+    o.out_prefix = lidarseg::apps::simulationPrefix(
+        out.getValue(), building.isSet() ? "building" + std::to_string(building.getValue()) : world.getValue());
     o.progress = !quiet.getValue();
     o.rolling_shutter = !no_rs.getValue();
     o.scan_stamp = scan_stamp.getValue();

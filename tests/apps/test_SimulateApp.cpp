@@ -63,6 +63,34 @@ TEST(SimulateApp, WritesEveryOutputAndTheSameBytesForTheSameSeed) {
   EXPECT_GT(a.door_sightings, 0u);
 }
 
+TEST(SimulateApp, GeneratedBuildingWritesItsWorldAndTrajectoryThatReproduceTheRun) {
+  fs::create_directories(kTmp);
+  SimulateOptions o;
+  o.building_seed = 4;  // a tuning seed
+  o.out_prefix = kTmp + "/building";
+  o.camera_every_scans = 0;
+  const SimulateReport r = SimulateApp(o).run();
+  EXPECT_GT(r.scans, 1000u);
+  EXPECT_GT(r.door_sightings, 100u);
+  const std::string doors = slurp(kTmp + "/building.doors.csv");
+  EXPECT_EQ(doors.rfind("id,kind,width,double,recess,thickness", 0), 0u);
+  // The same run from the files it wrote: the same truth, the same scans.
+  SimulateOptions again;
+  again.world_path = kTmp + "/building.world";
+  again.trajectory_path = kTmp + "/building.traj";
+  again.out_prefix = kTmp + "/building_again";
+  again.camera_every_scans = 0;
+  SimulateApp(again).run();
+  EXPECT_TRUE(slurp(kTmp + "/building.features.csv") == slurp(kTmp + "/building_again.features.csv"));
+  EXPECT_TRUE(slurp(kTmp + "/building.rawlog") == slurp(kTmp + "/building_again.rawlog"));
+  // One or the other, not both.
+  o.world_path = kWorlds + "hospital.world";
+  EXPECT_THROW(SimulateApp(o).run(), std::invalid_argument);
+  SimulateOptions none;
+  none.out_prefix = kTmp + "/none";
+  EXPECT_THROW(SimulateApp(none).run(), std::invalid_argument);
+}
+
 TEST(SimulateApp, GroundTruthMatchesTheTrajectoryAndTheRawlog) {
   SimulateApp(shortRun("gt", 3)).run();
   std::ifstream gt(testDir() + "/gt.gt.tum");

@@ -26,6 +26,49 @@ TEST(World, NearestWallWins) {
   EXPECT_DOUBLE_EQ(w.castRay({1, 1}, {0, 1}), 1.0);
 }
 
+TEST(World, DoorInAThickWallCutsBothFacesAndAddsTheReveals) {
+  // A wall 0.2 m thick: faces y = 0 and y = 0.2; a closed door recessed 0.05 m, an open one.
+  World w;
+  w.addWall({-5, 0}, {5, 0});
+  w.addWall({-5, 0.2}, {5, 0.2});
+  Door closed;
+  closed.kind = DoorKind::kClosed;
+  closed.jamb_a = {-3, 0};
+  closed.jamb_b = {-2, 0};
+  closed.recess_m = 0.05;
+  closed.wall_thickness_m = 0.2;
+  w.addDoor(closed);
+  Door open = closed;
+  open.kind = DoorKind::kOpen;
+  open.jamb_a = {1, 0};
+  open.jamb_b = {2.5, 0};
+  w.addDoor(open);
+  EXPECT_NEAR(w.castRay({-2.5, -1}, {0, 1}), 1.05, 1e-12);  // the leaf
+  EXPECT_TRUE(std::isinf(w.castRay({1.75, -1}, {0, 1})));  // through both faces
+  // The reveal beside the open door's jamb_b: x = 2.5 from y = 0 to 0.2.
+  EXPECT_NEAR(w.castRay({1.75, 0.1}, {1, 0}), 0.75, 1e-12);
+  EXPECT_NEAR(w.castRay({-2.95, 0.15}, {1, 0}), 0.95, 1e-12);  // behind the leaf, to the far reveal
+}
+
+TEST(World, DoubleAjarDoorHasTwoLeavesHingedAtTheFrame) {
+  World w;
+  w.addWall({-5, 0}, {5, 0});
+  Door d;
+  d.kind = DoorKind::kAjar;
+  d.jamb_a = {-1, 0};
+  d.jamb_b = {1, 0};
+  d.double_leaf = true;
+  d.leaf_angle_rad = kPi / 2;
+  d.second_leaf_angle_rad = kPi / 2;
+  d.recess_m = 0.1;
+  w.addDoor(d);
+  EXPECT_EQ(d.hingeA(), Eigen::Vector2d(-1, 0.1));
+  // Leaves standing straight up from (-1, 0.1) and (1, 0.1), 1 m long each.
+  EXPECT_NEAR(w.castRay({0, 0.5}, {-1, 0}), 1.0, 1e-9);
+  EXPECT_NEAR(w.castRay({0, 0.5}, {1, 0}), 1.0, 1e-9);
+  EXPECT_TRUE(std::isinf(w.castRay({0, -1}, {0, 1})));
+}
+
 TEST(ScanSimulator, NoiselessScanMatchesGeometryAndNoReturnIsMaxRange) {
   World w;
   w.addWall({-10, 2}, {10, 2});

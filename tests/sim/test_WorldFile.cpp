@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "lidarseg/core/Angles.h"
+
 #include "lidarseg/sim/WorldFile.h"
 
 namespace lidarseg::sim {
@@ -69,11 +71,34 @@ TEST(WorldFile, ErrorsNameTheLine) {
   EXPECT_EQ(errorOf("door shut 0 0 1 0\n"),
             "test.world:1: unknown door kind 'shut' (open, closed or ajar)");
   EXPECT_EQ(errorOf("door closed 0 0 1 0\n"), "test.world:1: 'door closed' expects 5 numbers, got 4");
-  EXPECT_EQ(errorOf("door closed 0 0 1 0 -0.1\n"), "test.world:1: closed door recess must be in (0, 1] m");
+  EXPECT_EQ(errorOf("door closed 0 0 1 0 -0.1\n"), "test.world:1: closed door recess must be in [0, 1] m");
   EXPECT_EQ(errorOf("polyline 0 0 1\n"),
             "test.world:1: 'polyline' expects an even number (>= 4) of numbers, got 3");
   EXPECT_EQ(errorOf("pillar 0 0 nan\n"), "test.world:1: 'nan' is not a number");
   EXPECT_THROW(loadWorldFile("/nonexistent/a.world"), std::runtime_error);
+}
+
+TEST(WorldFile, DoorOptionsThicknessFrameAndDouble) {
+  std::istringstream in(
+      "wall -5 0 5 0\nwall -5 0.2 5 0.2\n"
+      "door ajar -3 0 -1.5 0 30 thickness 0.2 frame 0.1 double 45\n"
+      "door closed 1 0 2 0 0 thickness 0.2 double\n");
+  const World w = parseWorld(in, "t.world");
+  ASSERT_EQ(w.doors().size(), 2u);
+  const Door& a = w.doors()[0];
+  EXPECT_EQ(a.kind, DoorKind::kAjar);
+  EXPECT_DOUBLE_EQ(a.wall_thickness_m, 0.2);
+  EXPECT_DOUBLE_EQ(a.recess_m, 0.1);
+  EXPECT_TRUE(a.double_leaf);
+  EXPECT_NEAR(a.second_leaf_angle_rad, 45 * kDegToRad, 1e-12);
+  const Door& c = w.doors()[1];
+  EXPECT_EQ(c.recess_m, 0.0);  // flush
+  EXPECT_TRUE(c.double_leaf);
+  EXPECT_EQ(errorOf("door open 0 0 1 0 thickness\n"), "test.world:1: 'thickness' needs a value");
+  EXPECT_EQ(errorOf("door open 0 0 1 0 frame 0.1\n"),
+            "test.world:1: 'frame' is for ajar doors (a closed door's leaf is at its recess)");
+  EXPECT_EQ(errorOf("door open 0 0 1 0 thickness 2\n"), "test.world:1: wall thickness must be in [0, 1] m");
+  EXPECT_EQ(errorOf("door open 0 0 1 0 double 3\n"), "test.world:1: unknown door option '3' (thickness, frame, double)");
 }
 
 TEST(WorldFile, ShippedWorldsLoad) {

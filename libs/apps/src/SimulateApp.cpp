@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include <mrpt/core/Clock.h>
 #include <mrpt/img/CImage.h>
@@ -23,6 +24,7 @@
 #include "lidarseg/pipeline/OutputFiles.h"
 #include "lidarseg/mrpt/ScanConverter.h"
 #include "lidarseg/mrpt/SimulationConfig.h"
+#include "lidarseg/sim/BuildingGenerator.h"
 #include "lidarseg/sim/Simulation.h"
 #include "lidarseg/sim/Trajectory.h"
 #include "lidarseg/sim/WorldFile.h"
@@ -268,11 +270,32 @@ SimulateReport SimulateApp::run() {
 }
 
 SimulateReport SimulateApp::runOrThrow() {
-  const sim::World world = sim::loadWorldFile(options_.world_path);
-  const sim::Trajectory trajectory = sim::loadTrajectoryFile(options_.trajectory_path);
+  if (options_.out_prefix.empty()) throw std::invalid_argument("no output prefix given (--out)");
+  std::optional<sim::Building> building;
+  if (options_.building_seed) {
+    if (!options_.world_path.empty() || !options_.trajectory_path.empty()) {
+      throw std::invalid_argument("--building replaces --world and --trajectory: give one or the other");
+    }
+    building = sim::generateBuilding(*options_.building_seed);
+  } else if (options_.world_path.empty() || options_.trajectory_path.empty()) {
+    throw std::invalid_argument("give --world and --trajectory, or --building SEED");
+  }
+  const sim::World world = building ? building->world() : sim::loadWorldFile(options_.world_path);
+  const sim::Trajectory trajectory =
+      building ? building->trajectory() : sim::loadTrajectoryFile(options_.trajectory_path);
   const sim::SimulationParams params = simulationParams(options_);
   sim::Simulation simulation(world, trajectory, params);
   prepareFolders(options_.out_prefix, params.camera_every_scans > 0);
+  // The generated building as files: the same run again with -w/-t, and its doors.
+  std::vector<std::unique_ptr<PendingFile>> building_files;
+  if (building) {
+    for (const char* ext : {".world", ".traj", ".doors.csv"}) {
+      building_files.push_back(std::make_unique<PendingFile>(options_.out_prefix + ext));
+    }
+    sim::writeWorldFile(building_files[0]->out(), *building);
+    sim::writeTrajectoryFile(building_files[1]->out(), *building);
+    sim::writeDoorTable(building_files[2]->out(), *building);
+  }
   RunOutputs outputs(options_, params, world);
   SimulateReport report;
   report.rawlog_path = options_.out_prefix + ".rawlog";
@@ -285,6 +308,7 @@ SimulateReport SimulateApp::runOrThrow() {
   }
   progress.done(simulation.numScans());
   outputs.commit();
+  for (auto& f : building_files) f->commit();
   return report;
 }
 

@@ -47,6 +47,13 @@ FeatureOracle::FeatureOracle(const World& world, const FeatureOracleParams& para
         return;
       }
     }
+    for (const Door& d : world.doors()) {  // a jamb's corner belongs to its door
+      const Eigen::Vector2d back = std::max(d.wall_thickness_m, d.recess_m) * d.behind();
+      for (const Eigen::Vector2d& j : {d.jamb_a, d.jamb_b, Eigen::Vector2d(d.jamb_a + back),
+                                       Eigen::Vector2d(d.jamb_b + back)}) {
+        if ((j - p).norm() <= params.door_exclusion_m) return;
+      }
+    }
     corners_.push_back({p, ua, ub, la, lb});
   };
   for (std::size_t i = 0; i < walls.size(); ++i) {
@@ -163,13 +170,17 @@ std::vector<Feature> FeatureOracle::visible(const Pose2D& T, const BeamLayout& l
                    seenWithBeams(origin, d.jamb_b, wall_b, step, p.min_wall_beams);
     f.seen_as = f.type;
     if (d.kind == DoorKind::kAjar) {
-      // The leaf turns about jamb_a towards the side behind the wall (World::addDoor).
-      const Eigen::Vector2d left(-u.y(), u.x());
+      // Each leaf turns about its hinge towards the side behind the wall (World::addDoor).
+      const Eigen::Vector2d left = d.behind();
       const Eigen::Vector2d leaf = std::cos(d.leaf_angle_rad) * u + std::sin(d.leaf_angle_rad) * left;
-      const double near_hinge = std::min(p.leaf_check_m, d.width());
-      if (!seenWithBeams(origin, d.jamb_a, d.jamb_a + near_hinge * leaf, step, p.min_gap_beams)) {
-        f.seen_as = FeatureType::kDoorOpen;
+      const double near_hinge = std::min(p.leaf_check_m, d.double_leaf ? 0.5 * d.width() : d.width());
+      bool leaf_seen = seenWithBeams(origin, d.hingeA(), d.hingeA() + near_hinge * leaf, step, p.min_gap_beams);
+      if (d.double_leaf && !leaf_seen) {
+        const Eigen::Vector2d leaf_b =
+            -std::cos(d.second_leaf_angle_rad) * u + std::sin(d.second_leaf_angle_rad) * left;
+        leaf_seen = seenWithBeams(origin, d.hingeB(), d.hingeB() + near_hinge * leaf_b, step, p.min_gap_beams);
       }
+      if (!leaf_seen) f.seen_as = FeatureType::kDoorOpen;
     }
     out.push_back(f);
   }

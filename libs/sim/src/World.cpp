@@ -1,5 +1,6 @@
 #include "lidarseg/sim/World.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -17,17 +18,25 @@ const char* toString(DoorKind kind) {
   return "unknown";
 }
 
-void World::addDoor(const Door& door) {
+Eigen::Vector2d Door::behind() const {
+  const Eigen::Vector2d d = (jamb_b - jamb_a).normalized();
+  return {-d.y(), d.x()};
+}
+
+Eigen::Vector2d Door::hingeA() const { return jamb_a + recess_m * behind(); }
+
+Eigen::Vector2d Door::hingeB() const { return jamb_b + recess_m * behind(); }
+
+namespace {
+// Walls with the part between a and b cut out, for the walls lying on the line a-b.
+std::vector<Wall> cutOpening(const std::vector<Wall>& walls, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   constexpr double kOnLine = 1e-3;  // m: a wall this close to the door's line holds it
-  const Eigen::Vector2d a = door.jamb_a, b = door.jamb_b;
   const double width = (b - a).norm();
   const Eigen::Vector2d d = (b - a) / width;
   const Eigen::Vector2d left(-d.y(), d.x());
-
-  // Cut the opening out of the walls on the door's line.
   std::vector<Wall> kept;
-  kept.reserve(walls_.size() + 2);
-  for (const Wall& w : walls_) {
+  kept.reserve(walls.size() + 2);
+  for (const Wall& w : walls) {
     const bool on_line = std::abs(left.dot(w.a - a)) < kOnLine && std::abs(left.dot(w.b - a)) < kOnLine;
     if (!on_line) {
       kept.push_back(w);
@@ -46,26 +55,44 @@ void World::addDoor(const Door& door) {
     if (ta < 0.0) kept.push_back({lo, a, w.kind});
     if (tb > width) kept.push_back({b, hi, w.kind});
   }
-  walls_ = std::move(kept);
+  return kept;
+}
+}  // namespace
 
+void World::addDoor(const Door& door) {
+  const Eigen::Vector2d a = door.jamb_a, b = door.jamb_b;
+  const double width = (b - a).norm();
+  const Eigen::Vector2d d = (b - a) / width;
+  const Eigen::Vector2d left = door.behind();
+  const double thickness = std::max(0.0, door.wall_thickness_m);
+
+  walls_ = cutOpening(walls_, a, b);
+  if (thickness > 0.0) walls_ = cutOpening(walls_, a + thickness * left, b + thickness * left);
+
+  // The reveals: the opening's sides, through the wall and as deep as a recessed leaf.
+  const double reveal = std::max(thickness, door.kind == DoorKind::kClosed ? door.recess_m : 0.0);
+  if (reveal > 0.0) addWall(a, a + reveal * left);
   switch (door.kind) {
     case DoorKind::kOpen:
       break;
     case DoorKind::kClosed: {
       const Eigen::Vector2d back = door.recess_m * left;
-      addWall(a, a + back);
       addWall(a + back, b + back, SurfaceKind::kDoor);
-      addWall(b + back, b);
       break;
     }
     case DoorKind::kAjar: {
+      // Each leaf turns about its hinge towards the "behind" side.
+      const double leaf_len = door.double_leaf ? 0.5 * width : width;
       const double c = std::cos(door.leaf_angle_rad), s = std::sin(door.leaf_angle_rad);
-      // The leaf turns about jamb_a towards the "behind" side.
-      const Eigen::Vector2d leaf = width * (c * d + s * left);
-      addWall(a, a + leaf, SurfaceKind::kDoor);
+      addWall(door.hingeA(), door.hingeA() + leaf_len * (c * d + s * left), SurfaceKind::kDoor);
+      if (door.double_leaf) {
+        const double c2 = std::cos(door.second_leaf_angle_rad), s2 = std::sin(door.second_leaf_angle_rad);
+        addWall(door.hingeB(), door.hingeB() + leaf_len * (-c2 * d + s2 * left), SurfaceKind::kDoor);
+      }
       break;
     }
   }
+  if (reveal > 0.0) addWall(b + reveal * left, b);
   doors_.push_back(door);
 }
 

@@ -23,6 +23,9 @@ class LineParser {
  public:
   LineParser(const std::string& source, int line, std::vector<std::string> tokens)
       : source_(source), line_(line), tokens_(std::move(tokens)) {}
+  // The same line, other tokens.
+  LineParser(const LineParser& line, std::vector<std::string> tokens)
+      : source_(line.source_), line_(line.line_), tokens_(std::move(tokens)) {}
 
   [[noreturn]] void fail(const std::string& message) const {
     throw std::runtime_error(source_ + ":" + std::to_string(line_) + ": " + message);
@@ -63,6 +66,42 @@ class LineParser {
 
 Eigen::Vector2d point(const std::vector<double>& v, std::size_t i) { return {v[i], v[i + 1]}; }
 
+bool isOption(const std::string& token) { return token == "thickness" || token == "frame" || token == "double"; }
+
+// The options after a door's numbers: `thickness T` (m, the wall's), `frame D` (m, an ajar
+// door's hinges behind the wall line), `double` (two leaves; an ajar door's second leaf
+// opened ANGLE deg: `double ANGLE`).
+void parseDoorOptions(const LineParser& p, const std::vector<std::string>& tokens, std::size_t at, Door& door) {
+  auto value = [&](std::size_t k, const std::string& name) {
+    if (k >= tokens.size() || isOption(tokens[k])) p.fail("'" + name + "' needs a value");
+    return LineParser(p, {name, tokens[k]}).numbers(1, 1, 1)[0];
+  };
+  while (at < tokens.size()) {
+    const std::string& name = tokens[at];
+    if (name == "thickness") {
+      door.wall_thickness_m = value(at + 1, name);
+      if (!(door.wall_thickness_m >= 0.0 && door.wall_thickness_m <= 1.0)) p.fail("wall thickness must be in [0, 1] m");
+      at += 2;
+    } else if (name == "frame") {
+      if (door.kind != DoorKind::kAjar) p.fail("'frame' is for ajar doors (a closed door's leaf is at its recess)");
+      door.recess_m = value(at + 1, name);
+      if (!(door.recess_m >= 0.0 && door.recess_m <= 1.0)) p.fail("frame depth must be in [0, 1] m");
+      at += 2;
+    } else if (name == "double") {
+      door.double_leaf = true;
+      ++at;
+      if (door.kind == DoorKind::kAjar) {
+        const double angle = value(at, name);
+        if (!(angle > 0.0 && angle <= 180.0)) p.fail("ajar door angle must be in (0, 180] deg");
+        door.second_leaf_angle_rad = angle * kDegToRad;
+        ++at;
+      }
+    } else {
+      p.fail("unknown door option '" + name + "' (thickness, frame, double)");
+    }
+  }
+}
+
 }  // namespace
 
 World parseWorld(std::istream& in, const std::string& source) {
@@ -101,18 +140,22 @@ World parseWorld(std::istream& in, const std::string& source) {
       if (tokens.size() < 2) p.fail("'door' needs a kind: open, closed or ajar");
       Door door;
       const std::string& kind = tokens[1];
+      // The door's numbers, then its options (keywords, each with its value).
+      std::size_t options = 2;
+      while (options < tokens.size() && !isOption(tokens[options])) ++options;
+      const LineParser head(source, number, {tokens.begin(), tokens.begin() + static_cast<long>(options)});
       std::vector<double> v;
       if (kind == "open") {
         door.kind = DoorKind::kOpen;
-        v = p.numbers(2, 4, 4);
+        v = head.numbers(2, 4, 4);
       } else if (kind == "closed") {
         door.kind = DoorKind::kClosed;
-        v = p.numbers(2, 5, 5);
-        if (!(v[4] > 0.0 && v[4] <= 1.0)) p.fail("closed door recess must be in (0, 1] m");
+        v = head.numbers(2, 5, 5);
+        if (!(v[4] >= 0.0 && v[4] <= 1.0)) p.fail("closed door recess must be in [0, 1] m");
         door.recess_m = v[4];
       } else if (kind == "ajar") {
         door.kind = DoorKind::kAjar;
-        v = p.numbers(2, 5, 5);
+        v = head.numbers(2, 5, 5);
         if (!(v[4] > 0.0 && v[4] <= 180.0)) p.fail("ajar door angle must be in (0, 180] deg");
         door.leaf_angle_rad = v[4] * kDegToRad;
       } else {
@@ -121,6 +164,7 @@ World parseWorld(std::istream& in, const std::string& source) {
       door.jamb_a = point(v, 0);
       door.jamb_b = point(v, 2);
       if (door.width() < kMinLength) p.fail("door of zero width");
+      parseDoorOptions(p, tokens, options, door);
       doors.push_back(door);
     } else if (key == "pillar") {
       const auto v = p.numbers(1, 3, 3);

@@ -4,6 +4,7 @@
 /// ground truth.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace lidarseg::apps {
@@ -12,6 +13,10 @@ namespace lidarseg::apps {
 struct SimulateOptions {
   std::string world_path;         ///< config/worlds/*.world
   std::string trajectory_path;    ///< config/worlds/*.traj
+  /// Instead of a world and a trajectory file: the generated building of this seed
+  /// (sim::generateBuilding with its default parameters) and its loop; the run also writes
+  /// PREFIX.world, PREFIX.traj (the same run again with -w/-t) and PREFIX.doors.csv.
+  std::optional<std::uint64_t> building_seed;
   std::string sensor = "lms100";  ///< sensor profile: lms100, utm30lx, sick180
   /// Optional INI/YAML with a [simulation] section (config/simulate.ini).
   std::string config_path;

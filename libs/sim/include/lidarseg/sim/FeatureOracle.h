@@ -66,8 +66,12 @@ struct FeatureOracleParams {
   double wall_check_m = 0.5;
   std::size_t min_wall_beams = 4;
   /// A door ajar is seen as one when its leaf's first leaf_check_m from the hinge are seen
-  /// with at least min_gap_beams beams.
+  /// with at least min_gap_beams beams (either leaf of a double door).
   double leaf_check_m = 0.3;
+  /// Corners this close to a door's jamb, on either face of its wall, belong to the door
+  /// (the reveals of a thick wall meet the wall's faces there): no corner, as the
+  /// detector's corner_door_exclusion_m (m).
+  double door_exclusion_m = 0.2;
 };
 
 /// Which doors and corners of a world a range sensor sees from a pose: in its field of

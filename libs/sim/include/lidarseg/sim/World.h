@@ -43,6 +43,22 @@ struct Door {
   double recess_m = 0.0;
   /// Ajar door: angle of the leaf, hinged at jamb_a, from the closed position (rad).
   double leaf_angle_rad = 0.0;
+  /// Thickness of the wall the door is in (m): the opening is also cut out of the wall
+  /// face on the parallel line this far behind, and the opening's sides (reveals) join
+  /// the two faces. 0: a wall of no thickness (the reveals are only the recess's sides).
+  double wall_thickness_m = 0.0;
+  /// Two leaves of half the width each, hinged at jamb_a and jamb_b. Ajar: the second
+  /// leaf is opened by second_leaf_angle_rad. Closed and open doors look the same either way.
+  bool double_leaf = false;
+  double second_leaf_angle_rad = 0.0;
+
+  /// Hinge of an ajar door's leaf (of the first leaf of a double door): jamb_a, moved
+  /// recess_m behind the wall line (the frame's depth).
+  Eigen::Vector2d hingeA() const;
+  /// Hinge of the second leaf of a double door: jamb_b moved recess_m behind.
+  Eigen::Vector2d hingeB() const;
+  /// Unit normal pointing behind the door (the left of jamb_a -> jamb_b).
+  Eigen::Vector2d behind() const;
 
   double width() const { return (jamb_b - jamb_a).norm(); }
   Eigen::Vector2d centre() const { return 0.5 * (jamb_a + jamb_b); }
@@ -54,9 +70,11 @@ class World {
   World() = default;
   explicit World(std::vector<Wall> walls) : walls_(std::move(walls)) {}
 
-  /// Adds a door: cuts the opening out of the walls lying on its line (within 1 mm) and
-  /// adds its geometry: nothing for an open door, the two recess sides and the leaf for a
-  /// closed one, the leaf for an ajar one.
+  /// Adds a door: cuts the opening out of the walls lying on its line (within 1 mm), and
+  /// on the line wall_thickness_m behind when the wall is thick, and adds its geometry:
+  /// the reveals (the opening's two sides, max(recess_m, wall_thickness_m) deep; none for
+  /// an open door in a wall of no thickness), the leaf of a closed door recess_m behind the
+  /// wall line, the leaf (or two leaves) of an ajar one hinged recess_m behind the jambs.
   void addDoor(const Door& door);
   const std::vector<Door>& doors() const { return doors_; }
 
