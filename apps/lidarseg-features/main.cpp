@@ -21,6 +21,9 @@ int main(int argc, char** argv) {
     TCLAP::ValueArg<std::string> truth("", "gt", "ground truth: PREFIX.features.csv of lidarseg-simulate", false, "",
                                        "FILE", cmd);
     TCLAP::SwitchArg quiet("q", "quiet", "no progress on stderr", cmd);
+    TCLAP::ValueArg<std::string> matches("", "matches-out",
+                                         "with --gt: every true feature and detection with its match (CSV)", false,
+                                         "", "FILE", cmd);
     TCLAP::ValueArg<double> gate("", "gate", "match gate against the truth (m)", false, 0.2, "M", cmd);
     TCLAP::ValueArg<std::string> report("r", "report", "deprecated (use -o): folder for features.md and features.json",
                                         false, "", "DIR", cmd);
@@ -44,6 +47,7 @@ int main(int argc, char** argv) {
     options.out_csv = target.folder.empty() ? target.legacy_file : target.folder + "/features.csv";
     options.report_dir = report.getValue().empty() ? target.folder : report.getValue();
     options.truth_path = truth.getValue();
+    options.matches_out = matches.getValue();
     options.gate_m = gate.getValue();
     options.progress = !quiet.getValue();
     if (!figure.getValue().empty()) {

@@ -100,7 +100,11 @@ class LogPass {
       truth_ = eval::readTrueFeatures(options.truth_path);
       report.evaluation.emplace(options.gate_m);
     }
+    if (!options.matches_out.empty() && options.truth_path.empty()) {
+      throw std::invalid_argument("--matches-out needs --truth");
+    }
     writeFeatureCsvHeader(csv_);
+    if (!options.matches_out.empty()) matches_csv_ << "scan,role,type,seen_as,x,y,theta,width,id,resolvable,match\n";
     writeRoiCsvHeader(rois_csv_);
   }
 
@@ -146,6 +150,7 @@ class LogPass {
   // The features CSV and the regions CSV, header included.
   std::string csv() const { return csv_.str(); }
   std::string roisCsv() const { return rois_csv_.str(); }
+  std::string matchesCsv() const { return matches_csv_.str(); }
 
  private:
   // Image n: its regions as CSV rows and coverage and, when asked, drawn on its pixels; an
@@ -187,8 +192,32 @@ class LogPass {
   void score(std::size_t scan) {
     static const std::vector<eval::TrueFeature> kNone;
     const auto it = truth_.find(scan);
-    const auto e = report_.evaluation->add(it == truth_.end() ? kNone : it->second, features_);
+    const auto& truth = it == truth_.end() ? kNone : it->second;
+    const auto e = report_.evaluation->add(truth, features_);
     errors_.insert(errors_.end(), e.begin(), e.end());
+    if (!options_.matches_out.empty()) writeMatches(scan, truth);
+  }
+
+  // The scan's true features and detections with what each was matched to.
+  void writeMatches(std::size_t scan, const std::vector<eval::TrueFeature>& truth) {
+    const auto& tm = report_.evaluation->lastTruthMatches();
+    const auto& dm = report_.evaluation->lastDetectionMatches();
+    char line[256];
+    for (std::size_t k = 0; k < truth.size(); ++k) {
+      const eval::TrueFeature& t = truth[k];
+      std::snprintf(line, sizeof(line), "%zu,truth,%s,%s,%.4f,%.4f,%.4f,%.4f,%zu,%d,%s\n", scan, toString(t.type),
+                    toString(t.seen_as), t.position.x(), t.position.y(), t.theta_rad, t.width_m, t.id,
+                    t.resolvable ? 1 : 0, tm[k] < 0 ? "none" : toString(features_[static_cast<std::size_t>(tm[k])].type));
+      matches_csv_ << line;
+    }
+    for (std::size_t k = 0; k < features_.size(); ++k) {
+      const Feature& f = features_[k];
+      const eval::TrueFeature* t = dm[k] < 0 ? nullptr : &truth[static_cast<std::size_t>(dm[k])];
+      std::snprintf(line, sizeof(line), "%zu,detection,%s,,%.4f,%.4f,%.4f,%.4f,%lld,,%s\n", scan, toString(f.type),
+                    f.position.x(), f.position.y(), f.theta_rad, f.width_m, t ? static_cast<long long>(t->id) : -1LL,
+                    t ? toString(t->seen_as) : "none");
+      matches_csv_ << line;
+    }
   }
 
   // Paper Fig. 6 of this scan, written at once.
@@ -210,7 +239,7 @@ class LogPass {
   Segmentation segmentation_;
   std::vector<Feature> features_;
   std::optional<LastScan> last_;
-  std::ostringstream csv_, rois_csv_;
+  std::ostringstream csv_, rois_csv_, matches_csv_;
   std::vector<double> detect_us_, segment_us_, errors_, coverage_;
 };
 
@@ -248,6 +277,7 @@ void writeOutputs(const FeaturesOptions& options, const FeaturesReport& report, 
                   OutputSet& outputs) {
   if (!options.out_csv.empty()) outputs.add(options.out_csv, pass.csv());
   if (!options.rois_out.empty()) outputs.add(options.rois_out, pass.roisCsv());
+  if (!options.matches_out.empty()) outputs.add(options.matches_out, pass.matchesCsv());
   if (!options.report_dir.empty()) {
     std::filesystem::create_directories(options.report_dir);
     outputs.add(options.report_dir + "/features.md", FeaturesApp::markdown(report));

@@ -61,6 +61,11 @@ std::map<std::size_t, std::vector<TrueFeature>> readTrueFeatures(const std::stri
       fail(path, number, "column 'scan' must be an integer in [0, 1e15]");
     }
     f.position = {number_at(3), number_at(4)};
+    f.theta_rad = number_at(5);
+    f.width_m = number_at(6);
+    const double id = number_at(7);
+    if (!(id >= 0 && id <= 1e15) || id != std::floor(id)) fail(path, number, "column 'id' must be an integer in [0, 1e15]");
+    f.id = static_cast<std::size_t>(id);
     if (cols.size() > 8) f.resolvable = number_at(8) != 0.0;
     if (cols.size() > 9) {
       const auto seen = featureTypeFromString(cols[9]);
@@ -91,7 +96,10 @@ std::vector<double> FeatureEvaluation::add(const std::vector<TrueFeature>& truth
     }
   }
   std::sort(pairs.begin(), pairs.end());
-  std::vector<int> truth_match(truth.size(), -1), det_match(detected.size(), -1);
+  std::vector<int>& truth_match = truth_match_;
+  std::vector<int>& det_match = det_match_;
+  truth_match.assign(truth.size(), -1);
+  det_match.assign(detected.size(), -1);
   std::vector<double> errors;
   for (const auto& [wrong, dist, t, d] : pairs) {
     if (truth_match[t] >= 0 || det_match[d] >= 0) continue;

@@ -30,6 +30,12 @@ struct FeaturesOptions {
   std::string out_csv;
   /// Ground truth `<prefix>.features.csv` from lidarseg-simulate: score the detections.
   std::string truth_path;
+  /// With a truth: every true feature and every detection of every scan with what it was
+  /// matched to, for scoring by bins (tests/benchmarks/buildings.py): CSV
+  /// `scan,role,type,seen_as,x,y,theta,width,id,resolvable,match` (role truth: match = the
+  /// detected type or none; role detection: id = the matched truth's id or -1, match = its
+  /// seen_as or none; sensor frame, m and rad).
+  std::string matches_out;
   /// Match gate for the score (m).
   double gate_m = 0.2;
   /// Directory for features.md and features.json (the report).

@@ -23,6 +23,12 @@ struct TrueFeature {
   Eigen::Vector2d position = Eigen::Vector2d::Zero();
   /// Counted for recall only when resolvable; any true feature can make a detection right.
   bool resolvable = true;
+  /// As the simulator writes them: a door's wall normal pointing away from the sensor, a
+  /// corner's bisector (rad); a door's width (m, 0 for corners); the index of the door in
+  /// the world or of the corner in the oracle's list.
+  double theta_rad = 0.0;
+  double width_m = 0.0;
+  std::size_t id = 0;
 };
 
 /// Reads a simulator feature file: a header line, then
@@ -65,6 +71,10 @@ class FeatureEvaluation {
     return confusion_;
   }
   std::size_t scans() const { return scans_; }
+  /// Of the last scan added: for each true feature, the index of the detection matched to
+  /// it (-1: none); for each detection, the index of its true feature (-1: none).
+  const std::vector<int>& lastTruthMatches() const { return truth_match_; }
+  const std::vector<int>& lastDetectionMatches() const { return det_match_; }
   /// Position errors of every matched pair so far (m).
   const std::vector<double>& errors() const { return errors_; }
   double gate() const { return gate_m_; }
@@ -75,6 +85,7 @@ class FeatureEvaluation {
   DetectionCounts doors_{}, corners_{};
   std::array<std::array<std::size_t, kNumFeatureTypes>, kNumFeatureTypes> confusion_{};
   std::vector<double> errors_;
+  std::vector<int> truth_match_, det_match_;
   std::size_t scans_ = 0;
 };
 
