@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/LU>
 
@@ -90,6 +91,7 @@ void FeatureDetectorParams::validate() const {
   requireInRange("door_min_leaf_fraction", door_min_leaf_fraction, 0.0, 1.0);
   requireNonNegative("door_min_ajar_leaf_m", door_min_ajar_leaf_m);
   requirePositive("door_hinge_tolerance_m", door_hinge_tolerance_m);
+  requireNonNegative("door_reveal_tolerance_m", door_reveal_tolerance_m);
   requireNonNegative("corner_door_exclusion_m", corner_door_exclusion_m);
   if (door_max_segments_between > 1000) {
     failKey("door_max_segments_between", "<= 1000", static_cast<double>(door_max_segments_between));
@@ -153,10 +155,30 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, std::vector<
       if (width > p.door_max_width_m) break;     // further segments are only further away
       if (!wallOk(b)) break;
 
-      // The beams of the gap: where do they end relative to the wall line?
+      // The beams of the gap: where do they end relative to the wall line? Those on a
+      // reveal (the far side of the opening through a thick wall, seen obliquely) are the
+      // frame, not the doorway.
       const std::size_t count = beamsBetween(a.last_beam, b.first_beam, num_beams);
       if (count < p.door_min_gap_beams) break;
-      std::size_t front = 0, beyond = 0;
+      // A reveal runs straight back from a jamb, which lies between the wall's last point
+      // and one beam spacing into the gap: along the wall, within that interval (plus the
+      // tolerance) of a wall's end.
+      const double s_jamb_a = jamb_a.point.dot(t), s_jamb_b = jamb_b.point.dot(t);
+      const double s_end_a = a.end.dot(t), s_start_b = b.start.dot(t);
+      const double spacing_a = a.num_points > 1 ? a.length_m / (a.num_points - 1) : 0.0;
+      const double spacing_b = b.num_points > 1 ? b.length_m / (b.num_points - 1) : 0.0;
+      const double tol = p.door_reveal_tolerance_m;
+      // 1: on jamb a's reveal, 2: on jamb b's, 0: on neither.
+      auto revealOf = [&](const Eigen::Vector2d& q) {
+        const double depth = a.signedDistance(q);
+        if (depth < -tol || depth > p.door_max_recess_m + tol) return 0;
+        const double s = q.dot(t);
+        if (s >= s_end_a - tol && s <= s_end_a + spacing_a + tol) return 1;
+        if (s >= s_start_b - spacing_b - tol && s <= s_start_b + tol) return 2;
+        return 0;
+      };
+      auto onReveal = [&](const Eigen::Vector2d& q) { return revealOf(q) != 0; };
+      std::size_t front = 0, beyond = 0, reveal = 0;
       std::size_t beam = (a.last_beam + 1) % num_beams;
       for (std::size_t c = 0; c < count; ++c, beam = (beam + 1) % num_beams) {
         const Eigen::Vector2d& q = segmentation.points[beam];
@@ -165,20 +187,34 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, std::vector<
           continue;
         }
         const double d = a.signedDistance(q);
-        if (d < -p.door_front_tolerance_m) {
+        if (onReveal(q)) {
+          ++reveal;
+        } else if (d < -p.door_front_tolerance_m) {
           ++front;
         } else if (d > p.door_max_recess_m) {
           ++beyond;
         }
       }
-      const double total = static_cast<double>(count);
+      // Shares are of the doorway's beams (at a grazing angle, the reveal may take most).
+      const double total = static_cast<double>(std::max<std::size_t>(1, count - reveal));
       if (static_cast<double>(front) > p.door_max_occluded_fraction * total) break;
 
       // Segments inside the gap: a recessed leaf (closed) or a turned leaf (ajar).
       double closed_support = 0.0, ajar_support = 0.0;
       Eigen::Vector2d hinge_point = Eigen::Vector2d::Zero();
+      // A segment end at the hinge: along the wall near a jamb, at most a frame's depth behind.
+      auto hingeDistance = [&](const Eigen::Vector2d& q) {
+        const double depth = a.signedDistance(q);
+        if (depth < -p.door_hinge_tolerance_m || depth > p.door_max_recess_m + p.door_hinge_tolerance_m) {
+          return std::numeric_limits<double>::infinity();
+        }
+        const double s = q.dot(t);
+        return std::min(std::abs(s - s_jamb_a), std::abs(s - s_jamb_b));
+      };
       for (std::size_t m = (i + 1) % n; m != j; m = (m + 1) % n) {
         const Segment& s = segs[m];
+        const int reveal_of_start = revealOf(s.start);
+        if (reveal_of_start != 0 && reveal_of_start == revealOf(s.end)) continue;  // the frame
         const double sin_angle = std::abs(cross(s.direction(), t));
         const double offset = a.signedDistance(s.centroid);
         if (sin_angle <= sin_leaf_parallel_) {
@@ -186,9 +222,7 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, std::vector<
             closed_support += static_cast<double>(s.num_points) / total;
           }
         } else if (offset > 0.0 && s.length_m >= p.door_min_ajar_leaf_m) {
-          const double hinge =
-              std::min({(s.start - jamb_a.point).norm(), (s.end - jamb_a.point).norm(),
-                        (s.start - jamb_b.point).norm(), (s.end - jamb_b.point).norm()});
+          const double hinge = std::min(hingeDistance(s.start), hingeDistance(s.end));
           if (hinge <= p.door_hinge_tolerance_m && s.length_m / width > ajar_support) {
             ajar_support = std::min(1.0, s.length_m / width);
             // The leaf's end on the wall line is the hinge, hence a jamb.
@@ -279,10 +313,14 @@ void FeatureDetector::detectCorners(const Segmentation& segmentation, std::vecto
     const Eigen::Vector2d ub = (b.end - c).normalized();
     const double cos_angle = ua.dot(ub);
     if (cos_angle > cos_corner_min_ || cos_angle < cos_corner_max_) return false;
+    // Near a door's jamb or its reveal (the jamb moved up to door_max_recess_m behind).
     bool near_door = false;
     for (std::size_t d = 0; d < num_doors && !near_door; ++d) {
-      near_door = (out[d].jamb_a - c).norm() <= p.corner_door_exclusion_m ||
-                  (out[d].jamb_b - c).norm() <= p.corner_door_exclusion_m;
+      const Eigen::Vector2d back(std::cos(out[d].theta_rad), std::sin(out[d].theta_rad));
+      for (const Eigen::Vector2d* jamb : {&out[d].jamb_a, &out[d].jamb_b}) {
+        const double depth = std::clamp((c - *jamb).dot(back), 0.0, p.door_max_recess_m);
+        near_door = near_door || (*jamb + depth * back - c).norm() <= p.corner_door_exclusion_m;
+      }
     }
     if (near_door) return true;  // found, and part of a door
     // Concave when the sensor (at the origin) lies inside the angle of the two walls.

@@ -161,6 +161,7 @@ struct FeatureKeys {
     visit("door_min_leaf_fraction", p.door_min_leaf_fraction);
     visit("door_min_ajar_leaf_m", p.door_min_ajar_leaf_m);
     visit("door_hinge_tolerance_m", p.door_hinge_tolerance_m);
+    visit("door_reveal_tolerance_m", p.door_reveal_tolerance_m);
     visit("corner_door_exclusion_m", p.corner_door_exclusion_m);
     visit("door_max_segments_between", p.door_max_segments_between);
   }

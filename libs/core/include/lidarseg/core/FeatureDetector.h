@@ -34,7 +34,7 @@ struct FeatureDetectorParams {
   // --- Doors: a gap between two collinear wall segments.
   /// Range of door widths, jamb to jamb (m).
   double door_min_width_m = 0.7;
-  double door_max_width_m = 1.3;
+  double door_max_width_m = 2.1;
   /// The walls on both sides of the gap are parallel within this (deg) ...
   double door_collinear_angle_deg = 5.0;
   /// ... and each one's end lies within this of the other's line (m).
@@ -59,12 +59,18 @@ struct FeatureDetectorParams {
   double door_leaf_parallel_deg = 10.0;
   double door_min_leaf_fraction = 0.4;
   /// Door ajar: a leaf segment behind the wall, at more than door_leaf_parallel_deg to it,
-  /// at least door_min_ajar_leaf_m long, with one end within door_hinge_tolerance_m of a
-  /// jamb.
+  /// at least door_min_ajar_leaf_m long, with one end (the hinge) within
+  /// door_hinge_tolerance_m of a jamb along the wall and at most door_max_recess_m (+ the
+  /// tolerance) behind it: the hinges stand in the frame, which may be recessed.
   double door_min_ajar_leaf_m = 0.2;
   double door_hinge_tolerance_m = 0.15;
-  /// Corners closer than this to a detected door's jamb are part of the door and not
-  /// reported (m).
+  /// The reveals: the sides of the opening through a thick wall (or of a recess), from each
+  /// jamb straight back by at most door_max_recess_m. Beams and segments within this of a
+  /// jamb's reveal, along the wall, belong to the frame: they are neither doorway nor leaf
+  /// (m). 3 sigma of the range noise plus the jamb's placement error.
+  double door_reveal_tolerance_m = 0.06;
+  /// Corners closer than this to a detected door's jamb or its reveal (door_max_recess_m
+  /// behind the jamb) are part of the door and not reported (m).
   double corner_door_exclusion_m = 0.2;
   /// Collinear segments further apart in scan order than this are not paired as the two
   /// sides of a door (bounds the work per scan).
