@@ -33,7 +33,7 @@ struct FeatureDetectorParams {
 
   // --- Doors: a gap between two collinear wall segments.
   /// Range of door widths, jamb to jamb (m).
-  double door_min_width_m = 0.7;
+  double door_min_width_m = 0.6;
   double door_max_width_m = 2.1;
   /// The walls on both sides of the gap are parallel within this (deg) ...
   double door_collinear_angle_deg = 5.0;
