@@ -153,6 +153,52 @@ TEST(FeatureDetector, CornersAtADoorsJambsAreNotReported) {
   }
 }
 
+TEST(FeatureDetector, DoorsInThickWallsDoubleAndShallowLeaves) {
+  // A corridor wall 0.25 m thick (faces y = 2 and y = 2.25): an open door (its far reveal
+  // is seen obliquely: no leaf), a double door ajar (hinges 0.1 m back), a closed door 1.8 m
+  // wide 0.15 m deep, and a closed door whose leaf is only 3 cm behind the wall (inside the
+  // wall's segment); the plain wall beside them holds no door.
+  sim::World w;
+  w.addWall({-10, 2}, {10, 2});
+  w.addWall({-10, 2.25}, {10, 2.25});
+  w.addWall({-10, 6}, {10, 6});
+  auto door = [](sim::DoorKind kind, double x0, double x1, double recess) {
+    sim::Door d;
+    d.kind = kind;
+    d.jamb_a = {x0, 2};
+    d.jamb_b = {x1, 2};
+    d.recess_m = recess;
+    d.wall_thickness_m = 0.25;
+    return d;
+  };
+  sim::Door ajar = door(sim::DoorKind::kAjar, -3.0, -1.6, 0.1);
+  ajar.double_leaf = true;
+  ajar.leaf_angle_rad = 40 * kDeg;
+  ajar.second_leaf_angle_rad = 30 * kDeg;
+  const std::vector<std::pair<sim::Door, FeatureType>> doors = {
+      {door(sim::DoorKind::kOpen, -5.0, -4.1, 0.0), FeatureType::kDoorOpen},
+      {ajar, FeatureType::kDoorAjar},
+      {door(sim::DoorKind::kClosed, 0.0, 1.8, 0.15), FeatureType::kDoorClosed},
+      {door(sim::DoorKind::kClosed, 2.4, 3.3, 0.03), FeatureType::kDoorClosed}};
+  for (const auto& [d, type] : doors) w.addDoor(d);
+  const auto lms = testing::makeSensor(541, 270, 0.012);
+  const Pose2D pose{0.5, 0.0, kPi / 2};
+  int found = 0;
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    const auto fs = detectIn(w, lms, pose, seed);
+    int detected_doors = 0;
+    for (const Feature& f : fs) detected_doors += isDoor(f.type) ? 1 : 0;
+    EXPECT_LE(detected_doors, 4) << "seed " << seed;
+    for (const auto& [d, type] : doors) {
+      const Feature* f = nearest(fs, toSensor(pose, d.centre()), 0.15);
+      if (f == nullptr || f->type != type) continue;  // a miss: counted below
+      ++found;
+      if (type == FeatureType::kDoorClosed) EXPECT_NEAR(f->width_m, d.width(), 0.12) << d.centre().x();
+    }
+  }
+  EXPECT_GE(found, 36);  // of 40
+}
+
 TEST(FeatureDetector, EmptyAndDegenerateInputsGiveNothing) {
   const FeatureDetector detector;
   Segmentation empty;

@@ -92,6 +92,14 @@ void FeatureDetectorParams::validate() const {
   requireNonNegative("door_min_ajar_leaf_m", door_min_ajar_leaf_m);
   requirePositive("door_hinge_tolerance_m", door_hinge_tolerance_m);
   requireNonNegative("door_reveal_tolerance_m", door_reveal_tolerance_m);
+  if (door_shallow_window < 2 || door_shallow_window > 100) {
+    failKey("door_shallow_window", "2..100", static_cast<double>(door_shallow_window));
+  }
+  requireNonNegative("door_shallow_min_sigmas", door_shallow_min_sigmas);
+  if (!(door_shallow_max_recess_m > door_min_recess_m && door_shallow_max_recess_m <= door_max_recess_m)) {
+    failKey("door_shallow_max_recess_m", "in (door_min_recess_m, door_max_recess_m]", door_shallow_max_recess_m);
+  }
+  requireInRange("door_shallow_max_incidence_deg", door_shallow_max_incidence_deg, 0.0, 90.0);
   requireNonNegative("corner_door_exclusion_m", corner_door_exclusion_m);
   if (door_max_segments_between > 1000) {
     failKey("door_max_segments_between", "<= 1000", static_cast<double>(door_max_segments_between));
@@ -104,6 +112,7 @@ FeatureDetector::FeatureDetector(const FeatureDetectorParams& params) : params_(
   sin_leaf_parallel_ = std::sin(params_.door_leaf_parallel_deg * kDegToRad);
   cos_corner_min_ = std::cos(params_.corner_min_angle_deg * kDegToRad);
   cos_corner_max_ = std::cos(params_.corner_max_angle_deg * kDegToRad);
+  cos_shallow_incidence_ = std::cos(params_.door_shallow_max_incidence_deg * kDegToRad);
 }
 
 std::vector<Feature> FeatureDetector::detect(const Segmentation& segmentation) const {
@@ -116,6 +125,7 @@ void FeatureDetector::detect(const Segmentation& segmentation, std::vector<Featu
   out.clear();
   if (segmentation.points.empty()) return;
   detectDoors(segmentation, out);
+  detectShallowDoors(segmentation, out);
   detectCorners(segmentation, out);
 }
 
@@ -280,6 +290,155 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, std::vector<
       out.push_back(f);
       break;
     }
+  }
+}
+
+void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, std::vector<Feature>& out) const {
+  const FeatureDetectorParams& p = params_;
+  if (p.door_shallow_min_sigmas <= 0.0) return;
+  const std::vector<Segment>& segs = segmentation.level(p.level).segments;
+  const std::size_t num_beams = segmentation.points.size();
+  const std::size_t W = p.door_shallow_window;
+  // Per-thread scratch: no allocation once grown.
+  thread_local std::vector<double> tl_sum, tl_sum_sq, tl_steps;
+  thread_local std::vector<std::uint32_t> tl_beam_of, tl_starts, tl_ends;
+  // Bound once: every use of a thread_local may look its address up again.
+  std::vector<double>&sum = tl_sum, &sum_sq = tl_sum_sq, &steps = tl_steps;
+  std::vector<std::uint32_t>&beam_of = tl_beam_of, &starts = tl_starts, &ends = tl_ends;
+  const double inv_w = 1.0 / static_cast<double>(W);
+  const std::size_t doors_before = out.size();
+  // A run of consecutive segments on one line (parallel, each start within
+  // door_collinear_offset_m of the first's line, no beam between them): the segmenter may
+  // have split a shallow leaf from one wall only.
+  std::size_t next = 0;
+  for (std::size_t si = 0; si < segs.size(); si = next) {
+    const Segment& s = segs[si];
+    std::size_t last = si;
+    while (last + 1 < segs.size() && segs[last + 1].first_beam == segs[last].last_beam + 1 &&
+           s.normal.dot(segs[last + 1].normal) >= cos_collinear_ &&
+           std::abs(s.signedDistance(segs[last + 1].start)) <= p.door_collinear_offset_m &&
+           std::abs(s.signedDistance(segs[last + 1].end)) <= p.door_collinear_offset_m) {
+      ++last;
+    }
+    next = last + 1;
+    const double run_length = (segs[last].end - s.start).norm();
+    if (run_length < 2.0 * p.door_min_wall_m + p.door_min_width_m) continue;
+    const Eigen::Vector2d t = s.direction();
+    // Prefix sums of the points' distances behind the first segment's line (and of their
+    // squares), in scan order.
+    const std::size_t span = (segs[last].last_beam + num_beams - s.first_beam) % num_beams + 1;
+    if (sum.size() < span + 1) {
+      sum.resize(span + 1);
+      sum_sq.resize(span + 1);
+      beam_of.resize(span);
+      steps.resize(span);
+    }
+    std::size_t n = 0;
+    sum[0] = sum_sq[0] = 0.0;
+    const double nx = s.normal.x(), ny = s.normal.y(), rho = s.rho_m;
+    for (std::size_t c = 0, beam = s.first_beam; c < span; ++c, beam = beam + 1 == num_beams ? 0 : beam + 1) {
+      const Eigen::Vector2d& q = segmentation.points[beam];
+      if (!std::isfinite(q.x())) continue;
+      const double r = nx * q.x() + ny * q.y() - rho;
+      sum[n + 1] = sum[n] + r;
+      sum_sq[n + 1] = sum_sq[n] + r * r;
+      beam_of[n] = static_cast<std::uint32_t>(beam);
+      ++n;
+    }
+    if (n < 2 * p.door_min_wall_points + 2 * W) continue;
+    auto along = [&](std::size_t k) { return segmentation.points[beam_of[k]].dot(t); };
+    auto mean = [&](std::size_t a, std::size_t b) { return (sum[b] - sum[a]) / static_cast<double>(b - a); };
+    auto scatter = [&](std::size_t a, std::size_t b) {  // sum of squared deviations from the mean
+      const double m = static_cast<double>(b - a);
+      return std::max(0.0, (sum_sq[b] - sum_sq[a]) - (sum[b] - sum[a]) * (sum[b] - sum[a]) / m);
+    };
+    // Step at k: the mean of the W points from k on minus that of the W before. Leaf starts
+    // are its local maxima above `edge`, leaf ends its local minima below -edge.
+    const double edge = 0.5 * p.door_min_recess_m;
+    for (std::size_t k = W; k + W <= n; ++k) steps[k] = (sum[k + W] - 2.0 * sum[k] + sum[k - W]) * inv_w;
+    starts.clear();
+    ends.clear();
+    for (std::size_t k = W; k + W <= n; ++k) {
+      const double sk = steps[k];
+      const bool left_ok = k == W || steps[k - 1] < sk, right_ok = k + W == n || steps[k + 1] <= sk;
+      const bool left_ok_min = k == W || steps[k - 1] > sk, right_ok_min = k + W == n || steps[k + 1] >= sk;
+      if (sk >= edge && left_ok && right_ok) starts.push_back(static_cast<std::uint32_t>(k));
+      if (sk <= -edge && left_ok_min && right_ok_min) ends.push_back(static_cast<std::uint32_t>(k));
+    }
+    double best_t = 0.0, best_depth = 0.0, best_out = 0.0;
+    std::size_t best_k = 0, best_e = 0, first_end = 0;
+    for (const std::uint32_t k : starts) {
+      if (k < p.door_min_wall_points || along(k) - along(0) < p.door_min_wall_m) continue;
+      while (first_end < ends.size() && ends[first_end] <= k) ++first_end;
+      for (std::size_t m = first_end; m < ends.size(); ++m) {
+        const std::size_t e = ends[m];
+        const double width = along(e) - along(k);
+        if (width > p.door_max_width_m) break;
+        if (width < p.door_min_width_m || e - k < p.door_min_gap_beams) continue;
+        if (n - e < p.door_min_wall_points || along(n - 1) - along(e) < p.door_min_wall_m) continue;
+        const double n_in = static_cast<double>(e - k), n_out = static_cast<double>(n - (e - k));
+        const double mean_out = (sum[k] + (sum[n] - sum[e])) / n_out;
+        const double depth = mean(k, e) - mean_out;
+        if (depth < p.door_min_recess_m || depth > p.door_shallow_max_recess_m) continue;
+        // Pooled scatter about the two levels (each side of the leaf about its own mean).
+        const double ss = scatter(0, k) + scatter(e, n) + scatter(k, e);
+        const double var = ss / std::max(1.0, static_cast<double>(n) - 3.0);
+        const double tstat = depth / std::sqrt(std::max(var, 1e-12) * (1.0 / n_in + 1.0 / n_out));
+        if (tstat >= p.door_shallow_min_sigmas && tstat > best_t) {
+          best_t = tstat;
+          best_depth = depth;
+          best_out = mean_out;
+          best_k = k;
+          best_e = e;
+        }
+      }
+    }
+    if (best_t <= 0.0) continue;
+    // A leaf deep enough to be its own segment was found between its walls already.
+    const Eigen::Vector2d mid = segmentation.points[beam_of[(best_k + best_e) / 2]];
+    bool known = false;
+    for (std::size_t d = 0; d < doors_before && !known; ++d) {
+      known = (out[d].position - mid).norm() < 0.5 * out[d].width_m + p.door_reveal_tolerance_m;
+    }
+    if (known) continue;
+    // Seen too obliquely, a step is smeared over few, far-apart points: its jambs are unsure.
+    const Eigen::Vector2d centre = 0.5 * (segmentation.points[beam_of[best_k]] + segmentation.points[beam_of[best_e - 1]]);
+    if (std::abs(s.normal.dot(centre.normalized())) < cos_shallow_incidence_) continue;
+    // The wall's line is the segment's moved to the points beside the leaf; the jambs lie on
+    // it between the last wall point and the first leaf point of each step.
+    const double rho_wall = s.rho_m + best_out;
+    auto onWall = [&](const Eigen::Vector2d& q) -> Eigen::Vector2d { return q - (s.normal.dot(q) - rho_wall) * s.normal; };
+    const Eigen::Vector2d& q0 = segmentation.points[beam_of[best_k - 1]];
+    const Eigen::Vector2d& q1 = segmentation.points[beam_of[best_k]];
+    const Eigen::Vector2d& q2 = segmentation.points[beam_of[best_e - 1]];
+    const Eigen::Vector2d& q3 = segmentation.points[beam_of[best_e]];
+    Feature f;
+    f.type = FeatureType::kDoorClosed;
+    f.jamb_a = onWall(0.5 * (q0 + q1));
+    f.jamb_b = onWall(0.5 * (q2 + q3));
+    f.position = 0.5 * (f.jamb_a + f.jamb_b);
+    f.theta_rad = s.theta_rad;
+    f.width_m = (f.jamb_b - f.jamb_a).norm();
+    f.confidence = std::clamp(best_t / (2.0 * p.door_shallow_min_sigmas), 0.0, 1.0) *
+                   std::min(1.0, best_depth / (2.0 * p.door_min_recess_m));
+    // Covariance as for a door between two walls: each jamb uniform over its step's spacing.
+    const double var_a = (q1 - q0).squaredNorm() / 12.0 + s.covariance(0, 0);
+    const double var_b = (q3 - q2).squaredNorm() / 12.0 + s.covariance(0, 0);
+    const Eigen::Vector2d tn = tangentOf(s);
+    const double s_along = f.position.dot(tn);
+    Eigen::Matrix3d J = Eigen::Matrix3d::Zero();
+    J.block<2, 1>(0, 0) = s.normal;
+    J.block<2, 1>(0, 1) = rho_wall * tn - s_along * s.normal;
+    J.block<2, 1>(0, 2) = tn;
+    J(2, 1) = 1.0;
+    Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+    S.topLeftCorner<2, 2>() = s.covariance;
+    S(2, 2) = 0.25 * (var_a + var_b);
+    f.covariance = J * S * J.transpose();
+    f.width_variance_m2 = var_a + var_b;
+    f.segment_a = static_cast<std::uint32_t>(si);
+    f.segment_b = static_cast<std::uint32_t>(last);
+    out.push_back(f);
   }
 }
 

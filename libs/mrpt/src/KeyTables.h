@@ -162,6 +162,10 @@ struct FeatureKeys {
     visit("door_min_ajar_leaf_m", p.door_min_ajar_leaf_m);
     visit("door_hinge_tolerance_m", p.door_hinge_tolerance_m);
     visit("door_reveal_tolerance_m", p.door_reveal_tolerance_m);
+    visit("door_shallow_window", p.door_shallow_window);
+    visit("door_shallow_min_sigmas", p.door_shallow_min_sigmas);
+    visit("door_shallow_max_recess_m", p.door_shallow_max_recess_m);
+    visit("door_shallow_max_incidence_deg", p.door_shallow_max_incidence_deg);
     visit("corner_door_exclusion_m", p.corner_door_exclusion_m);
     visit("door_max_segments_between", p.door_max_segments_between);
   }

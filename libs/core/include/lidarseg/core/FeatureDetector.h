@@ -69,6 +69,21 @@ struct FeatureDetectorParams {
   /// jamb's reveal, along the wall, belong to the frame: they are neither doorway nor leaf
   /// (m). 3 sigma of the range noise plus the jamb's placement error.
   double door_reveal_tolerance_m = 0.06;
+  /// Shallow closed doors: a leaf recessed by less than the segmenter's split threshold
+  /// (a few range sigmas) stays inside its wall's segment. Within one segment, a run of
+  /// points door width long (between two steps found with door_shallow_window points on
+  /// each side) lying [door_min_recess_m, door_max_recess_m] behind the points on both
+  /// sides, by at least door_shallow_min_sigmas standard errors of the difference of the
+  /// two means (the scatter measured on the points themselves), is a closed door. 0: off.
+  std::size_t door_shallow_window = 5;
+  double door_shallow_min_sigmas = 5.0;
+  /// Deeper steps are split off by the segmenter (its threshold is a few range sigmas, 5 cm
+  /// at most for the profiles here) and found between two walls; a deeper "leaf" inside one
+  /// segment is something else (m).
+  double door_shallow_max_recess_m = 0.06;
+  /// Beyond this angle between the wall's normal and the line of sight (deg) a shallow step
+  /// is smeared over few far-apart points and its jambs are unsure: not reported.
+  double door_shallow_max_incidence_deg = 60.0;
   /// Corners closer than this to a detected door's jamb or its reveal (door_max_recess_m
   /// behind the jamb) are part of the door and not reported (m).
   double corner_door_exclusion_m = 0.2;
@@ -103,6 +118,7 @@ class FeatureDetector {
  private:
   void detectDoors(const Segmentation& segmentation, std::vector<Feature>& out) const;
   void detectCorners(const Segmentation& segmentation, std::vector<Feature>& out) const;
+  void detectShallowDoors(const Segmentation& segmentation, std::vector<Feature>& out) const;
 
   FeatureDetectorParams params_;
   // Derived from the parameters (cosines and sines of the angle thresholds).
@@ -110,6 +126,7 @@ class FeatureDetector {
   double sin_leaf_parallel_ = 0.0;
   double cos_corner_min_ = 0.0;
   double cos_corner_max_ = 0.0;
+  double cos_shallow_incidence_ = 0.0;
 };
 
 }  // namespace lidarseg
