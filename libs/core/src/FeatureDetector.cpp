@@ -178,13 +178,16 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, std::vector<
       const double spacing_a = a.num_points > 1 ? a.length_m / (a.num_points - 1) : 0.0;
       const double spacing_b = b.num_points > 1 ? b.length_m / (b.num_points - 1) : 0.0;
       const double tol = p.door_reveal_tolerance_m;
+      // A reveal faces the opening, so the sensor (the origin) sees jamb a's only from b's
+      // side of it and jamb b's only from a's side (both from in front of the doorway).
+      const bool see_reveal_a = s_jamb_a <= tol, see_reveal_b = s_jamb_b >= -tol;
       // 1: on jamb a's reveal, 2: on jamb b's, 0: on neither.
       auto revealOf = [&](const Eigen::Vector2d& q) {
         const double depth = a.signedDistance(q);
         if (depth < -tol || depth > p.door_max_recess_m + tol) return 0;
         const double s = q.dot(t);
-        if (s >= s_end_a - tol && s <= s_end_a + spacing_a + tol) return 1;
-        if (s >= s_start_b - spacing_b - tol && s <= s_start_b + tol) return 2;
+        if (see_reveal_a && s >= s_end_a - tol && s <= s_end_a + spacing_a + tol) return 1;
+        if (see_reveal_b && s >= s_start_b - spacing_b - tol && s <= s_start_b + tol) return 2;
         return 0;
       };
       auto onReveal = [&](const Eigen::Vector2d& q) { return revealOf(q) != 0; };
@@ -223,9 +226,10 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, std::vector<
       };
       for (std::size_t m = (i + 1) % n; m != j; m = (m + 1) % n) {
         const Segment& s = segs[m];
-        const int reveal_of_start = revealOf(s.start);
-        if (reveal_of_start != 0 && reveal_of_start == revealOf(s.end)) continue;  // the frame
         const double sin_angle = std::abs(cross(s.direction(), t));
+        // A reveal runs across the wall; a segment along it near a jamb is a leaf.
+        const int reveal_of_start = revealOf(s.start);
+        if (sin_angle > sin_leaf_parallel_ && reveal_of_start != 0 && reveal_of_start == revealOf(s.end)) continue;
         const double offset = a.signedDistance(s.centroid);
         if (sin_angle <= sin_leaf_parallel_) {
           if (offset >= p.door_min_recess_m && offset <= p.door_max_recess_m) {
