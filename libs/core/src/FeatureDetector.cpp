@@ -340,14 +340,17 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, std::
     std::size_t n = 0;
     sum[0] = sum_sq[0] = 0.0;
     const double nx = s.normal.x(), ny = s.normal.y(), rho = s.rho_m;
+    double acc = 0.0, acc_sq = 0.0;  // in registers: no store-to-load chain through the arrays
     for (std::size_t c = 0, beam = s.first_beam; c < span; ++c, beam = beam + 1 == num_beams ? 0 : beam + 1) {
       const Eigen::Vector2d& q = segmentation.points[beam];
       if (!std::isfinite(q.x())) continue;
       const double r = nx * q.x() + ny * q.y() - rho;
-      sum[n + 1] = sum[n] + r;
-      sum_sq[n + 1] = sum_sq[n] + r * r;
-      beam_of[n] = static_cast<std::uint32_t>(beam);
+      acc += r;
+      acc_sq += r * r;
       ++n;
+      sum[n] = acc;
+      sum_sq[n] = acc_sq;
+      beam_of[n - 1] = static_cast<std::uint32_t>(beam);
     }
     if (n < 2 * p.door_min_wall_points + 2 * W) continue;
     auto along = [&](std::size_t k) { return segmentation.points[beam_of[k]].dot(t); };
@@ -360,21 +363,31 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, std::
     // are its local maxima above `edge`, leaf ends its local minima below -edge.
     const double edge = 0.5 * p.door_min_recess_m;
     for (std::size_t k = W; k + W <= n; ++k) steps[k] = (sum[k + W] - 2.0 * sum[k] + sum[k - W]) * inv_w;
-    starts.clear();
-    ends.clear();
+    // Branch-free (the noise makes these tests unpredictable): write every k, keep the
+    // qualifying ones by advancing the count.
+    if (starts.size() < n) {
+      starts.resize(n);
+      ends.resize(n);
+    }
+    std::size_t num_starts = 0, num_ends = 0;
+    steps[W - 1] = steps[W];  // sentinels: the ends of the range compare with themselves
+    steps[n - W + 1] = steps[n - W];
     for (std::size_t k = W; k + W <= n; ++k) {
-      const double sk = steps[k];
-      const bool left_ok = k == W || steps[k - 1] < sk, right_ok = k + W == n || steps[k + 1] <= sk;
-      const bool left_ok_min = k == W || steps[k - 1] > sk, right_ok_min = k + W == n || steps[k + 1] >= sk;
-      if (sk >= edge && left_ok && right_ok) starts.push_back(static_cast<std::uint32_t>(k));
-      if (sk <= -edge && left_ok_min && right_ok_min) ends.push_back(static_cast<std::uint32_t>(k));
+      const double sk = steps[k], before = steps[k - 1], after = steps[k + 1];
+      const bool is_start = (sk >= edge) & ((k == W) | (before < sk)) & ((k + W == n) | (after <= sk));
+      const bool is_end = (sk <= -edge) & ((k == W) | (before > sk)) & ((k + W == n) | (after >= sk));
+      starts[num_starts] = static_cast<std::uint32_t>(k);
+      num_starts += is_start;
+      ends[num_ends] = static_cast<std::uint32_t>(k);
+      num_ends += is_end;
     }
     double best_t = 0.0, best_depth = 0.0, best_out = 0.0;
     std::size_t best_k = 0, best_e = 0, first_end = 0;
-    for (const std::uint32_t k : starts) {
+    for (std::size_t ks = 0; ks < num_starts; ++ks) {
+      const std::size_t k = starts[ks];
       if (k < p.door_min_wall_points || along(k) - along(0) < p.door_min_wall_m) continue;
-      while (first_end < ends.size() && ends[first_end] <= k) ++first_end;
-      for (std::size_t m = first_end; m < ends.size(); ++m) {
+      while (first_end < num_ends && ends[first_end] <= k) ++first_end;
+      for (std::size_t m = first_end; m < num_ends; ++m) {
         const std::size_t e = ends[m];
         const double width = along(e) - along(k);
         if (width > p.door_max_width_m) break;
