@@ -18,6 +18,9 @@
 #                    table of docs/results.md
 #   ./run.sh latency time per scan (median, p99, max) of lidarseg on every log, real and
 #                    simulated, with the default configuration (docs/performance.md)
+#   ./run.sh buildings [tune|evaluate]  doors and corners on generated buildings (issue 18):
+#                    tune = seeds 1-20 only, evaluate = the held-out seeds 101-150 (default),
+#                    LMS100 and UTM-30LX; build/results/buildings_<mode>/report.md
 #   ./run.sh deps    only install the Debian packages
 set -euo pipefail
 
@@ -185,6 +188,13 @@ case "$cmd" in
     mkdir -p "$out"
     python3 "$ROOT/tests/benchmarks/real_logs.py" --bin "$ROOT/build/release/apps" --config "$ROOT/config/default.ini" \
       --shared "$ROOT/../shared/datasets" --mrpt "$(dirname "$DEFAULT_RAWLOG")" --out "$out"
+    ;;
+  buildings)
+    install_deps
+    build_release
+    mode="${2:-evaluate}"
+    python3 "$ROOT/tests/benchmarks/buildings.py" "$mode" --bin "$ROOT/build/release/apps" \
+      --out "$ROOT/build/results/buildings_$mode"
     ;;
   latency)
     install_deps
