@@ -152,9 +152,9 @@ def run_one(args, sensor, seed):
             return json.load(f)
     os.makedirs(folder, exist_ok=True)
     prefix = os.path.join(folder, "b%d" % seed)
-    sim = [os.path.join(args.bin, "lidarseg-simulate"), "--building", str(seed), "--sensor", sensor,
+    sim = [os.path.join(args.bin, "lidarseg-simulate"), "--building", str(seed), "--sensor-model", sensor,
            "--seed", str(seed), "--camera-every", "0", "-o", prefix]
-    feat = [os.path.join(args.bin, "lidarseg-features"), prefix + ".rawlog", "--truth", prefix + ".features.csv",
+    feat = [os.path.join(args.bin, "lidarseg-features"), prefix + ".rawlog", "--gt", prefix + ".features.csv",
             "--matches-out", prefix + ".matches.csv"]
     if args.config:
         feat += ["-c", args.config]

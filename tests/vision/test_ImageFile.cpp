@@ -31,7 +31,9 @@ std::string card(const std::string& ext) {
   cv::Mat m(30, 40, CV_8UC3, cv::Scalar(10, 120, 230));
   cv::rectangle(m, {5, 5}, {20, 25}, cv::Scalar(0, 0, 0), cv::FILLED);
   if (ext == "pgm") cv::cvtColor(m, m, cv::COLOR_BGR2GRAY);
-  const std::string path = kTmp + "/card." + ext;
+  // One file per test: CTest runs this binary's tests in parallel processes.
+  const std::string path =
+      kTmp + "/" + ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_card." + ext;
   if (!cv::imwrite(path, m)) throw std::runtime_error("cannot write " + path);
   return path;
 }
