@@ -28,6 +28,20 @@ struct View {
 };
 
 cv::Scalar bgr(const Rgb& c) { return cv::Scalar(c.b, c.g, c.r); }
+
+// The scale bar's length (m): the round length drawn 60 to 200 pixels long.
+double scaleBarMetres(double pixels_per_metre) {
+  for (double m : {0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0}) {
+    if (m * pixels_per_metre >= 60.0) return m;
+  }
+  return 100.0;
+}
+
+std::string metresText(double m) {
+  std::ostringstream os;
+  os << m << " m";
+  return os.str();
+}
 constexpr int kStatusLineHeight = 18;
 const cv::Scalar kBackground(250, 250, 250);
 
@@ -102,11 +116,44 @@ cv::Mat renderPng(const Drawing& d, const cv::Size& size) {
   const int band = kStatusLineHeight * static_cast<int>(d.status.size()) + (d.status.empty() ? 0 : 6);
   if (band > 0) {
     img(cv::Rect(0, 0, size.width, std::min(band, size.height))).setTo(cv::Scalar(45, 45, 45));
+    // One font size for every status line, small enough for the longest to fit.
+    double font = 0.45;
+    for (const std::string& line : d.status) {
+      int base = 0;
+      const int w = cv::getTextSize(line, cv::FONT_HERSHEY_SIMPLEX, 0.45, 1, &base).width;
+      if (w > size.width - 12) font = std::min(font, std::max(0.25, 0.45 * (size.width - 12) / w));
+    }
     for (std::size_t i = 0; i < d.status.size(); ++i) {
       cv::putText(img, d.status[i], cv::Point(6, kStatusLineHeight * static_cast<int>(i + 1)), cv::FONT_HERSHEY_SIMPLEX,
-                  0.45, cv::Scalar(240, 240, 240), 1, cv::LINE_AA);
+                  font, cv::Scalar(240, 240, 240), 1, cv::LINE_AA);
     }
   }
+  // The legend, top right under the status lines.
+  if (!d.legend.empty()) {
+    int width = 0, base = 0;
+    for (const LegendEntry& e : d.legend) {
+      width = std::max(width, cv::getTextSize(e.name, cv::FONT_HERSHEY_SIMPLEX, 0.4, 1, &base).width);
+    }
+    const int row = 16, x0 = size.width - width - 44, y0 = band + 8;
+    const cv::Rect box(x0 - 6, y0 - 4, width + 46, row * static_cast<int>(d.legend.size()) + 8);
+    img(box & cv::Rect(cv::Point(0, 0), size)).setTo(cv::Scalar(255, 255, 255));
+    cv::rectangle(img, box, cv::Scalar(150, 150, 150), 1);
+    for (std::size_t i = 0; i < d.legend.size(); ++i) {
+      const int y = y0 + row * static_cast<int>(i) + 10;
+      cv::line(img, {x0, y - 4}, {x0 + 26, y - 4}, bgr(d.legend[i].colour), 3, cv::LINE_AA);
+      cv::putText(img, d.legend[i].name, {x0 + 32, y}, cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(30, 30, 30), 1,
+                  cv::LINE_AA);
+    }
+  }
+  // The scale bar, bottom left.
+  const double metres = scaleBarMetres(v.scale);
+  const int length = static_cast<int>(std::lround(metres * v.scale));
+  const cv::Point s0(16, size.height - 20), s1(16 + length, size.height - 20);
+  cv::line(img, s0, s1, cv::Scalar(20, 20, 20), 2);
+  cv::line(img, s0 + cv::Point(0, -5), s0 + cv::Point(0, 5), cv::Scalar(20, 20, 20), 2);
+  cv::line(img, s1 + cv::Point(0, -5), s1 + cv::Point(0, 5), cv::Scalar(20, 20, 20), 2);
+  cv::putText(img, metresText(metres), s0 + cv::Point(0, -9), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(20, 20, 20),
+              1, cv::LINE_AA);
   return img;
 }
 
@@ -157,9 +204,29 @@ std::string renderSvg(const Drawing& d, const cv::Size& size) {
        << kStatusLineHeight * d.status.size() + 6 << "\" fill=\"#2d2d2d\"/>\n";
     for (std::size_t i = 0; i < d.status.size(); ++i) {
       os << "<text x=\"6\" y=\"" << kStatusLineHeight * (i + 1) - 4
-         << "\" font-family=\"monospace\" font-size=\"12\" fill=\"#f0f0f0\">" << escapeXml(d.status[i]) << "</text>\n";
+         << "\" font-family=\"monospace\" font-size=\"12\" fill=\"#f0f0f0\" textLength=\"" << size.width - 12
+         << "\" lengthAdjust=\"spacingAndGlyphs\">" << escapeXml(d.status[i]) << "</text>\n";
     }
   }
+  // The legend (top right) and the scale bar (bottom left), as in renderPng().
+  const std::size_t band = d.status.empty() ? 0 : kStatusLineHeight * d.status.size() + 6;
+  if (!d.legend.empty()) {
+    const int row = 16, width = 230, x0 = size.width - width - 10;
+    os << "<rect x=\"" << x0 - 6 << "\" y=\"" << band + 4 << "\" width=\"" << width + 12 << "\" height=\""
+       << row * d.legend.size() + 8 << "\" fill=\"#ffffff\" stroke=\"#969696\"/>\n";
+    for (std::size_t i = 0; i < d.legend.size(); ++i) {
+      const std::size_t y = band + 8 + row * i + 10;
+      os << "<line x1=\"" << x0 << "\" y1=\"" << y - 4 << "\" x2=\"" << x0 + 26 << "\" y2=\"" << y - 4 << "\" stroke=\""
+         << hex(d.legend[i].colour) << "\" stroke-width=\"3\"/>\n"
+         << "<text x=\"" << x0 + 32 << "\" y=\"" << y << "\" font-size=\"11\" fill=\"#1e1e1e\">" << escapeXml(d.legend[i].name)
+         << "</text>\n";
+    }
+  }
+  const double metres = scaleBarMetres(v.scale);
+  const double length = metres * v.scale, y = size.height - 20.0;
+  os << "<path d=\"M16 " << y - 5 << " V" << y + 5 << " M16 " << y << " H" << 16 + length << " M" << 16 + length << ' '
+     << y - 5 << " V" << y + 5 << "\" stroke=\"#141414\" stroke-width=\"2\" fill=\"none\"/>\n"
+     << "<text x=\"16\" y=\"" << y - 9 << "\" font-size=\"12\" fill=\"#141414\">" << metresText(metres) << "</text>\n";
   os << "</svg>\n";
   return os.str();
 }

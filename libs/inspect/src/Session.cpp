@@ -221,7 +221,7 @@ const Frame& Session::frame(std::size_t index) {
 
 namespace {
 
-const Rgb kLevelColours[kNumCascadeLevels] = {{230, 120, 0}, {0, 110, 220}, {150, 60, 190}, {0, 150, 120}};
+const Rgb kLevelColours[kNumCascadeLevels] = {{230, 120, 0}, {0, 170, 200}, {150, 60, 190}, {0, 150, 120}};
 
 // A cascade level as the pictures name it: L0 to L3.
 std::string levelName(std::size_t l) { return "L" + std::to_string(l); }
@@ -314,6 +314,7 @@ void drawLevels(const Segmentation& segmentation, const Layers& layers, Drawing&
       if (layers.indices) d.labels.push_back({level[i].cog, levelName(l) + ":" + std::to_string(i), kLevelColours[l]});
     }
     d.lines.push_back(std::move(segs));
+    d.legend.push_back({"segments " + levelName(l), kLevelColours[l]});
   }
 }
 
@@ -363,12 +364,21 @@ void Session::drawTrajectories(const Frame& f, Drawing& d) {
     const Pose2D q = compose(T_sensor_odom, p);
     mine.emplace_back(q.x, q.y);
   }
-  d.lines.push_back(polyline(mine, {200, 40, 40}, 2));
-  const Rgb ref_colours[] = {{30, 160, 30}, {120, 120, 120}, {200, 140, 0}};
+  // The methods' colours of every lidarseg picture: lidarseg blue, MRPT ICP red, the
+  // ground truth black, other references green or grey.
+  const Rgb lidarseg{0, 80, 200};
+  d.lines.push_back(polyline(mine, lidarseg, 2));
+  d.legend.push_back({"lidarseg trajectory", lidarseg});
+  const Rgb others[] = {{30, 150, 30}, {140, 140, 140}};
   for (std::size_t k = 0; k < references_.size(); ++k) {
+    const std::string& name = references_[k].name;
+    const bool truth = name.find("truth") != std::string::npos || name == "gt";
+    const bool icp = name.find("icp") != std::string::npos || name.find("ICP") != std::string::npos;
+    const Rgb colour = truth ? Rgb{0, 0, 0} : icp ? Rgb{220, 0, 0} : others[k % 2];
     const auto path = referencePath(references_[k].poses, records_.front()->stamp_s, f.stamp_s, T_sensor_odom,
                                     mountOfFirstScan());
-    d.lines.push_back(polyline(path, ref_colours[k % 3], 1));
+    d.lines.push_back(polyline(path, colour, 1));
+    d.legend.push_back({name, colour});
   }
 }
 
@@ -379,12 +389,25 @@ Drawing Session::draw(std::size_t index, const Layers& layers) {
   if (!f.error.empty()) d.status.push_back("error at " + f.where + ": " + f.error);
   d.view_half_width_m = viewHalfWidth(f.segmentation.points, d.view_half_width_m);
   if (layers.trajectory) drawTrajectories(f, d);
-  if (layers.raw_points) d.points.push_back(rawPoints(f.segmentation.points));
+  if (layers.raw_points) {
+    d.points.push_back(rawPoints(f.segmentation.points));
+    d.legend.push_back({"raw points", d.points.back().colour});
+  }
   drawLevels(f.segmentation, layers, d);
   const bool matched = f.keyframe_segments && !f.step.first;
-  if (matched && layers.predicted) d.lines.push_back(predictedSegments(f, params_.odometry.level));
-  if (matched && layers.matches) d.lines.push_back(matchedPairs(f));
-  if (layers.features) drawFeatures(f.features, d);
+  if (matched && layers.predicted) {
+    d.lines.push_back(predictedSegments(f, params_.odometry.level));
+    d.legend.push_back({"keyframe segments, predicted", d.lines.back().colour});
+  }
+  if (matched && layers.matches) {
+    d.lines.push_back(matchedPairs(f));
+    d.legend.push_back({"matched pairs", d.lines.back().colour});
+  }
+  if (layers.features) {
+    drawFeatures(f.features, d);
+    d.legend.push_back({"doors", {220, 20, 20}});
+    d.legend.push_back({"corners", {20, 170, 20}});
+  }
   if (layers.camera) d.camera = f.camera;
   return d;
 }

@@ -43,8 +43,15 @@ struct Label {
   Rgb colour;
 };
 
+/// A line of the legend: what a colour stands for.
+struct LegendEntry {
+  std::string name;
+  Rgb colour;
+};
+
 /// One picture: layers drawn in order, then circles and labels, the status lines on top,
-/// and the camera image (with its ROI boxes drawn) in a corner when there is one.
+/// the legend (top right) and a scale bar (bottom left), and the camera image (with its ROI
+/// boxes drawn) in the bottom-right corner when there is one.
 struct Drawing {
   std::vector<PointLayer> points;
   std::vector<LineLayer> lines;
@@ -52,6 +59,8 @@ struct Drawing {
   std::vector<Label> labels;
   /// Lines of text at the top of the picture (status line, keys).
   std::vector<std::string> status;
+  /// What each colour shown stands for.
+  std::vector<LegendEntry> legend;
   /// Half-width of the square area shown around the sensor (m).
   double view_half_width_m = 10.0;
   /// Camera image (BGR) with its ROI boxes, empty when the scan has none.
