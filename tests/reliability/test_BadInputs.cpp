@@ -255,6 +255,16 @@ TEST(BadInputs, WrongMagicAndGzipCorruptionNameTheFile) {
 }
 
 // --- Rows: field counts, NaN/inf/negative/huge ranges, 0 / 1 / 100000 beams ------------
+// A log whose every laser line is malformed: the error says so and why, with the places.
+TEST(BadInputs, ALogWithNoUsableScanSaysWhichLinesWereSkipped) {
+  const std::string path = put("all_malformed.clf", "FLASER 181 1 2 3\nFLASER 181 1 2 3\nFLASER 3 1.0 1.0\n");
+  OdometryOptions o = optionsFor(path, "");
+  const std::string e = errorOf(o);
+  EXPECT_NE(e.find("holds no usable laser scan"), std::string::npos) << e;
+  EXPECT_NE(e.find("all_malformed.clf:1"), std::string::npos) << e;
+  EXPECT_NE(e.find("all_malformed.clf:2"), std::string::npos) << e;
+}
+
 TEST(BadInputs, CarmenFieldCountsRangeValuesAndBeamCounts) {
   std::ostringstream log;
   double t = 10.0;

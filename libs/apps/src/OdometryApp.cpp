@@ -218,8 +218,12 @@ void OdometryApp::processLog(mrpt_adapter::LaserLogReader& reader, pipeline::Odo
   }
   progress.done(odometry.counts().frames);
   if (odometry.counts().frames == 0) {
+    // Say why: the first lines or scans the reader skipped, with their place.
+    std::string why;
+    for (std::size_t k = 0; k < std::min<std::size_t>(reader.issues().size(), 3); ++k) why += "; " + reader.issues()[k];
+    if (reader.issues().size() > 3) why += "; ... (" + std::to_string(reader.issues().size()) + " skipped in all)";
     throw std::runtime_error("'" + o.input + "' holds no usable laser scan" +
-                             (o.sensor.empty() ? std::string() : " with sensor '" + o.sensor + "'"));
+                             (o.sensor.empty() ? std::string() : " with sensor '" + o.sensor + "'") + why);
   }
   if (rawlog) rawlog->close();
   if (!o.features_out.empty()) outputs.add(o.features_out, features_csv.str());

@@ -38,29 +38,38 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A text output written under a temporary name and renamed when the run succeeds.
+// A text output written under a unique temporary name (removed by the SIGINT/SIGTERM
+// handler, decision 47) and renamed when the run succeeds.
 class PendingFile {
  public:
-  explicit PendingFile(std::string path) : path_(std::move(path)), out_(path_ + ".tmp") {
-    if (!out_) throw std::runtime_error("cannot write '" + path_ + ".tmp'");
+  explicit PendingFile(std::string path)
+      : path_(std::move(path)), tmp_(pipeline::uniqueTemporary(path_)), out_(tmp_) {
+    if (!out_) {
+      pipeline::releaseTemporary(tmp_);
+      throw std::runtime_error("cannot write '" + tmp_ + "'");
+    }
     out_ << std::fixed;
   }
   std::ofstream& out() { return out_; }
   void commit() {
     out_.close();
-    if (!out_) throw std::runtime_error("error while writing '" + path_ + ".tmp'");
-    fs::rename(path_ + ".tmp", path_);
+    if (!out_) throw std::runtime_error("error while writing '" + tmp_ + "' (disk full?)");
+    fs::rename(tmp_, path_);
+    pipeline::releaseTemporary(tmp_);
   }
   ~PendingFile() {
     if (out_.is_open()) {
       out_.close();
       std::error_code ec;
-      fs::remove(path_ + ".tmp", ec);
+      fs::remove(tmp_, ec);
+      pipeline::releaseTemporary(tmp_);
     }
   }
+  PendingFile(const PendingFile&) = delete;
+  PendingFile& operator=(const PendingFile&) = delete;
 
  private:
-  std::string path_;
+  std::string path_, tmp_;
   std::ofstream out_;
 };
 
@@ -149,8 +158,19 @@ class RunOutputs {
              const sim::World& world);
   void write(std::size_t i, const sim::SimulatedFrame& f, SimulateReport& report);
   void commit();
+  // A run that did not commit leaves no rawlog temporary behind.
+  ~RunOutputs() {
+    if (committed_) return;
+    rawlog_.close();
+    std::error_code ec;
+    fs::remove(rawlog_tmp_, ec);
+    pipeline::releaseTemporary(rawlog_tmp_);
+  }
+  RunOutputs(const RunOutputs&) = delete;
+  RunOutputs& operator=(const RunOutputs&) = delete;
 
  private:
+  bool committed_ = false;
   void writeRawlogScan(const sim::SimulatedFrame& f);
   void writeImage(std::size_t i, const sim::SimulatedFrame& f, std::size_t image);
 
@@ -160,6 +180,7 @@ class RunOutputs {
   const mrpt::poses::CPose3D lidar_pose_;
   PendingFile gt_, odom_, features_, rois_;
   std::unique_ptr<PendingFile> carmen_;
+  std::string rawlog_tmp_;  // registered for the SIGINT/SIGTERM cleanup
   mrpt::io::CFileGZOutputStream rawlog_;
   mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZOutputStream> archive_{rawlog_};
 };
@@ -176,9 +197,9 @@ RunOutputs::RunOutputs(const SimulateOptions& o, const sim::SimulationParams& pa
       features_(prefix_ + ".features.csv"),
       rois_(prefix_ + ".rois.csv"),
       carmen_(o.write_carmen ? std::make_unique<PendingFile>(prefix_ + ".carmen.log") : nullptr),
-      rawlog_(prefix_ + ".rawlog.tmp") {
-  if (!rawlog_.fileOpenCorrectly())
-    throw std::runtime_error("cannot write '" + prefix_ + ".rawlog.tmp'");
+      rawlog_tmp_(pipeline::uniqueTemporary(prefix_ + ".rawlog")),
+      rawlog_(rawlog_tmp_) {
+  if (!rawlog_.fileOpenCorrectly()) throw std::runtime_error("cannot write '" + rawlog_tmp_ + "'");
   gt_.out() << "# timestamp x y z qx qy qz qw (true robot pose, world frame)\n";
   odom_.out() << "# timestamp x y z qx qy qz qw (wheel odometry, drifting)\n";
   features_.out() << "scan,t,type,x,y,theta,width,id,resolvable,seen_as\n";
@@ -229,7 +250,9 @@ void RunOutputs::writeImage(std::size_t i, const sim::SimulatedFrame& f, std::si
 // Closes the rawlog and renames every output to its final name (the images folder last).
 void RunOutputs::commit() {
   rawlog_.close();
-  fs::rename(prefix_ + ".rawlog.tmp", prefix_ + ".rawlog");
+  fs::rename(rawlog_tmp_, prefix_ + ".rawlog");
+  pipeline::releaseTemporary(rawlog_tmp_);
+  committed_ = true;
   gt_.commit();
   odom_.commit();
   features_.commit();
@@ -263,7 +286,6 @@ SimulateReport SimulateApp::run() {
   } catch (...) {
     // Leave nothing half-written behind.
     std::error_code ec;
-    fs::remove(options_.out_prefix + ".rawlog.tmp", ec);
     fs::remove_all(options_.out_prefix + "_Images.tmp", ec);
     throw;
   }
