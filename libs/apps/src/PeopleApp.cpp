@@ -244,7 +244,7 @@ PeopleApp::PeopleApp(PeopleOptions options) : options_(std::move(options)) {
     throw std::invalid_argument("no regions of interest: give --rois FILE.csv or --roi u_min,v_min,u_max,v_max");
   }
   if (options_.every == 0) throw std::invalid_argument("--every must be >= 1");
-  if (options_.threads < 1 || options_.threads > 256) throw std::invalid_argument("--threads must be in [1, 256]");
+  if (options_.threads < 1 || options_.threads > 256) throw std::invalid_argument("-j/--jobs must be in [1, 256]");
   if (!(options_.match_iou > 0 && options_.match_iou <= 1)) throw std::invalid_argument("--match-iou must be in (0, 1]");
   if (options_.draw_every == 0) throw std::invalid_argument("--draw-every must be >= 1");
   for (const std::string& r : options_.rois) parseRegion(r, "--roi");
