@@ -204,7 +204,7 @@ std::string finalErrorsPng(const MetricRows& rows, bool with_icp, const std::str
   }
   std::vector<PlotSeries> series = {a};
   if (with_icp) series.push_back(b);
-  return plotXYPng(series, "Final position error per run: " + title, "seed", "final error (m)");
+  return plotXYPng(series, "Final position error per run: " + title, "seed", "final error (m)", true);
 }
 
 }  // namespace

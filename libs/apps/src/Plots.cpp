@@ -134,7 +134,7 @@ std::string plotCommand(const ScratchFolder& dir, const std::vector<PlotSeries>&
       if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) out << s.x[i] << ' ' << s.y[i] << '\n';
     }
     plot << (k ? ", " : "") << quoted(data) << " using 1:2 "
-         << (s.markers ? "with points pt 7 ps 0.8" : "with lines lw 2") << " lc rgb '" << rgb(s) << "' title "
+         << (s.markers ? "with points pt 7 ps 1.3" : "with lines lw 2") << " lc rgb '" << rgb(s) << "' title "
          << quoted(s.name);
   }
   return plot.str() + "\n";
@@ -192,9 +192,21 @@ std::string plotHistogramsPng(const std::vector<PlotSeries>& series, const std::
 }
 
 std::string plotXYPng(const std::vector<PlotSeries>& series, const std::string& title,
-                      const std::string& x_label, const std::string& y_label) {
+                      const std::string& x_label, const std::string& y_label, bool integer_x) {
   ScratchFolder dir;
-  const std::string gp = preamble(dir, title, x_label, y_label);
+  std::string gp = preamble(dir, title, x_label, y_label);
+  gp += "set offsets graph 0.03, graph 0.03, graph 0.05, 0\n";
+  if (integer_x) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const PlotSeries& s : series) {
+      for (double v : s.x) {
+        if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+      }
+    }
+    const double span = lo <= hi ? hi - lo : 1.0;
+    const long step = std::max(1L, static_cast<long>(std::ceil(span / 12.0)));
+    gp += "set xtics " + std::to_string(step) + "\nset format x '%.0f'\nset mxtics 1\n";
+  }
   return runGnuplot(dir, gp + plotCommand(dir, series));
 }
 

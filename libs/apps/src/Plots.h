@@ -43,9 +43,11 @@ std::string plotTrajectoriesPng(const std::vector<PlotSeries>& series, const std
 std::string plotHistogramsPng(const std::vector<PlotSeries>& series, const std::string& title,
                               const std::string& x_label);
 
-/// Draws y against x (independent scales), lines or markers. Returns the PNG bytes.
+/// Draws y against x (independent scales), lines or markers. `integer_x`: x takes whole
+/// values (seeds, runs): ticks on whole numbers only, the points kept off the frame.
+/// Returns the PNG bytes.
 std::string plotXYPng(const std::vector<PlotSeries>& series, const std::string& title,
-                      const std::string& x_label, const std::string& y_label);
+                      const std::string& x_label, const std::string& y_label, bool integer_x = false);
 
 /// One scan's features, sensor frame (m): what scanFeaturesPng() draws.
 struct ScanPicture {
