@@ -13,6 +13,23 @@ namespace lidarseg {
 
 namespace {
 
+// Covariance of a door (x, y, theta) on the wall line (rho, theta) with normal `normal` and
+// tangent `tangent`, at abscissa `s_along` on it: the wall's (rho, theta) covariance
+// `wall_cov` and the jambs' position variances `var_a`, `var_b` along the wall (the centre
+// is their mean), through the Jacobian of (x, y, theta) with respect to (rho, theta, s).
+Eigen::Matrix3d doorCovariance(const Eigen::Vector2d& normal, double rho, const Eigen::Vector2d& tangent,
+                               double s_along, const Eigen::Matrix2d& wall_cov, double var_a, double var_b) {
+  Eigen::Matrix3d J = Eigen::Matrix3d::Zero();
+  J.block<2, 1>(0, 0) = normal;
+  J.block<2, 1>(0, 1) = rho * tangent - s_along * normal;
+  J.block<2, 1>(0, 2) = tangent;
+  J(2, 1) = 1.0;
+  Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+  S.topLeftCorner<2, 2>() = wall_cov;
+  S(2, 2) = 0.25 * (var_a + var_b);
+  return J * S * J.transpose();
+}
+
 
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
@@ -278,16 +295,7 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, std::vector<
       // the line) the mean of the two jambs' coordinates.
       const double var_a = jamb_a.variance_m2, var_b = jamb_b.variance_m2;
       const Eigen::Vector2d tn = tangentOf(a);
-      const double s_along = f.position.dot(tn);
-      Eigen::Matrix3d J = Eigen::Matrix3d::Zero();  // (x, y, theta) wrt (rho, theta, s)
-      J.block<2, 1>(0, 0) = a.normal;
-      J.block<2, 1>(0, 1) = a.rho_m * tn - s_along * a.normal;
-      J.block<2, 1>(0, 2) = tn;
-      J(2, 1) = 1.0;
-      Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
-      S.topLeftCorner<2, 2>() = a.covariance;
-      S(2, 2) = 0.25 * (var_a + var_b);
-      f.covariance = J * S * J.transpose();
+      f.covariance = doorCovariance(a.normal, a.rho_m, tn, f.position.dot(tn), a.covariance, var_a, var_b);
       f.width_variance_m2 = var_a + var_b;
       f.segment_a = static_cast<std::uint32_t>(i);
       f.segment_b = static_cast<std::uint32_t>(j);
@@ -442,16 +450,7 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, std::
     const double var_a = (q1 - q0).squaredNorm() / 12.0 + s.covariance(0, 0);
     const double var_b = (q3 - q2).squaredNorm() / 12.0 + s.covariance(0, 0);
     const Eigen::Vector2d tn = tangentOf(s);
-    const double s_along = f.position.dot(tn);
-    Eigen::Matrix3d J = Eigen::Matrix3d::Zero();
-    J.block<2, 1>(0, 0) = s.normal;
-    J.block<2, 1>(0, 1) = rho_wall * tn - s_along * s.normal;
-    J.block<2, 1>(0, 2) = tn;
-    J(2, 1) = 1.0;
-    Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
-    S.topLeftCorner<2, 2>() = s.covariance;
-    S(2, 2) = 0.25 * (var_a + var_b);
-    f.covariance = J * S * J.transpose();
+    f.covariance = doorCovariance(s.normal, rho_wall, tn, f.position.dot(tn), s.covariance, var_a, var_b);
     f.width_variance_m2 = var_a + var_b;
     f.segment_a = static_cast<std::uint32_t>(si);
     f.segment_b = static_cast<std::uint32_t>(last);
