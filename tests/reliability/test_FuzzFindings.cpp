@@ -109,5 +109,14 @@ TEST(FuzzFindings, F5_RegionCoordinatesAreBounded) {
   EXPECT_EQ(ok.of(4, "").size(), 1u);
 }
 
+// F7 (fuzz_config, in CI): a YAML "%" directive line after a mapping made libfyaml loop
+// forever (SIGALRM after 20 s in every tool taking -c). Directives are now refused first,
+// naming file and line.
+TEST(FuzzFindings, F7_YamlDirectivesAreRefusedBeforeTheParserLoops) {
+  const std::string path = write("directive.yaml", "segmentation:\n  wd_threshold_m: 0.02\n%matc+++1+\n");
+  const std::string e = errorOf([&] { mrpt_adapter::loadSegmentationParamsFile(path); });
+  EXPECT_NE(e.find(path + ":3: YAML directives"), std::string::npos) << e;
+}
+
 }  // namespace
 }  // namespace lidarseg

@@ -103,6 +103,24 @@ void checkYamlNesting(const std::string& path, const std::string& text) {
     }
   }
 }
+
+
+// YAML directives ("%YAML 1.2", "%TAG ...") are refused before the parser sees them: a
+// parameter file needs none, and libfyaml 0.8 loops forever on some malformed ones
+// (a "%" line after a mapping, found by fuzz_config).
+void refuseYamlDirectives(const std::string& path, const std::string& text) {
+  int line = 1;
+  bool at_start = true;
+  for (const char c : text) {
+    if (at_start && c == '%') {
+      throw std::invalid_argument(path + ":" + std::to_string(line) +
+                                  ": YAML directives ('%' at the start of a line) are not supported in a "
+                                  "parameter file");
+    }
+    at_start = c == '\n';
+    if (c == '\n') ++line;
+  }
+}
 }  // namespace
 
 LoadedConfig readConfigFile(const std::string& path) {
@@ -125,6 +143,7 @@ LoadedConfig readConfigFile(const std::string& path) {
   out.yaml = endsWith(path, ".yaml") || endsWith(path, ".yml");
   if (out.yaml) {
     checkYamlNesting(path, out.text);
+    refuseYamlDirectives(path, out.text);
     loadYaml(path, out);
   } else {
     std::vector<std::string> sections;
