@@ -195,7 +195,12 @@ std::optional<LaserRecord> LaserLogReader::next() {
       r.where = where;
       r.stamp_s = mrpt::Clock::toDouble(scan->observation->timestamp);
       r.observation = scan->observation;
-      r.scan = converter_.convert(*r.observation);
+      try {  // a scan the core cannot represent is skipped with its place, as before
+        r.scan = converter_.convert(*r.observation);
+      } catch (const std::invalid_argument& e) {
+        note(where + ": " + e.what() + "; scan skipped");
+        continue;
+      }
       r.scan.stamp_s = r.stamp_s;
       r.sensor_on_robot = sensorOnRobot(*r.observation);
       if (scan->odometry) r.odometry = toPose2D(*scan->odometry);
@@ -220,13 +225,19 @@ std::optional<LaserRecord> LaserLogReader::next() {
       continue;
     }
     LaserRecord r;
-    r.index = returned_++;
     r.where = path_ + ":" + std::to_string(laser->line);
     r.stamp_s = laser->stamp_s;
     r.observation = toObservation(*laser);
     // The core scan from the line's own (double) ranges: the observation's beams, layout
-    // and validity, without its float rounding.
-    r.scan = converter_.convert(*r.observation);
+    // and validity, without its float rounding. A line the core cannot represent (an
+    // aperture overflowing to infinity) is skipped with its place.
+    try {
+      r.scan = converter_.convert(*r.observation);
+    } catch (const std::invalid_argument& e) {
+      note(r.where + ": " + e.what() + "; line skipped");
+      continue;
+    }
+    r.index = returned_++;
     r.scan.stamp_s = r.stamp_s;
     for (std::size_t i = 0; i < r.scan.ranges_m.size(); ++i) {
       if (r.scan.valid[i] != 0) r.scan.ranges_m[i] = laser->ranges_m[i];
