@@ -56,6 +56,34 @@ TEST(ScanRefiner, FeaturelessCorridorIsDegenerateWithTheLargeVarianceAlongIt) {
   EXPECT_LT(r.covariance(1, 1), 1e-3);
 }
 
+// A corridor whose only along-axis cues are the legs of a row of chairs (3 cm posts: one or
+// two points each, too few for a segment): the refinement uses the points no segment holds, so
+// the legs constrain the motion; without them the corridor is degenerate and the along-axis
+// value is the prior's.
+TEST(ScanRefiner, TableLegsNoSegmentHoldsConstrainTheCorridor) {
+  sim::World world;
+  world.addWall({-200.0, 0.0}, {200.0, 0.0});
+  world.addWall({-200.0, 2.0}, {200.0, 2.0});
+  for (const double x : {2.5, 3.0, 3.5, 4.0, 4.5}) {
+    for (const double y : {1.3, 1.8}) {
+      world.addPolyline({{x, y}, {x + 0.03, y}, {x + 0.03, y + 0.03}, {x, y + 0.03}, {x, y}});
+    }
+  }
+  const Segmentation key = segmentAt(world, {0.0, 1.0, 0.0}, 11);
+  const Segmentation cur = segmentAt(world, {0.12, 0.95, 0.01}, 12);
+  RefinerParams with;
+  const RefineResult r = ScanRefiner(with).refine(key, cur, Pose2D{});
+  EXPECT_EQ(r.status, RefineStatus::kOk);
+  EXPECT_NEAR(r.T_key_curr.x, 0.12, 0.02);
+  EXPECT_NEAR(r.T_key_curr.y, -0.05, 0.01);
+  EXPECT_LT(std::sqrt(r.covariance(0, 0)), 0.1);
+  RefinerParams without;
+  without.unsegmented_points = false;
+  const RefineResult d = ScanRefiner(without).refine(key, cur, Pose2D{});
+  EXPECT_EQ(d.status, RefineStatus::kDegenerate);
+  EXPECT_NEAR(d.T_key_curr.x, 0.0, 0.01);
+}
+
 TEST(ScanRefiner, FarInitialPoseOrNoOverlapFails) {
   const sim::World world = testing::rectangleRoom(6.0, 4.0);
   const Segmentation key = segmentAt(world, {3.0, 2.0, 0.0}, 5);

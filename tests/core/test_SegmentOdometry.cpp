@@ -128,40 +128,49 @@ TEST(SegmentOdometry, TurnReversalAndUnpredictedJumpAreRecovered) {
   EXPECT_EQ(lost, 0u);
 }
 
-// Drivers stamp a scan at its first, middle or last beam. For each convention, a simulated
-// 50 Hz LMS100 run through the maze (rolling shutter, stamps at that beam, no beam times in
-// the scans as in a rawlog) is corrected with scanner_rotation_hz and the same convention;
-// the correction must beat no correction, and the wrong convention must not beat the right one.
+// Drivers stamp a scan at its first, middle or last beam. For each convention, simulated
+// 50 Hz LMS100 runs through the maze (rolling shutter, stamps at that beam, no beam times in
+// the scans as in a rawlog) are corrected with scanner_rotation_hz and the same convention;
+// the correction must beat no correction, and the wrong convention must not beat the right
+// one by more than 1 cm. The final error of one run is partly a random walk (a few
+// centimetres either way), so each figure is the mean over three seeds.
 double mazeFinalError(ScanStamp written, std::optional<ScanStamp> assumed, std::size_t scans) {
-  MazeRun maze(3, written);
-  sim::Simulation& simulation = maze.simulation;
-  OdometryParams params;
-  params.scanner_rotation_hz = assumed ? 50.0 : 0.0;
-  params.scan_stamp = assumed.value_or(ScanStamp::kFirst);
-  SegmentOdometry odometry(params);
-  Pose2D gt0, gt_last;
-  for (std::size_t i = 0; i < std::min(scans, simulation.numScans()); ++i) {
-    sim::SimulatedFrame f = simulation.next();
-    f.scan.time_offsets_s.clear();  // as read from a rawlog
-    odometry.process(f.scan);
-    if (i == 0) gt0 = f.T_world_robot;
-    gt_last = f.T_world_robot;
+  double sum = 0.0;
+  const std::uint64_t seeds[] = {3, 4, 5};
+  for (const std::uint64_t seed : seeds) {
+    MazeRun maze(seed, written);
+    sim::Simulation& simulation = maze.simulation;
+    OdometryParams params;
+    params.scanner_rotation_hz = assumed ? 50.0 : 0.0;
+    params.scan_stamp = assumed.value_or(ScanStamp::kFirst);
+    SegmentOdometry odometry(params);
+    Pose2D gt0, gt_last;
+    for (std::size_t i = 0; i < std::min(scans, simulation.numScans()); ++i) {
+      sim::SimulatedFrame f = simulation.next();
+      f.scan.time_offsets_s.clear();  // as read from a rawlog
+      odometry.process(f.scan);
+      if (i == 0) gt0 = f.T_world_robot;
+      gt_last = f.T_world_robot;
+    }
+    const Pose2D truth = relative(gt_last, gt0);
+    sum += std::hypot(odometry.pose().x - truth.x, odometry.pose().y - truth.y);
   }
-  const Pose2D truth = relative(gt_last, gt0);
-  return std::hypot(odometry.pose().x - truth.x, odometry.pose().y - truth.y);
+  return sum / std::size(seeds);
 }
 
 TEST(SegmentOdometry, RollingShutterCorrectionHelpsUnderEveryStampConvention) {
   for (const ScanStamp stamp : {ScanStamp::kFirst, ScanStamp::kMiddle, ScanStamp::kLast}) {
     const double none = mazeFinalError(stamp, std::nullopt, 2500);
     const double right = mazeFinalError(stamp, stamp, 2500);
-    std::cout << "stamped at the " << toString(stamp) << " beam: final error " << none << " m uncorrected, " << right
-              << " m corrected\n";
+    std::cout << "stamped at the " << toString(stamp) << " beam: mean final error " << none << " m uncorrected, "
+              << right << " m corrected\n";
     EXPECT_LT(right, none) << toString(stamp);
   }
   // The wrong convention (middle-stamped scans corrected as first-stamped) is no better.
-  EXPECT_LE(mazeFinalError(ScanStamp::kMiddle, ScanStamp::kMiddle, 2500),
-            mazeFinalError(ScanStamp::kMiddle, ScanStamp::kFirst, 2500) + 0.02);
+  const double right = mazeFinalError(ScanStamp::kMiddle, ScanStamp::kMiddle, 2500);
+  const double wrong = mazeFinalError(ScanStamp::kMiddle, ScanStamp::kFirst, 2500);
+  std::cout << "middle-stamped, corrected as first: mean final error " << wrong << " m\n";
+  EXPECT_LE(right, wrong + 0.01);
 }
 
 // Honest uncertainty: the normalised estimation error squared of each match's covariance

@@ -45,6 +45,62 @@ double inlierRatioOf(const Accumulator& acc) {
   return acc.inliers == 0 ? 0.0 : static_cast<double>(acc.inliers) / static_cast<double>(std::max(acc.covered, acc.inliers));
 }
 
+bool finitePoint(const Eigen::Vector2d& p) { return std::isfinite(p.x()) && std::isfinite(p.y()); }
+
+// The keyframe points no usable segment holds (clutter, jambs, pillars, the ends of walls
+// the segmenter cut off) become features too. A point joins its next (else previous)
+// neighbour when that one lies within `link_m`: a two-point finite line (point to line, as in
+// PL-ICP). Without such a neighbour, a point between two valid ones that lies on their line
+// (within `on_line_m`) samples a surface seen at grazing incidence: the line through the
+// three. Only a point off its neighbours' line is kept alone (length 0: point to point, a
+// chair leg or a post); one with an invalid neighbour has no known shape and is left out.
+template <typename Rotate>
+void linkUnsegmented(const std::vector<Eigen::Vector2d>& points, const Pose2D& T, const Rotate& rotate,
+                     double link_m, double on_line_m, KeyframeIndex& ix) {
+  const std::size_t beams = points.size();
+  const auto valid = [&](std::size_t k) { return k < beams && finitePoint(points[k]); };
+  const auto lineThrough = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    FiniteLine l;
+    const Eigen::Vector2d d = b - a;
+    l.start = T * a;
+    l.length = d.norm();
+    l.direction = rotate(d / l.length);
+    l.normal = Eigen::Vector2d(-l.direction.y(), l.direction.x());
+    l.rho = l.normal.dot(l.start);
+    return l;
+  };
+  for (std::size_t b = 0; b < beams; ++b) {
+    if (ix.beam_line[b] >= 0 || !valid(b)) continue;
+    const Eigen::Vector2d& p = points[b];
+    const auto near = [&](std::size_t k) {
+      const double d = valid(k) ? (points[k] - p).norm() : 0.0;
+      return d > 0.0 && d <= link_m;
+    };
+    FiniteLine l;
+    if (near(b + 1)) {
+      l = lineThrough(p, points[b + 1]);
+    } else if (b > 0 && near(b - 1)) {
+      l = lineThrough(points[b - 1], p);
+    } else if (b > 0 && valid(b - 1) && valid(b + 1)) {
+      const Eigen::Vector2d& a = points[b - 1];
+      const Eigen::Vector2d& c = points[b + 1];
+      const Eigen::Vector2d ac = c - a;
+      const double len = ac.norm();
+      if (!(len > 0.0)) continue;
+      const double off = std::abs(ac.x() * (p.y() - a.y()) - ac.y() * (p.x() - a.x())) / len;
+      if (off <= on_line_m) {
+        l = lineThrough(a, c);
+      } else {
+        l.start = T * p;  // a lone point: length 0, its normal chosen per pairing
+      }
+    } else {
+      continue;
+    }
+    ix.beam_line[b] = static_cast<int>(ix.lines.size());
+    ix.lines.push_back(l);
+  }
+}
+
 }  // namespace
 
 void ScanRefiner::prepare(const Segmentation& keyframe, RefinementKeyframe& ix) const {
@@ -85,6 +141,7 @@ void ScanRefiner::prepare(const std::vector<RefinementMapScan>& scans, Refinemen
         for (std::size_t b = 0; b <= s.last_beam && b < beams; ++b) mark(b);
       }
     }
+    if (P.unsegmented_points) linkUnsegmented(scan.points, T, rotate, P.max_distance_m, P.robust_scale_m, ix);
     for (std::size_t b = 0; b < beams; ++b) {
       const Eigen::Vector2d& p = scan.points[b];
       if (ix.beam_line[b] < 0 || !std::isfinite(p.x()) || !std::isfinite(p.y())) continue;
@@ -117,11 +174,12 @@ void ScanRefiner::prepare(const std::vector<RefinementMapScan>& scans, Refinemen
 namespace {
 
 // The signed distance of q (keyframe frame) to the nearest finite segment around its
-// bearing, or false when none is within max_distance_m.
+// bearing, and that segment's normal; or, when the nearest is a lone point, the distance and
+// the offset q - point with a zero normal; false when none is within max_distance_m.
 // `covered` tells whether the keyframe saw a segment within about 2 degrees of the point's
 // bearing: a point that could pair at all (the denominator of the inlier ratio).
 bool pairPoint(const KeyframeIndex& ix, const RefinerParams& P, const Eigen::Vector2d& q,
-               double& residual, const FiniteLine** line, bool& covered) {
+               double& residual, Eigen::Vector2d& normal, Eigen::Vector2d& offset, bool& covered) {
   const long n = static_cast<long>(ix.bearing.size());
   covered = false;
   if (n == 0) return false;
@@ -151,13 +209,23 @@ bool pairPoint(const KeyframeIndex& ix, const RefinerParams& P, const Eigen::Vec
     if (id == last) continue;
     last = id;
     const FiniteLine& l = ix.lines[static_cast<std::size_t>(id)];
-    const double d = l.normal.dot(q) - l.rho;
-    if (!(std::abs(d) < best)) continue;
-    const double along = (q - l.start).dot(l.direction);
-    if (along < -P.endpoint_margin_m || along > l.length + P.endpoint_margin_m) continue;
-    best = std::abs(d);
-    residual = d;
-    *line = &l;
+    if (l.length > 0.0) {
+      const double d = l.normal.dot(q) - l.rho;
+      if (!(std::abs(d) < best)) continue;
+      const double along = (q - l.start).dot(l.direction);
+      if (along < -P.endpoint_margin_m || along > l.length + P.endpoint_margin_m) continue;
+      best = std::abs(d);
+      residual = d;
+      normal = l.normal;
+    } else {  // a lone point: its two coordinates' residuals (normal left zero)
+      const Eigen::Vector2d diff = q - l.start;
+      const double d = diff.norm();
+      if (!(d < best)) continue;
+      best = d;
+      residual = d;
+      offset = diff;
+      normal = Eigen::Vector2d::Zero();
+    }
     found = true;
   }
   return found;
@@ -176,18 +244,27 @@ void accumulate(const KeyframeIndex& ix, const RefinerParams& P, const std::vect
     const double rx = c * p.x() - s * p.y(), ry = s * p.x() + c * p.y();
     const Eigen::Vector2d q(rx + T.x, ry + T.y);
     double r = 0.0;
-    const FiniteLine* l = nullptr;
+    Eigen::Vector2d n, offset;
     bool is_covered = false;
-    const bool paired = pairPoint(ix, P, q, r, &l, is_covered);
+    const bool paired = pairPoint(ix, P, q, r, n, offset, is_covered);
     acc.covered += is_covered;
     if (!paired) continue;
     ++acc.paired;
-    const double j0 = l->normal.x(), j1 = l->normal.y(), j2 = (l->normal.y() * rx - l->normal.x() * ry) * yaw_scale;
-    const double w = 1.0 / (1.0 + r * r * inv_c2);  // Cauchy
-    hu[0] += j0 * j0, hu[1] += j0 * j1, hu[2] += j0 * j2, hu[3] += j1 * j1, hu[4] += j1 * j2, hu[5] += j2 * j2;
-    const double w0 = w * j0, w1 = w * j1, w2 = w * j2;
-    h[0] += w0 * j0, h[1] += w0 * j1, h[2] += w0 * j2, h[3] += w1 * j1, h[4] += w1 * j2, h[5] += w2 * j2;
-    g[0] += w0 * r, g[1] += w1 * r, g[2] += w2 * r;
+    const double w = 1.0 / (1.0 + r * r * inv_c2);  // Cauchy, on the distance
+    // One row per residual: along the line's normal, or the x and y of a point's offset.
+    const auto add = [&](double nx, double ny, double ri) {
+      const double j0 = nx, j1 = ny, j2 = (ny * rx - nx * ry) * yaw_scale;
+      hu[0] += j0 * j0, hu[1] += j0 * j1, hu[2] += j0 * j2, hu[3] += j1 * j1, hu[4] += j1 * j2, hu[5] += j2 * j2;
+      const double w0 = w * j0, w1 = w * j1, w2 = w * j2;
+      h[0] += w0 * j0, h[1] += w0 * j1, h[2] += w0 * j2, h[3] += w1 * j1, h[4] += w1 * j2, h[5] += w2 * j2;
+      g[0] += w0 * ri, g[1] += w1 * ri, g[2] += w2 * ri;
+    };
+    if (n.x() != 0.0 || n.y() != 0.0) {
+      add(n.x(), n.y(), r);
+    } else {
+      add(1.0, 0.0, offset.x());
+      add(0.0, 1.0, offset.y());
+    }
     acc.wr2 += w * r * r;
     acc.wsum += w;
     if (std::abs(r) < inlier_limit) {

@@ -101,6 +101,7 @@ struct RefinerKeys {
     visit("enabled", p.enabled);
     visit("level", p.level);
     visit("min_segment_points", p.min_segment_points);
+    visit("unsegmented_points", p.unsegmented_points);
     visit("max_iterations", p.max_iterations);
     visit("max_distance_m", p.max_distance_m);
     visit("robust_scale_m", p.robust_scale_m);

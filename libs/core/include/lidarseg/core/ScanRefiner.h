@@ -24,6 +24,14 @@ struct RefinerParams {
   CascadeLevel level = CascadeLevel::kWallDanielsson;
   /// Keyframe segments with fewer points than this are not used (their line is unknown).
   std::size_t min_segment_points = 3;
+  /// Whether the keyframe points no usable segment holds (clutter, jambs, posts, wall
+  /// ends) are used too: joined to a neighbour within max_distance_m as a two-point line
+  /// (point to line, as PL-ICP); without one, a point on its two neighbours' line (within
+  /// robust_scale_m: a surface seen at grazing incidence) as that line, any other as a lone
+  /// point (point to point); a point next to an invalid beam is left out. Along a corridor
+  /// they are what constrains the motion; a featureless corridor has none (its grazing wall
+  /// samples pair along the walls only).
+  bool unsegmented_points = true;
   /// Gauss-Newton iterations at most; each re-associates the points.
   std::size_t max_iterations = 10;
   /// A point is paired only with a segment whose line is closer than this (m).
