@@ -160,8 +160,9 @@ def read_all_labels(labels_dir):
 
 # ---------------------------------------------------------------------------- matching
 def match_doors(labels, detections, tol):
-    """One-to-one matching of door centres, nearest pair first, within tol (the rule of
-    lidarseg-features --gt, FeatureEvaluation: same family, within the gate, nearest first).
+    """One-to-one matching of door centres within tol, the rule of lidarseg-features --gt
+    (FeatureEvaluation: same family within the gate; pairs of the right kind first, then
+    nearest first). The right kind: a label `open` and a `door_open`, and so on.
 
     labels: [{'centre': (x, y), ...}], detections: [{'x':, 'y':, ...}]. Ambiguous labels take
     part (a detection on one is neither right nor wrong). Returns (label_match, det_match):
@@ -171,15 +172,26 @@ def match_doors(labels, detections, tol):
         for j, det in enumerate(detections):
             d = math.dist(lab["centre"], (det["x"], det["y"]))
             if d <= tol:
-                pairs.append((d, i, j))
+                pairs.append((det.get("type") != "door_" + lab["kind"], d, i, j))
     pairs.sort()
     lm = [-1] * len(labels)
     dm = [-1] * len(detections)
-    for d, i, j in pairs:
+    for _, d, i, j in pairs:
         if lm[i] < 0 and dm[j] < 0:
             lm[i] = j
             dm[j] = i
     return lm, dm
+
+
+def wilson(k, n, z=1.96):
+    """95 % Wilson score interval of a proportion k / n (small counts)."""
+    if n == 0:
+        return (float("nan"), float("nan"))
+    p = k / n
+    d = 1 + z * z / n
+    c = (p + z * z / (2 * n)) / d
+    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
+    return (max(0.0, c - h), min(1.0, c + h))
 
 
 def score(labels, detections_by_scan, tol, max_range):
@@ -187,7 +199,7 @@ def score(labels, detections_by_scan, tol, max_range):
     is within max_range (the labelled zone); one matched to an ambiguous label is left out."""
     s = {"scans": 0, "scans_with_doors": 0, "labels": 0, "ambiguous": 0, "found": 0,
          "detections": 0, "true_detections": 0, "false_detections": 0, "beyond_range": 0,
-         "on_ambiguous": 0, "missed": [], "false": []}
+         "on_ambiguous": 0, "missed": [], "false": [], "hits": []}
     for key in sorted(labels):
         labs = [l for l in labels[key] if l["kind"] != "none"]
         dets = detections_by_scan.get(key, [])
@@ -202,6 +214,7 @@ def score(labels, detections_by_scan, tol, max_range):
             s["labels"] += 1
             if lm[i] >= 0:
                 s["found"] += 1
+                s["hits"].append((key, lab, dets[lm[i]]))
             else:
                 s["missed"].append((key, lab))
         for j, det in enumerate(dets):
@@ -379,6 +392,9 @@ def cmd_evaluate(a):
         subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
         feats = read_features(os.path.join(out, "features.csv"))
         scans_of[name] = read_carmen(path)
+        for i, dets in feats.items():   # lidarseg's scan numbering is this script's
+            if any(abs(d["t"] - scans_of[name][i]["stamp"]) > 1e-3 for d in dets):
+                raise ValueError("%s scan %d: lidarseg's stamp differs from the log's" % (name, i))
         for key in (k for k in labels if k[0] == name):
             scan = scans_of[name][key[1]]
             for lab in labels[key]:
@@ -399,15 +415,46 @@ def cmd_evaluate(a):
             s["precision"]))
     lines.append("")
     lines.append("Match: detected door centre within %.2f m of the labelled centre (middle of the "
-                 "two jambs), one to one, nearest first. Detections beyond %g m: %d (not scored); "
-                 "on ambiguous labels: %d (not scored)." % (a.tol, a.range, total["beyond_range"],
-                                                            total["on_ambiguous"]))
+                 "two jambs), one to one, pairs of the right kind first, then nearest first. "
+                 "Detections beyond %g m: %d (not scored); on ambiguous labels: %d (not scored)."
+                 % (a.tol, a.range, total["beyond_range"], total["on_ambiguous"]))
+    r_lo, r_hi = wilson(total["found"], total["labels"])
+    p_lo, p_hi = wilson(total["true_detections"], total["detections"])
+    lines.append("")
+    lines.append("95 %% Wilson intervals (all): recall %.2f–%.2f, precision %.2f–%.2f."
+                 % (r_lo, r_hi, p_lo, p_hi))
+    counted = [(k, l) for k in sorted(labels) for l in labels[k]
+               if l["kind"] != "none" and not l["ambiguous"]]
+    found = {(k, id(l)) for k, l, _ in total["hits"]}
+    def share(sel):
+        n = len(sel)
+        f = sum(1 for k, l in sel if (k, id(l)) in found)
+        return "%d / %d" % (f, n)
+    lines.append("")
+    lines.append("Recall by labelled width: 0.6–1.3 m %s; 1.3–2.2 m %s. By kind: open %s; "
+                 "closed %s. Found with the labelled kind: %d of %d." % (
+                     share([c for c in counted if c[1]["width"] < 1.3]),
+                     share([c for c in counted if c[1]["width"] >= 1.3]),
+                     share([c for c in counted if c[1]["kind"] == "open"]),
+                     share([c for c in counted if c[1]["kind"] == "closed"]),
+                     sum(1 for _, l, d in total["hits"] if d["type"] == "door_" + l["kind"]),
+                     len(total["hits"])))
+    alt = []
+    for t in a.also_tol:
+        s2 = score(labels, detections, t, a.range)
+        alt.append("%.2f m: recall %.3f (%d / %d), precision %.3f (%d / %d)" % (
+            t, s2["recall"], s2["found"], s2["labels"], s2["precision"], s2["true_detections"],
+            s2["detections"]))
+    if alt:
+        lines.append("")
+        lines.append("Other match distances (for reading only; the labels' README fixes 0.3 m): "
+                     + "; ".join(alt) + ".")
     report = "\n".join(lines)
     print(report)
     with open(os.path.join(a.out, "report.md"), "w") as f:
         f.write(report + "\n")
     with open(os.path.join(a.out, "report.json"), "w") as f:
-        json.dump({n: {k: v for k, v in s.items() if k not in ("missed", "false")}
+        json.dump({n: {k: v for k, v in s.items() if k not in ("missed", "false", "hits")}
                    for n, s in list(per_log.items()) + [("all", total)]}, f, indent=1)
     with open(os.path.join(a.out, "failures.csv"), "w") as f:
         f.write("log,scan,what,x,y,width,type\n")
@@ -420,16 +467,19 @@ def cmd_evaluate(a):
     if a.figures > 0:
         fig = os.path.join(a.out, "figures")
         os.makedirs(fig, exist_ok=True)
-        drawn = set()
+        count = {"missed": 0, "false": 0}
         for what, items in (("missed", total["missed"]), ("false", total["false"])):
-            for key, _ in items:
-                if len([d for d in drawn if d[0] == what]) >= a.figures or (what, key) in drawn:
+            for key, item in items:
+                if count[what] >= a.figures:
                     continue
-                drawn.add((what, key))
-                png = os.path.join(fig, "%s_%s_%04d.png" % (what, key[0], key[1]))
+                count[what] += 1
+                cx, cy = item["centre"] if what == "missed" else (item["x"], item["y"])
+                h = a.zoom
+                png = os.path.join(fig, "%s_%s_%04d_%+.1f_%+.1f.png" % (what, key[0], key[1], cx, cy))
                 draw_scan(scans_of[key[0]][key[1]], png,
-                          "%s scan %d: hand labels green, detected doors red (%s door)"
-                          % (key[0], key[1], what),
+                          "%s scan %d, %s door at (%.2f, %.2f): hand labels green "
+                          "(ambiguous orange), detected doors red" % (key[0], key[1], what, cx, cy),
+                          view=(cx - h, cx + h, cy - h, cy + h), size=(1000, 1000),
                           labels=[l for l in labels[key] if l["kind"] != "none"],
                           detections=detections[key])
         print("figures in " + fig)
@@ -483,7 +533,10 @@ def main(argv=None):
     p.add_argument("--out", required=True)
     p.add_argument("--tol", type=float, default=DEFAULT_TOL_M)
     p.add_argument("--range", type=float, default=DEFAULT_RANGE_M)
+    p.add_argument("--also-tol", type=float, nargs="*", default=[0.2, 0.5],
+                   help="other match distances to report alongside --tol")
     p.add_argument("--figures", type=int, default=0, help="pictures of up to N failures per kind")
+    p.add_argument("--zoom", type=float, default=2.5, help="half-size (m) of a failure picture")
     p = sub.add_parser("check")
     p.add_argument("--labels", required=True)
     p.add_argument("--shared")
