@@ -3,17 +3,23 @@
 
 Subcommands (python3 standard library only; pictures by gnuplot, as every project chart):
 
-  select   LOG --count K          the scans to label: K indices spread evenly over the log
+  select   LOG --count K [--phase F] [--exclude LABELS_DIR]
+                                  the scans to label, chosen before looking: indices
+                                  round((k + F) * N / K), k < K, less those already labelled
   render   LOG --scans I,J,.. --out DIR [--zoom X,Y,HALF]
                                   one picture per scan of its raw points only (no detector
                                   output) on a metric grid, sensor frame: x forward, y left
-  evaluate --labels DIR --shared DIR --bin DIR --out DIR
+  evaluate --labels DIR --shared DIR --bin DIR --out DIR [--figures N]
                                   runs lidarseg-features on every labelled log, matches its
-                                  doors to the labels (centre within --tol, one to one,
-                                  nearest first) and reports recall and precision; draws
-                                  the failures (--figures N per kind)
-  check    --labels DIR           parses every labels file and checks its rules (CTest)
+                                  doors to the labels (lidarseg's rule: one to one, right
+                                  kind first, then nearest, centres within --tol) and
+                                  reports recall and precision; draws up to N failures of
+                                  each kind, zoomed; exit 77 when a log is missing
+  check    --labels DIR [--shared DIR]
+                                  parses every labels file and checks its rules (and the
+                                  stamps against the logs)
 
+Tests: test_real_doors.py (CTest real_doors.*).
 Labels: datasets/labels/real-doors/<log>.csv (README.md there says how they were made).
 The logs themselves are never copied: a label names its log, scan index and stamp.
 """
@@ -283,8 +289,9 @@ def draw_scan(scan, png, title, view=None, labels=(), detections=(), size=(1700,
         major = 1.0 if span > 4 else 0.5
         minor = 4 if span > 4 else 5
         plots = ["'pts.dat' using 2:1 with points pt 7 ps 0.45 lc rgb 'black' title 'scan points'"]
-        if labels:
+        if any(not l["ambiguous"] for l in labels):
             plots.append("'lab.dat' using 2:1 with linespoints lw 3 pt 6 ps 1.5 lc rgb '#00a000' title 'hand label'")
+        if any(l["ambiguous"] for l in labels):
             plots.append("'amb.dat' using 2:1 with linespoints lw 2 dt 2 pt 6 ps 1.5 lc rgb '#ff8c00' title 'ambiguous'")
         if detections:
             plots.append("'det.dat' using 2:1 with lines lw 2 lc rgb 'red' title 'detected door'")
