@@ -19,13 +19,20 @@ namespace lidarseg::mrpt_adapter {
 
 // Forwards reads to the file and counts the bytes, so that an end of file met before the
 // first byte of an entry (a complete log) can be told from one met inside an entry (a
-// truncated log).
+// truncated log). A read that comes back short throws: MRPT 2.5 does not check the count
+// of every read, and a log cut inside a length field left that length's bytes
+// uninitialised, so the deserialiser sized a vector from them (gigabytes, seconds to tens of
+// seconds per attempt; found by BadInputs.RawlogTruncatedAtEveryByte under load).
 class RawlogScanReader::CountingStream : public mrpt::io::CStream {
  public:
   explicit CountingStream(mrpt::io::CFileGZInputStream& in) : in_(in) {}
   size_t Read(void* buffer, size_t count) override {
     const size_t n = in_.Read(buffer, count);
     bytes_ += n;
+    if (n < count) {
+      throw std::runtime_error("the file ends inside an entry (" + std::to_string(n) + " of " +
+                               std::to_string(count) + " bytes read)");
+    }
     return n;
   }
   size_t Write(const void*, size_t) override {
