@@ -15,11 +15,18 @@ using mrpt_adapter::toPose2D;
 LidarsegMethod::LidarsegMethod(const OdometryParams& params) : OdometryMethod("lidarseg"), odometry_(params) {}
 
 void LidarsegMethod::process(const ScanInput& scan) {
-  // The record's core scan on the stamp policy's clock (a copy of the ranges, not of an
-  // MRPT observation).
-  Scan timed = scan.record.scan;
-  timed.stamp_s = scan.time.model_stamp_s;
-  last_ = odometry_.process(timed, scan.record.sensor_on_robot, scan.prior);
+  // The core reads the motion model's clock from the scan's stamp. While the stamp policy
+  // keeps the log's stamp (a log that needed no repair), the record's scan goes as it is;
+  // otherwise its ranges go through one buffer kept across scans, which stops allocating
+  // once it has the sensor's size.
+  const Scan& logged = scan.record.scan;
+  const Scan* timed = &logged;
+  if (logged.stamp_s != scan.time.model_stamp_s) {
+    timed_ = logged;
+    timed_.stamp_s = scan.time.model_stamp_s;
+    timed = &timed_;
+  }
+  last_ = odometry_.process(*timed, scan.record.sensor_on_robot, scan.prior);
   record(scan);
 }
 

@@ -49,6 +49,9 @@ class OdometryMethod {
 class LidarsegMethod : public OdometryMethod {
  public:
   explicit LidarsegMethod(const OdometryParams& params);
+  /// The record's scan goes to the odometry on the stamp policy's clock (StampStep's model
+  /// stamp): as it is when that is the log's stamp, otherwise through a buffer reused across
+  /// scans. The record is not changed.
   void process(const ScanInput& scan) override;
   /// The last processed scan's step (robot pose, increment, core details).
   const mrpt_adapter::LaserOdometryStep& lastStep() const { return last_; }
@@ -58,6 +61,7 @@ class LidarsegMethod : public OdometryMethod {
   void record(const ScanInput& scan);
   mrpt_adapter::LaserOdometry odometry_;
   mrpt_adapter::LaserOdometryStep last_;
+  Scan timed_;  // a record's scan with a repaired stamp (model clock); reused across scans
 };
 
 /// MRPT ICP as a laser odometry: each scan's points aligned against a reference scan's

@@ -1,0 +1,81 @@
+// The lidarseg method of the shared run: the record's scan reaches the odometry on the stamp
+// policy's clock, whether the policy kept the log's stamp or repaired it, and the record is
+// left as the log reader gave it.
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "SyntheticScenes.h"
+#include "lidarseg/core/StampPolicy.h"
+#include "lidarseg/mrpt/LaserOdometry.h"
+#include "lidarseg/pipeline/OdometryMethods.h"
+
+namespace lidarseg::pipeline {
+namespace {
+
+using lidarseg::testing::kDeg;
+
+// A robot driving along an office corridor, its laser mounted off its origin; the log's
+// stamps repeat once and jump back once, so that the policy repairs some of them.
+std::vector<mrpt_adapter::LaserRecord> corridorLog() {
+  const auto world = lidarseg::testing::officeScene();
+  const auto sensor = lidarseg::testing::makeSensor(361, 270.0, 0.005);
+  const Pose2D laser_on_robot{0.2, 0.05, 3 * kDeg};
+  const std::vector<double> stamps = {100.0, 100.05, 100.1, 100.1, 100.2, 100.25, 100.2, 100.35,
+                                      100.4, 100.45, 100.5, 100.55, 100.6, 100.65, 100.7};
+  std::vector<mrpt_adapter::LaserRecord> log;
+  Pose2D robot{1.0, 1.0, 0.0};
+  for (std::size_t k = 0; k < stamps.size(); ++k) {
+    mrpt_adapter::LaserRecord r;
+    r.index = k;
+    r.where = "corridor, entry " + std::to_string(k);
+    r.stamp_s = stamps[k];
+    r.scan = lidarseg::testing::simulate(world, sensor, compose(robot, laser_on_robot), 10 + k);
+    r.scan.stamp_s = stamps[k];
+    r.sensor_on_robot = laser_on_robot;
+    log.push_back(std::move(r));
+    robot = compose(robot, Pose2D{0.04, 0.0, 0.5 * kDeg});
+  }
+  return log;
+}
+
+TEST(LidarsegMethod, GivesTheOdometryOfTheScanOnTheModelClockAndKeepsTheRecord) {
+  const auto log = corridorLog();
+  StampPolicy stamps;
+  LidarsegMethod method(OdometryParams{});
+  // What the method must give: the odometry run on a copy of each scan stamped with the
+  // model clock (how the method worked before it stopped copying every scan).
+  mrpt_adapter::LaserOdometry reference(OdometryParams{});
+  std::size_t repaired = 0, kept = 0;
+  for (const auto& record : log) {
+    const StampStep time = stamps.next(record.stamp_s);
+    (time.model_stamp_s == record.scan.stamp_s ? kept : repaired)++;
+    method.process(ScanInput{record, time, std::nullopt});
+    Scan copy = record.scan;
+    copy.stamp_s = time.model_stamp_s;
+    const auto expected = reference.process(copy, record.sensor_on_robot);
+    stamps.accept(time);
+
+    const auto& got = method.lastStep();
+    EXPECT_EQ(got.core.stamp_s, time.model_stamp_s) << record.where;
+    EXPECT_EQ(got.core.status, expected.core.status) << record.where;
+    EXPECT_EQ(got.robot_pose.mean.x(), expected.robot_pose.mean.x()) << record.where;
+    EXPECT_EQ(got.robot_pose.mean.y(), expected.robot_pose.mean.y()) << record.where;
+    EXPECT_EQ(got.robot_pose.mean.phi(), expected.robot_pose.mean.phi()) << record.where;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) EXPECT_EQ(got.robot_pose.cov(i, j), expected.robot_pose.cov(i, j)) << record.where;
+    }
+    // The record is the log reader's: its stamp is not the model clock's.
+    EXPECT_EQ(record.scan.stamp_s, record.stamp_s) << record.where;
+  }
+  // Both ways through the method were taken.
+  EXPECT_GT(kept, 2u);
+  EXPECT_GT(repaired, 2u);
+  const MethodReport& report = method.report();
+  ASSERT_EQ(report.trajectory.size(), log.size());
+  // The robot drove 0.04 m per scan: the trajectory ends near there.
+  EXPECT_NEAR(report.trajectory.back().pose.x, 0.04 * static_cast<double>(log.size() - 1), 0.05);
+}
+
+}  // namespace
+}  // namespace lidarseg::pipeline
