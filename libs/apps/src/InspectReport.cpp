@@ -148,13 +148,15 @@ std::vector<std::size_t> worstFirst(const std::vector<ScanRow>& rows, std::size_
 // trajectory.png: lidarseg's path and every reference's from its pose at the first scan.
 std::string trajectoryPlot(const std::vector<ScanRow>& rows, const std::vector<inspect::Reference>& references) {
   std::vector<PlotSeries> series;
-  PlotSeries mine = makeSeries("lidarseg", kLidarsegColour);
+  PlotSeries mine = makeSeries("lidarseg", pipeline::kLidarsegColour);
   for (const ScanRow& r : rows) mine.x.push_back(r.pose.x), mine.y.push_back(r.pose.y);
   series.push_back(mine);
-  for (const auto& ref : references) {
-    const bool truth = ref.name.find("truth") != std::string::npos || ref.name == "gt";
-    const bool icp = ref.name.find("icp") != std::string::npos || ref.name.find("ICP") != std::string::npos;
-    PlotSeries s = makeSeries(ref.name, truth ? kTruthColour : icp ? kIcpColour : kOtherColour);
+  std::vector<std::string> names;
+  for (const auto& ref : references) names.push_back(ref.name);
+  const std::vector<pipeline::Rgb> colours = pipeline::referenceColours(names);
+  for (std::size_t i = 0; i < references.size(); ++i) {
+    const inspect::Reference& ref = references[i];
+    PlotSeries s = makeSeries(ref.name, colours[i]);
     const auto first = eval::nearestIndex(ref.poses, rows.front().t, 1.0);
     if (!first) continue;
     for (std::size_t k = *first; k < ref.poses.size() && ref.poses[k].stamp_s <= rows.back().t + 1e-6; ++k) {
@@ -169,7 +171,7 @@ std::string trajectoryPlot(const std::vector<ScanRow>& rows, const std::vector<i
 // error_over_time.png: the position error against the truth, or without one the match sd.
 std::string errorPlot(const std::vector<ScanRow>& rows, bool with_truth) {
   PlotSeries over_time = makeSeries(with_truth ? "lidarseg: position error against the ground truth" : "lidarseg: match sd",
-                                    kLidarsegColour);
+                                    pipeline::kLidarsegColour);
   for (const ScanRow& r : rows) {
     const double v = with_truth ? r.drift_m : r.sd_xy_m;
     if (std::isfinite(v)) over_time.x.push_back(r.t - rows.front().t), over_time.y.push_back(v);
@@ -180,7 +182,7 @@ std::string errorPlot(const std::vector<ScanRow>& rows, bool with_truth) {
 
 // timing.png: the histogram of the time per scan.
 std::string timingPlot(const std::vector<ScanRow>& rows) {
-  PlotSeries times = makeSeries("lidarseg: W-D + cascade + matching", kLidarsegColour);
+  PlotSeries times = makeSeries("lidarseg: W-D + cascade + matching", pipeline::kLidarsegColour);
   for (const ScanRow& r : rows) {
     if (r.total_us > 0) times.x.push_back(r.total_us);
   }

@@ -311,7 +311,7 @@ void OdometryApp::addPlots(const OdometryReport& report, const References& refs,
   const auto path = [&](const char* name) { return (fs::path(options_.out_dir) / name).string(); };
   std::vector<PlotSeries> series;
   // Every trajectory from the reference's pose at lidarseg's first scan.
-  const auto add = [&](const std::string& name, const eval::StampedTrajectory& t, Colour colour, const Pose2D& anchor) {
+  const auto add = [&](const std::string& name, const eval::StampedTrajectory& t, pipeline::Rgb colour, const Pose2D& anchor) {
     if (t.empty()) return;
     PlotSeries s = makeSeries(name, colour);
     const Pose2D first_inverse = inverse(t.front().pose);
@@ -327,19 +327,19 @@ void OdometryApp::addPlots(const OdometryReport& report, const References& refs,
   if (reference != nullptr) {
     const auto k = eval::nearestIndex(*reference, report.lidarseg.trajectory.front().stamp_s, refs.gt_tolerance_s);
     if (k) anchor = (*reference)[*k].pose;
-    PlotSeries s = makeSeries(refs.gt ? "ground truth" : "log poses", kTruthColour);
+    PlotSeries s = makeSeries(refs.gt ? "ground truth" : "log poses", pipeline::kTruthColour);
     for (const auto& p : *reference) s.x.push_back(p.pose.x), s.y.push_back(p.pose.y);
     series.push_back(std::move(s));
   }
-  add("wheel odometry", wheel_odometry, kWheelColour, anchor);
-  add("lidarseg", report.lidarseg.trajectory, kLidarsegColour, anchor);
-  if (report.icp) add("MRPT ICP keyframed", report.icp->trajectory, kIcpColour, anchor);
-  if (report.icp_s2s) add("MRPT ICP scan to scan", report.icp_s2s->trajectory, kIcpS2sColour, anchor);
+  add("wheel odometry", wheel_odometry, pipeline::kWheelColour, anchor);
+  add("lidarseg", report.lidarseg.trajectory, pipeline::kLidarsegColour, anchor);
+  if (report.icp) add("MRPT ICP keyframed", report.icp->trajectory, pipeline::kIcpColour, anchor);
+  if (report.icp_s2s) add("MRPT ICP scan to scan", report.icp_s2s->trajectory, pipeline::kIcpS2sColour, anchor);
   std::vector<PlotSeries> hist;
-  hist.push_back(makeSeries("lidarseg", kLidarsegColour));
+  hist.push_back(makeSeries("lidarseg", pipeline::kLidarsegColour));
   hist.back().x = report.lidarseg.time_us;
   if (report.icp) {
-    hist.push_back(makeSeries("MRPT ICP keyframed", kIcpColour));
+    hist.push_back(makeSeries("MRPT ICP keyframed", pipeline::kIcpColour));
     hist.back().x = report.icp->time_us;
   }
   try {

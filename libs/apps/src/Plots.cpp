@@ -66,7 +66,7 @@ std::string quoted(const std::string& text) {
 
 std::string rgb(const PlotSeries& s) {
   char buf[16];
-  std::snprintf(buf, sizeof buf, "#%02x%02x%02x", s.red & 255, s.green & 255, s.blue & 255);
+  std::snprintf(buf, sizeof buf, "#%02x%02x%02x", s.colour.r, s.colour.g, s.colour.b);
   return buf;
 }
 

@@ -8,30 +8,22 @@
 #include <utility>
 #include <vector>
 
+#include "lidarseg/pipeline/Palette.h"
+
 namespace lidarseg::apps {
 
-/// A named series of points (x, y) drawn in one colour (B, G, R).
+/// A named series of points (x, y) drawn in one colour: one of the palette's
+/// (lidarseg/pipeline/Palette.h), the same in every picture of every tool.
 struct PlotSeries {
   std::string name;
-  int blue = 0, green = 0, red = 0;
+  pipeline::Rgb colour;
   std::vector<double> x, y;
   bool markers = false;  ///< dots instead of a polyline
 };
 
-/// One colour per method or reference, the same in every picture of every tool.
-struct Colour {
-  int blue, green, red;
-};
-inline constexpr Colour kLidarsegColour{200, 80, 0};   ///< blue
-inline constexpr Colour kIcpColour{0, 0, 220};         ///< red: MRPT ICP keyframed
-inline constexpr Colour kIcpS2sColour{160, 0, 160};    ///< purple: MRPT ICP scan to scan
-inline constexpr Colour kTruthColour{0, 0, 0};         ///< black: ground truth, log poses
-inline constexpr Colour kWheelColour{140, 140, 140};   ///< grey: the log's wheel odometry
-inline constexpr Colour kOtherColour{30, 150, 30};     ///< green: any other trajectory
-
 /// An empty series named `name`, drawn in `colour`.
-inline PlotSeries makeSeries(const std::string& name, Colour colour, bool markers = false) {
-  return PlotSeries{name, colour.blue, colour.green, colour.red, {}, {}, markers};
+inline PlotSeries makeSeries(const std::string& name, pipeline::Rgb colour, bool markers = false) {
+  return PlotSeries{name, colour, {}, {}, markers};
 }
 
 /// Draws the series on equal-scale axes (trajectories, metres) with a legend, a grid and a

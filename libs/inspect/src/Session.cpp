@@ -364,17 +364,14 @@ void Session::drawTrajectories(const Frame& f, Drawing& d) {
     const Pose2D q = compose(T_sensor_odom, p);
     mine.emplace_back(q.x, q.y);
   }
-  // The methods' colours of every lidarseg picture: lidarseg blue, MRPT ICP red, the
-  // ground truth black, other references green or grey.
-  const Rgb lidarseg{0, 80, 200};
-  d.lines.push_back(polyline(mine, lidarseg, 2));
-  d.legend.push_back({"lidarseg trajectory", lidarseg});
-  const Rgb others[] = {{30, 150, 30}, {140, 140, 140}};
+  d.lines.push_back(polyline(mine, pipeline::kLidarsegColour, 2));
+  d.legend.push_back({"lidarseg trajectory", pipeline::kLidarsegColour});
+  std::vector<std::string> names;
+  for (const Reference& r : references_) names.push_back(r.name);
+  const std::vector<Rgb> colours = pipeline::referenceColours(names);
   for (std::size_t k = 0; k < references_.size(); ++k) {
     const std::string& name = references_[k].name;
-    const bool truth = name.find("truth") != std::string::npos || name == "gt";
-    const bool icp = name.find("icp") != std::string::npos || name.find("ICP") != std::string::npos;
-    const Rgb colour = truth ? Rgb{0, 0, 0} : icp ? Rgb{220, 0, 0} : others[k % 2];
+    const Rgb colour = colours[k];
     const auto path = referencePath(references_[k].poses, records_.front()->stamp_s, f.stamp_s, T_sensor_odom,
                                     mountOfFirstScan());
     d.lines.push_back(polyline(path, colour, 1));
