@@ -195,8 +195,8 @@ std::string aggregateCsv(const MetricRows& rows) {
 std::string finalErrorsPng(const MetricRows& rows, bool with_icp, const std::string& title) {
   const std::size_t lidarseg = rowColumn("lidarseg_final_error_m");
   const std::size_t icp = rowColumn("icp_final_error_m");
-  PlotSeries a = makeSeries("lidarseg", pipeline::kLidarsegColour, true);
-  PlotSeries b = makeSeries("MRPT ICP keyframed", pipeline::kIcpColour, true);
+  PlotSeries a = makeSeries("lidarseg", pipeline::kLidarsegColour, PlotStyle::kMarkers);
+  PlotSeries b = makeSeries("MRPT ICP keyframed", pipeline::kIcpColour, PlotStyle::kMarkers);
   for (const auto& r : rows) {
     a.x.push_back(r[0]);
     a.y.push_back(r[lidarseg]);

@@ -133,14 +133,22 @@ std::string plotCommand(const ScratchFolder& dir, const std::vector<PlotSeries>&
     for (std::size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
       if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) out << s.x[i] << ' ' << s.y[i] << '\n';
     }
-    plot << (k ? ", " : "") << quoted(data) << " using 1:2 "
-         << (s.markers ? "with points pt 7 ps 1.3" : "with lines lw 2") << " lc rgb '" << rgb(s) << "' title "
-         << quoted(s.name);
+    plot << (k ? ", " : "") << quoted(data) << " using 1:2 " << gnuplotWith(s.style) << " lc rgb '" << rgb(s)
+         << "' title " << quoted(s.name);
   }
   return plot.str() + "\n";
 }
 
 }  // namespace
+
+std::string gnuplotWith(PlotStyle style) {
+  switch (style) {
+    case PlotStyle::kMarkers: return "with points pt 7 ps 1.3";
+    case PlotStyle::kSteps: return "with steps lw 2";
+    case PlotStyle::kLines: break;
+  }
+  return "with lines lw 2";
+}
 
 std::string plotTrajectoriesPng(const std::vector<PlotSeries>& series, const std::string& title) {
   ScratchFolder dir;
@@ -149,8 +157,7 @@ std::string plotTrajectoriesPng(const std::vector<PlotSeries>& series, const std
   return runGnuplot(dir, gp + plotCommand(dir, series));
 }
 
-std::string plotHistogramsPng(const std::vector<PlotSeries>& series, const std::string& title,
-                              const std::string& x_label) {
+std::vector<PlotSeries> histogramShares(const std::vector<PlotSeries>& series, int bins) {
   // Logarithmic bins over every series' positive samples; each series' share per bin.
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (const PlotSeries& s : series) {
@@ -160,35 +167,37 @@ std::string plotHistogramsPng(const std::vector<PlotSeries>& series, const std::
   }
   if (!(lo <= hi)) lo = 1.0, hi = 10.0;
   const double l0 = std::log10(lo), l1 = std::max(std::log10(hi), l0 + 1e-3);
-  constexpr int kBins = 60;
-  const double w = (l1 - l0) / kBins;
+  bins = std::max(bins, 1);
+  const double w = (l1 - l0) / bins;
   std::vector<PlotSeries> shares;
   for (const PlotSeries& s : series) {
     PlotSeries h = s;
-    h.markers = false;
-    h.x.assign(kBins + 1, 0.0);
-    h.y.assign(kBins + 1, 0.0);
+    h.style = PlotStyle::kSteps;  // each share held across its bin, from the left edge
+    h.x.assign(static_cast<std::size_t>(bins) + 1, 0.0);
+    h.y.assign(static_cast<std::size_t>(bins) + 1, 0.0);
     std::size_t n = 0;
     for (double v : s.x) {
       if (!(v > 0.0) || !std::isfinite(v)) continue;
-      ++h.y[static_cast<std::size_t>(std::clamp(static_cast<int>((std::log10(v) - l0) / w), 0, kBins - 1))];
+      ++h.y[static_cast<std::size_t>(std::clamp(static_cast<int>((std::log10(v) - l0) / w), 0, bins - 1))];
       ++n;
     }
-    for (int b = 0; b <= kBins; ++b) {
+    for (int b = 0; b <= bins; ++b) {
       h.x[static_cast<std::size_t>(b)] = std::pow(10.0, l0 + w * b);  // left edge of bin b
       if (n > 0) h.y[static_cast<std::size_t>(b)] /= static_cast<double>(n);
     }
     shares.push_back(std::move(h));
   }
+  return shares;
+}
+
+std::string plotHistogramsPng(const std::vector<PlotSeries>& series, const std::string& title,
+                              const std::string& x_label) {
+  constexpr int kBins = 60;
+  const std::vector<PlotSeries> shares = histogramShares(series, kBins);
   ScratchFolder dir;
   std::string gp = preamble(dir, title, x_label + " (log scale)", "share of scans");
   gp += "set logscale x 10\nset yrange [0:*]\nset format x '%g'\n";
-  std::string plot = plotCommand(dir, shares);
-  // Histograms as steps at the bins' left edges.
-  for (std::size_t pos = 0; (pos = plot.find("with lines lw 2", pos)) != std::string::npos;) {
-    plot.replace(pos, 15, "with steps lw 2");
-  }
-  return runGnuplot(dir, gp + plot);
+  return runGnuplot(dir, gp + plotCommand(dir, shares));
 }
 
 std::string plotXYPng(const std::vector<PlotSeries>& series, const std::string& title,

@@ -12,26 +12,43 @@
 
 namespace lidarseg::apps {
 
+/// How a series is drawn.
+enum class PlotStyle {
+  kLines,    ///< a polyline through the points
+  kMarkers,  ///< a dot at each point
+  kSteps,    ///< steps: each y held from its x to the next x (histograms' bins)
+};
+
+/// gnuplot's `with` clause of a style, e.g. "with steps lw 2".
+std::string gnuplotWith(PlotStyle style);
+
 /// A named series of points (x, y) drawn in one colour: one of the palette's
 /// (lidarseg/pipeline/Palette.h), the same in every picture of every tool.
 struct PlotSeries {
   std::string name;
   pipeline::Rgb colour;
   std::vector<double> x, y;
-  bool markers = false;  ///< dots instead of a polyline
+  PlotStyle style = PlotStyle::kLines;
 };
 
-/// An empty series named `name`, drawn in `colour`.
-inline PlotSeries makeSeries(const std::string& name, pipeline::Rgb colour, bool markers = false) {
-  return PlotSeries{name, colour, {}, {}, markers};
+/// An empty series named `name`, drawn in `colour` with `style`.
+inline PlotSeries makeSeries(const std::string& name, pipeline::Rgb colour, PlotStyle style = PlotStyle::kLines) {
+  return PlotSeries{name, colour, {}, {}, style};
 }
 
 /// Draws the series on equal-scale axes (trajectories, metres) with a legend, a grid and a
 /// scale bar. Returns the PNG bytes.
 std::string plotTrajectoriesPng(const std::vector<PlotSeries>& series, const std::string& title);
 
+/// The histograms of positive samples (each series' x; y ignored) over `bins` logarithmic
+/// bins spanning every series' samples: per series, x the bins' left edges (and the last
+/// bin's right edge), y the share of the series' positive finite samples in each bin (0 at
+/// the last edge), drawn as steps; name and colour kept. O(samples + bins) per series.
+std::vector<PlotSeries> histogramShares(const std::vector<PlotSeries>& series, int bins);
+
 /// Draws histograms of positive samples (e.g. times in microseconds) on a logarithmic x
-/// axis, one per series (x holds the samples, y is ignored). Returns the PNG bytes.
+/// axis, one per series (x holds the samples, y is ignored): histogramShares() with 60
+/// bins. Returns the PNG bytes.
 std::string plotHistogramsPng(const std::vector<PlotSeries>& series, const std::string& title,
                               const std::string& x_label);
 
