@@ -1,5 +1,4 @@
 #include "lidarseg/apps/FeaturesApp.h"
-#include "lidarseg/vision/ImageFile.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,12 +10,8 @@
 
 #include "lidarseg/mrpt/CameraRois.h"
 #include "FeatureCsv.h"
-#include "lidarseg/pipeline/Format.h"
-#include "lidarseg/pipeline/JsonText.h"
-#include "lidarseg/pipeline/OutputFiles.h"
 #include "Plots.h"
-#include "lidarseg/pipeline/Progress.h"
-#include "lidarseg/pipeline/Timing.h"
+#include "ReportTools.h"
 #include "lidarseg/core/FeatureDetector.h"
 #include "lidarseg/core/ScanSegmenter.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
@@ -28,16 +23,7 @@ using mrpt_adapter::CameraRois;
 using mrpt_adapter::drawRois;
 using mrpt_adapter::writeRoiCsvHeader;
 using mrpt_adapter::writeRoiCsvRows;
-using vision::encodePng;
 using pipeline::writeFileAtomically;
-using pipeline::OutputSet;
-using pipeline::Clock;
-using pipeline::Progress;
-using pipeline::microsecondsSince;
-using pipeline::Json;
-using pipeline::finiteOrNull;
-using pipeline::jsonText;
-using pipeline::fixed;
 
 namespace {
 

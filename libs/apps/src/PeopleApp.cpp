@@ -14,11 +14,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
-#include "lidarseg/pipeline/Format.h"
-#include "lidarseg/pipeline/JsonText.h"
-#include "lidarseg/pipeline/OutputFiles.h"
-#include "lidarseg/pipeline/Progress.h"
-#include "lidarseg/pipeline/Timing.h"
+#include "ReportTools.h"
 #include "lidarseg/mrpt/VisionConfig.h"
 #include "lidarseg/mrpt/LidarsegConfig.h"
 #include "lidarseg/vision/ImageFile.h"
@@ -26,16 +22,6 @@
 #include "lidarseg/vision/RegionsOfInterest.h"
 
 namespace lidarseg::apps {
-
-using vision::encodePng;
-using pipeline::OutputSet;
-using pipeline::Clock;
-using pipeline::Progress;
-using pipeline::microsecondsSince;
-using pipeline::Json;
-using pipeline::finiteOrNull;
-using pipeline::jsonText;
-using pipeline::fixed;
 
 namespace fs = std::filesystem;
 
