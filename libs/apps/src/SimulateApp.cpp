@@ -92,13 +92,18 @@ sim::SimulationParams simulationParams(const SimulateOptions& o) {
   return params;
 }
 
-// Creates the output's folder, and an empty PREFIX_Images.tmp/ when the run has a camera.
+// Creates the output's folder, and an empty PREFIX_Images.tmp/ when the run has a camera,
+// registered for the SIGINT/SIGTERM cleanup like the files' temporaries. Its name is fixed
+// (the folder lock keeps a second run away): a killed run's is removed by the next.
 void prepareFolders(const std::string& prefix, bool camera) {
   const fs::path parent = fs::path(prefix).parent_path();
   if (!parent.empty()) fs::create_directories(parent);
   std::error_code ec;
   fs::remove_all(prefix + "_Images.tmp", ec);
-  if (camera) fs::create_directories(prefix + "_Images.tmp");
+  if (camera) {
+    pipeline::registerTemporaryFolder(prefix + "_Images.tmp");
+    fs::create_directories(prefix + "_Images.tmp");
+  }
 }
 
 // The frame's image saved as DIR/NAME (PNG), in an observation that refers to that file.
@@ -262,6 +267,7 @@ void RunOutputs::commit() {
     std::error_code ec;
     fs::remove_all(prefix_ + "_Images", ec);
     fs::rename(prefix_ + "_Images.tmp", prefix_ + "_Images");
+    pipeline::releaseTemporary(prefix_ + "_Images.tmp");
   }
 }
 
@@ -287,6 +293,7 @@ SimulateReport SimulateApp::run() {
     // Leave nothing half-written behind.
     std::error_code ec;
     fs::remove_all(options_.out_prefix + "_Images.tmp", ec);
+    pipeline::releaseTemporary(options_.out_prefix + "_Images.tmp");
     throw;
   }
 }

@@ -13,6 +13,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include <dirent.h>
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/stat.h>
@@ -24,34 +25,65 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Temporary files a signal must remove: fixed slots, so that the handler only reads
-// memory that never moves (async-signal-safe: atomics and unlink()). A slot is taken
-// (free -> writing), filled, then published (ready); the handler unlinks ready slots only,
-// so it never sees a half-copied name.
+// Temporary files and folders a signal must remove: fixed slots, so that the handler only
+// reads memory that never moves (async-signal-safe: atomics, unlink(), and for a folder
+// open(), getdents64(), unlinkat() and rmdir()). A slot is taken (free -> writing), filled,
+// then published (ready); the handler removes ready slots only, so it never sees a
+// half-copied name.
 constexpr std::size_t kSlots = 256;
 constexpr std::size_t kPathBytes = 4096;
 enum SlotState : int { kFree = 0, kWriting = 1, kReady = 2 };
 struct Slot {
   std::atomic<int> state{kFree};
+  bool folder = false;
   char path[kPathBytes];
 };
 std::array<Slot, kSlots> g_slots;
 
-void registerTemporary(const std::string& temporary) {
+void registerTemporary(const std::string& temporary, bool folder) {
   if (temporary.size() >= kPathBytes) return;  // not removable on a signal; still removed otherwise
   for (Slot& s : g_slots) {
     int expected = kFree;
     if (s.state.compare_exchange_strong(expected, kWriting, std::memory_order_acquire)) {
       std::memcpy(s.path, temporary.c_str(), temporary.size() + 1);
+      s.folder = folder;
       s.state.store(kReady, std::memory_order_release);
       return;
     }
   }
 }
 
+// The files of `folder`, then the folder, from a signal handler (no opendir(): it allocates).
+// Another thread may still be adding a file meanwhile, so the folder is emptied again until
+// rmdir() succeeds, a few times at most.
+void removeFolderOnSignal(const char* folder) {
+  constexpr int kPasses = 8;
+  for (int pass = 0; pass < kPasses; ++pass) {
+    const int fd = ::open(folder, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) return;
+    alignas(struct dirent64) char entries[4096];
+    ssize_t n = 0;
+    while ((n = ::getdents64(fd, entries, sizeof entries)) > 0) {
+      for (ssize_t at = 0; at < n;) {
+        const auto* e = reinterpret_cast<const struct dirent64*>(entries + at);
+        at += e->d_reclen;
+        const bool dots = e->d_name[0] == '.' && (e->d_name[1] == '\0' || (e->d_name[1] == '.' && e->d_name[2] == '\0'));
+        if (!dots) ::unlinkat(fd, e->d_name, 0);
+      }
+    }
+    ::close(fd);
+    if (::rmdir(folder) == 0) return;
+  }
+}
+
 extern "C" void removeTemporariesAndDie(int sig) {
   for (Slot& s : g_slots) {
-    if (s.state.load(std::memory_order_acquire) == kReady) ::unlink(s.path);
+    if (s.state.load(std::memory_order_acquire) != kReady) continue;
+    if (s.folder) {
+      removeFolderOnSignal(s.path);
+    } else {
+      ::unlink(s.path);
+    }
   }
   std::signal(sig, SIG_DFL);
   std::raise(sig);
@@ -87,9 +119,11 @@ std::string folderOf(const std::string& path) {
 std::string uniqueTemporary(const std::string& path) {
   static std::atomic<unsigned long> counter{0};
   const std::string tmp = path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
-  registerTemporary(tmp);
+  registerTemporary(tmp, false);
   return tmp;
 }
+
+void registerTemporaryFolder(const std::string& folder) { registerTemporary(folder, true); }
 
 void releaseTemporary(const std::string& temporary) {
   for (Slot& s : g_slots) {

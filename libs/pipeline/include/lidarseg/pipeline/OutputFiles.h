@@ -11,10 +11,15 @@ namespace lidarseg::pipeline {
 /// A temporary name for `path`, unique to this process and call ("path.tmp.PID.N"), and
 /// removed by the SIGINT/SIGTERM handler until released (see installCleanupOnSignals()).
 std::string uniqueTemporary(const std::string& path);
-/// `temporary` was renamed or removed: the signal handler forgets it.
+/// `temporary` (a file or a folder) was renamed or removed: the signal handler forgets it.
 void releaseTemporary(const std::string& temporary);
-/// SIGINT and SIGTERM remove every registered temporary file, then end the process with
-/// the signal's default action. Idempotent; every tool calls it first thing (through
+/// Registers a temporary folder of files (no sub-folders) that the SIGINT/SIGTERM handler
+/// removes with its files until released with releaseTemporary() (e.g. the simulator's
+/// PREFIX_Images.tmp/, renamed into place when the run succeeds). The caller chooses the name
+/// and creates the folder, after registering it.
+void registerTemporaryFolder(const std::string& folder);
+/// SIGINT and SIGTERM remove every registered temporary file and folder, then end the process
+/// with the signal's default action. Idempotent; every tool calls it first thing (through
 /// parseCommandLine()).
 void installCleanupOnSignals();
 
