@@ -121,5 +121,39 @@ TEST(LaserLogReader, ScansWithTooFewBeamsAreSkippedAndNamed) {
   EXPECT_NE(reader.issues()[0].find("onebeam.log:1"), std::string::npos) << reader.issues()[0];
 }
 
+// Issue 16, class 5: a log whose name says nothing is sniffed; CARMEN lines after blank
+// lines or indented are still CARMEN, whatever the whitespace.
+TEST(LaserLogReader, ACarmenLogWithLeadingWhitespaceIsSniffedAsCarmen) {
+  const std::string flaser = "FLASER 3 2.0 2.0 2.0 0 0 0 0 0 0 7.5 h 7.5\n";
+  int k = 0;
+  for (const std::string& lead : {std::string("  "), std::string("\t"), std::string("\n\n"), std::string("\r\n  \t"),
+                                  std::string(" \n# a comment\n")}) {
+    const std::string path = std::string(LIDARSEG_TEST_TMP_DIR) + "/indented-" + std::to_string(k++) + ".txt";
+    std::ofstream(path, std::ios::binary) << lead << flaser << "   " << flaser;
+    EXPECT_EQ(detectLogFormat(path), LogFormat::kCarmen) << path;
+    LaserLogReader reader(path);
+    EXPECT_EQ(reader.format(), LogFormat::kCarmen);
+    std::size_t scans = 0;
+    while (auto r = reader.next()) {
+      EXPECT_DOUBLE_EQ(r->stamp_s, 7.5);
+      ++scans;
+    }
+    EXPECT_EQ(scans, 2u) << path;
+  }
+  // Whitespace before anything else than a line type or a comment is no CARMEN log.
+  const std::string binary = std::string(LIDARSEG_TEST_TMP_DIR) + "/indented-binary.bin";
+  std::ofstream(binary, std::ios::binary) << "  \n" << '\x8d' << "CSensoryFrame";
+  EXPECT_EQ(detectLogFormat(binary), LogFormat::kRawlog);
+  // Real rawlogs (gzip; plain, starting with MRPT's object header) under names that say
+  // nothing are still sniffed as rawlogs.
+  for (const char* name : {"2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog", "RO-SLAM_demo.rawlog"}) {
+    const std::string rawlog = std::string(LIDARSEG_MRPT_DATASETS_DIR) + "/" + name;
+    if (!fs::exists(rawlog)) GTEST_SKIP() << "MRPT's " << name << " is not installed (mrpt-common)";
+    const std::string renamed = std::string(LIDARSEG_TEST_TMP_DIR) + "/rawlog-without-extension";
+    fs::copy_file(rawlog, renamed, fs::copy_options::overwrite_existing);
+    EXPECT_EQ(detectLogFormat(renamed), LogFormat::kRawlog) << name;
+  }
+}
+
 }  // namespace
 }  // namespace lidarseg::mrpt_adapter

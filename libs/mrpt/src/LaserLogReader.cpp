@@ -132,13 +132,25 @@ LogFormat detectLogFormat(const std::string& path) {
   // taken as text (CARMEN); a rawlog is read from a file.
   std::error_code ec;
   if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec)) return LogFormat::kCarmen;
-  // Sniff: a CARMEN log is text; a rawlog starts with MRPT's binary object header.
+  // Sniff: a CARMEN log is text whose first line starts with a comment or a line type; a
+  // rawlog starts with gzip's magic or MRPT's object header, whose first byte is 0x80 or more
+  // (0x80 | the class name's length), never whitespace. CARMEN lines may be indented or
+  // follow blank lines, so whitespace is skipped (at most kSniffBytes bytes) before the first
+  // character decides.
+  constexpr std::streamsize kSniffBytes = 4096;
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("cannot open log '" + path + "'");
   unsigned char head[2] = {0, 0};
   in.read(reinterpret_cast<char*>(head), 2);
   if (in.gcount() == 2 && head[0] == 0x1f && head[1] == 0x8b) return LogFormat::kRawlog;  // gz rawlog
-  if (in.gcount() >= 1 && (head[0] == '#' || (head[0] >= 'A' && head[0] <= 'Z'))) return LogFormat::kCarmen;
+  in.clear();
+  in.seekg(0);
+  for (std::streamsize n = 0; n < kSniffBytes; ++n) {
+    const int c = in.get();
+    if (c == std::char_traits<char>::eof()) break;
+    if (c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f') continue;
+    return c == '#' || (c >= 'A' && c <= 'Z') ? LogFormat::kCarmen : LogFormat::kRawlog;
+  }
   return LogFormat::kRawlog;
 }
 
