@@ -1,11 +1,14 @@
-// How outputs are published (issue 16, class 4): the SIGINT/SIGTERM cleanup removes
-// temporary folders as well as temporary files.
+// How outputs are published (issue 16, class 4): a set is sealed by its manifest, removed
+// first and renamed last, and the SIGINT/SIGTERM cleanup removes temporary folders as well as
+// temporary files.
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
+#include <sys/inotify.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -77,6 +80,90 @@ TEST(OutputFiles, AReleasedFolderIsKeptBySIGINT) {
   EXPECT_EQ(WTERMSIG(status), SIGINT);
   EXPECT_EQ(slurp(images + "/img_0.png"), "png");
   EXPECT_TRUE(fs::exists(dir + "/run_Images.tmp"));
+}
+
+// What happened to the folder's names, in order: "-name" removed, "+name" renamed into place.
+class FolderEvents {
+ public:
+  explicit FolderEvents(const std::string& dir) : fd_(::inotify_init1(IN_NONBLOCK | IN_CLOEXEC)) {
+    if (fd_ >= 0) ::inotify_add_watch(fd_, dir.c_str(), IN_MOVED_TO | IN_DELETE);
+  }
+  ~FolderEvents() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  FolderEvents(const FolderEvents&) = delete;
+  FolderEvents& operator=(const FolderEvents&) = delete;
+  bool watching() const { return fd_ >= 0; }
+  std::vector<std::string> read() const {
+    std::vector<std::string> out;
+    alignas(inotify_event) char buf[8192];
+    ssize_t n = 0;
+    while ((n = ::read(fd_, buf, sizeof buf)) > 0) {
+      for (ssize_t at = 0; at < n;) {
+        const auto* e = reinterpret_cast<const inotify_event*>(buf + at);
+        at += static_cast<ssize_t>(sizeof(inotify_event) + e->len);
+        if (e->len > 0) out.push_back(std::string(e->mask & IN_DELETE ? "-" : "+") + e->name);
+      }
+    }
+    return out;
+  }
+
+ private:
+  int fd_;
+};
+
+TEST(OutputFiles, TheManifestOfASetIsRemovedFirstAndRenamedIntoPlaceLast) {
+  const std::string dir = freshFolder("manifest-order");
+  // An earlier run's set.
+  for (const char* name : {"lidarseg.tum", "timing.csv", "summary.json"}) {
+    std::ofstream(dir + "/" + name) << "old " << name;
+  }
+  FolderEvents events(dir);
+  ASSERT_TRUE(events.watching());
+  {
+    OutputSet set;
+    set.add(dir + "/summary.json", "new summary.json");  // added before the files it describes
+    set.add(dir + "/lidarseg.tum", "new lidarseg.tum");
+    set.add(dir + "/timing.csv", "new timing.csv");
+    set.add(dir + "/results.md", "new results.md");
+    events.read();  // the temporaries written so far
+    set.commit();
+  }
+  const std::vector<std::string> order = events.read();
+  const std::vector<std::string> expected = {"-summary.json", "+lidarseg.tum", "+timing.csv", "+results.md",
+                                             "+summary.json"};
+  EXPECT_EQ(order, expected);
+  for (const char* name : {"lidarseg.tum", "timing.csv", "results.md", "summary.json"}) {
+    EXPECT_EQ(slurp(dir + "/" + name), std::string("new ") + name);
+  }
+}
+
+TEST(OutputFiles, ASetThatCannotBePublishedLeavesNoManifestBesideItsFiles) {
+  const std::string dir = freshFolder("manifest-failed");
+  std::ofstream(dir + "/summary.json") << "old summary.json";
+  std::ofstream(dir + "/lidarseg.tum") << "old lidarseg.tum";
+  fs::create_directories(dir + "/timing.csv/in-the-way");  // a file cannot be renamed over it
+  std::string error;
+  {
+    OutputSet set;
+    set.add(dir + "/lidarseg.tum", "new lidarseg.tum");
+    set.add(dir + "/timing.csv", "new timing.csv");
+    set.add(dir + "/summary.json", "new summary.json");
+    try {
+      set.commit();
+    } catch (const std::runtime_error& e) {
+      error = e.what();
+    }
+  }
+  EXPECT_NE(error.find("cannot rename"), std::string::npos) << error;
+  EXPECT_NE(error.find("timing.csv"), std::string::npos) << error;
+  // The new trajectory is in place, but no summary: neither the old one (which would
+  // describe another run) nor the new one (whose set is not complete).
+  EXPECT_EQ(slurp(dir + "/lidarseg.tum"), "new lidarseg.tum");
+  EXPECT_FALSE(fs::exists(dir + "/summary.json"));
+  for (const auto& e : fs::directory_iterator(dir)) {
+    EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
+  }
 }
 
 }  // namespace

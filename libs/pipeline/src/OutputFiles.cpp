@@ -256,9 +256,17 @@ std::string OutputSet::addWritten(const std::string& path) {
 }
 
 void OutputSet::commit() {
-  // summary.json last: a reader that finds it finds the rest of the set in place.
+  // summary.json is the set's seal (docs/reliability.md, "Publishing a set"): the one it
+  // replaces is removed before the first rename, and it is renamed last. While it is
+  // absent the folder holds no complete set; once it is back, every file of its set is.
   std::stable_partition(pending_.begin(), pending_.end(),
-                        [](const Pending& p) { return fs::path(p.path).filename() != "summary.json"; });
+                        [](const Pending& p) { return fs::path(p.path).filename() != kManifest; });
+  for (const auto& p : pending_) {
+    if (fs::path(p.path).filename() != kManifest) continue;
+    if (std::remove(p.path.c_str()) != 0 && errno != ENOENT) {
+      throw std::runtime_error("cannot remove the previous '" + p.path + "': " + std::strerror(errno));
+    }
+  }
   for (const auto& p : pending_) {
     if (std::rename(p.temporary.c_str(), p.path.c_str()) != 0) {
       throw std::runtime_error("cannot rename '" + p.temporary + "' to '" + p.path + "'");

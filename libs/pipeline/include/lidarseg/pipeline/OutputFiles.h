@@ -42,8 +42,16 @@ struct NamedOutput {
 /// destroyed without commit(), it removes its temporary files. Each output folder is locked
 /// for the set's lifetime: a second run writing into the same folder is refused. Sets of
 /// one process share its locks (the last one destroyed releases a folder).
+///
+/// A set holding a manifest (`summary.json`) is published as a whole: commit() removes the
+/// manifest it replaces first and renames the new one last, so a reader who finds
+/// `summary.json` finds every file of its run beside it, never an older run's
+/// (docs/reliability.md, "Publishing a set").
 class OutputSet {
  public:
+  /// The file name that seals a set: present only when its whole set is in place.
+  static constexpr const char* kManifest = "summary.json";
+
   OutputSet() = default;
   OutputSet(const OutputSet&) = delete;
   OutputSet& operator=(const OutputSet&) = delete;
@@ -61,8 +69,10 @@ class OutputSet {
   void add(const std::string& path, std::string content);
   /// Registers an output someone else writes: returns the temporary name to write it under.
   std::string addWritten(const std::string& path);
-  /// Renames every temporary file to its final name.
-  /// @throws std::runtime_error naming the file that could not be written.
+  /// Renames every temporary file to its final name, the manifest last, after removing the
+  /// manifest it replaces (see the class comment).
+  /// @throws std::runtime_error naming the file that could not be written; the folder then
+  ///         holds no manifest of this set or of the one before.
   void commit();
   ~OutputSet();
 
