@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "Validation.h"
@@ -49,6 +50,11 @@ void OdometryParams::validate() const {
   detail::requireNonNegative("scanner_rotation_hz", scanner_rotation_hz);
   detail::requireInRange("doubtful_ratio", doubtful_ratio, 0.0, 1.0);
   detail::requireInRange("prior_preference", prior_preference, 0.0, 10.0);
+  detail::requirePositive("prior_gate_sigmas", prior_gate_sigmas);
+  detail::requireNonNegative("prior_accel_m_s2", prior_accel_m_s2);
+  detail::requireNonNegative("prior_angular_accel_rad_s2", prior_angular_accel_rad_s2);
+  detail::requireNonNegative("odometry_error_ratio", odometry_error_ratio);
+  detail::requireNonNegative("prior_gate_floor_rad", prior_gate_floor_rad);
   if (local_map_keyframes < 1 || local_map_keyframes > 16) {
     detail::failKey("local_map_keyframes", "in [1, 16]", static_cast<double>(local_map_keyframes));
   }
@@ -119,7 +125,27 @@ bool better(const RefineResult& a, const RefineResult& b) {
 }
 }  // namespace
 
-Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, OdometryStep& step) {
+namespace {
+constexpr double kUnbounded = std::numeric_limits<double>::infinity();
+}  // namespace
+
+SegmentOdometry::PriorGate SegmentOdometry::priorGate(double dt, const std::optional<Pose2D>& odometry_increment) const {
+  double sigma_m = 0.0, sigma_rad = 0.0;
+  if (odometry_increment) {
+    // Wheel odometry can be wrong by any amount (slip, a bad calibration): no gate unless set.
+    if (!(params_.odometry_error_ratio > 0.0)) return {kUnbounded, kUnbounded};
+    sigma_m = params_.odometry_error_ratio * std::hypot(odometry_increment->x, odometry_increment->y);
+    sigma_rad = params_.odometry_error_ratio * std::abs(odometry_increment->yaw);
+  } else {
+    const double t2 = std::isfinite(dt) && dt > 0.0 ? 0.5 * dt * dt : 0.0;
+    sigma_m = params_.prior_accel_m_s2 * t2;
+    sigma_rad = params_.prior_angular_accel_rad_s2 * t2;
+  }
+  return {std::max(params_.refiner.max_distance_m, params_.prior_gate_sigmas * sigma_m),
+          std::max(params_.prior_gate_floor_rad, params_.prior_gate_sigmas * sigma_rad)};
+}
+
+Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const PriorGate& gate, OdometryStep& step) {
   const Segmentation& key = segmentation_[keyframe_];
   const Segmentation& cur = segmentation_[slot];
   const MatchResult& m = step.match;
@@ -141,15 +167,20 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, Odomet
                    std::abs(shift.yaw) > params_.refiner.max_distance_m / std::max(1.0, best.rms_range_m);
   // The prior's hypothesis is the reference (as ICP, which only looks near the prior): another
   // replaces it only when it holds and pairs clearly more points, or the prior's failed.
+  // Beyond the prior's gate, only when the prior's refinement failed.
   std::optional<RefineResult> reference;
-  const auto replaces = [&](const RefineResult& r) {
+  const auto plausible = [&](const RefineResult& r) {
+    const Pose2D d = relative(r.T_key_curr, prior);
+    return std::hypot(d.x, d.y) <= gate.translation_m && std::abs(d.yaw) <= gate.rotation_rad;
+  };
+  const auto replaces = [&](const RefineResult& r, bool gated) {
     if (!reference || reference->status == RefineStatus::kFailed) return better(r, best);
-    return r.status != RefineStatus::kFailed &&
+    return r.status != RefineStatus::kFailed && (!gated || plausible(r)) &&
            static_cast<double>(r.inliers) > (1.0 + params_.prior_preference) * static_cast<double>(reference->inliers);
   };
   if (!matched || far || doubtful(best)) {
     reference = refiner_.refine(refine_keyframe_, cur, prior);
-    if (!matched || !replaces(best)) best = *reference;
+    if (!matched || !replaces(best, false)) best = *reference;
   }
   bool recovered = false;
   // 3. A bounded correlative search around the prior, then the refinement from its best.
@@ -157,7 +188,7 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, Odomet
     step.search = search_.search(key.points, cur.points, prior);
     if (step.search->found) {
       RefineResult r = refiner_.refine(refine_keyframe_, cur, step.search->T_key_curr);
-      if (replaces(r) && better(r, best)) {
+      if (replaces(r, true) && better(r, best)) {
         best = std::move(r);
         recovered = true;
       }
@@ -269,7 +300,7 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   Pose2D T_key_curr = step.match.T_prev_curr;
   if (params_.refiner.enabled) {
     const auto t0 = std::chrono::steady_clock::now();
-    T_key_curr = refineWithKeyframe(slot, prior_from_key, step);
+    T_key_curr = refineWithKeyframe(slot, prior_from_key, priorGate(dt, odometry_increment), step);
     step.refinement_us = microsecondsSince(t0);
     step.matching_us += step.refinement_us;
   } else {

@@ -76,6 +76,11 @@ struct OdometryKeys {
     visit("doubtful_ratio", p.doubtful_ratio);
     visit("prior_preference", p.prior_preference);
     visit("search_when_doubtful", p.search_when_doubtful);
+    visit("prior_gate_sigmas", p.prior_gate_sigmas);
+    visit("prior_accel_m_s2", p.prior_accel_m_s2);
+    visit("prior_angular_accel_rad_s2", p.prior_angular_accel_rad_s2);
+    visit("odometry_error_ratio", p.odometry_error_ratio);
+    visit("prior_gate_floor_rad", p.prior_gate_floor_rad);
     visit("local_map_keyframes", p.local_map_keyframes);
   }
 };

@@ -40,6 +40,24 @@ struct OdometryParams {
   double prior_preference = 0.15;
   /// Whether a doubtful (not only a failed) refinement also runs the search.
   bool search_when_doubtful = true;
+  /// How far the prior may plausibly be wrong, which bounds how far from it the correlative
+  /// search's hypothesis may replace the prior's own refinement while that one holds:
+  /// prior_gate_sigmas standard deviations of the prior's error, and never less than
+  /// RefinerParams::max_distance_m and prior_gate_floor_rad. Without wheel odometry the error
+  /// is that of a constant velocity under an unknown acceleration, 0.5 a dt^2
+  /// (prior_accel_m_s2, prior_angular_accel_rad_s2); with it, odometry_error_ratio of the
+  /// odometry's own step, 0 = no gate (the default: wheel odometry can be wrong by any
+  /// amount; on the real logs a gate of even 1x the odometry's step cost accuracy). Beyond
+  /// the gate the search's hypothesis replaces the prior's refinement only when that one
+  /// failed: pairing more points one corridor bay further is not evidence enough against a
+  /// prior that holds. The segment match is not gated (decision 64: stamp jitter makes a
+  /// constant-velocity prior wrong by more than the acceleration says, and the match, which
+  /// pairs whole segments, was right there).
+  double prior_gate_sigmas = 3.0;
+  double prior_accel_m_s2 = 2.0;
+  double prior_angular_accel_rad_s2 = 4.0;
+  double odometry_error_ratio = 0.0;
+  double prior_gate_floor_rad = 0.15;
   /// The refinement pairs the points with the segments of this many keyframes (the current
   /// one and the previous ones, moved into its frame): a local map. 1 = the keyframe alone.
   /// 2 measured better than 1 on the real logs and the hospital, worse on the 5 Hz maze
@@ -159,7 +177,12 @@ class SegmentOdometry {
   MatchResult matchWithKeyframe(int slot, const Pose2D& prior, OdometryStep& step) const;
   /// Refines the match (or recovers from a failed one) into step.refine and step.status;
   /// returns T_keyframe_curr.
-  Pose2D refineWithKeyframe(int slot, const Pose2D& prior, OdometryStep& step);
+  /// The gate of the prior (translation m, rotation rad): see OdometryParams::prior_gate_sigmas.
+  struct PriorGate {
+    double translation_m = 0.0, rotation_rad = 0.0;
+  };
+  PriorGate priorGate(double dt, const std::optional<Pose2D>& odometry_increment) const;
+  Pose2D refineWithKeyframe(int slot, const Pose2D& prior, const PriorGate& gate, OdometryStep& step);
   /// Prepares the keyframe (and the local map) for the refinements.
   void prepareKeyframe();
   Twist2D meanVelocity(double stamp, double window) const;
