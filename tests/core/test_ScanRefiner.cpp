@@ -105,6 +105,29 @@ TEST(ScanRefiner, ParametersAreValidated) {
   p = {};
   p.min_inlier_ratio = 1.5;
   EXPECT_THROW(ScanRefiner{p}, std::invalid_argument);
+  p = {};
+  p.reassociate_m = -0.01;
+  EXPECT_THROW(ScanRefiner{p}, std::invalid_argument);
+}
+
+// Keeping the pairings after small steps (reassociate_m) reaches the pose that searching
+// them every iteration reaches, in no more iterations, on the one-jamb corridor.
+TEST(ScanRefiner, KeptPairingsReachTheSamePose) {
+  const sim::World world = testing::corridorWithDoors(2.0, {{3.0, 0.9, 0.3}});
+  const Segmentation key = segmentAt(world, {0.0, 1.0, 0.0}, 1);
+  const Segmentation cur = segmentAt(world, {0.1, 1.05, 0.02}, 2);
+  RefinerParams search_always;
+  RefinerParams keep;
+  keep.reassociate_m = 0.01;
+  const RefineResult a = ScanRefiner(search_always).refine(key, cur, Pose2D{});
+  const RefineResult b = ScanRefiner(keep).refine(key, cur, Pose2D{});
+  EXPECT_EQ(a.status, RefineStatus::kOk);
+  EXPECT_EQ(b.status, RefineStatus::kOk);
+  EXPECT_NEAR(b.T_key_curr.x, 0.1, 0.02);
+  EXPECT_NEAR(b.T_key_curr.x, a.T_key_curr.x, 0.003);
+  EXPECT_NEAR(b.T_key_curr.y, a.T_key_curr.y, 0.002);
+  EXPECT_NEAR(b.T_key_curr.yaw, a.T_key_curr.yaw, 0.001);
+  EXPECT_LE(b.iterations, a.iterations);
 }
 
 }  // namespace

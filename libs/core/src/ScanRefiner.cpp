@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
@@ -231,24 +232,57 @@ bool pairPoint(const KeyframeIndex& ix, const RefinerParams& P, const Eigen::Vec
   return found;
 }
 
-// Pairs every current point at pose T and accumulates the normal equations (yaw scaled
-// by D(2)) and the counts, in one pass: nothing is stored per point.
+// One point's pairing, kept between Gauss-Newton iterations: its line (normal, rho) or,
+// for a lone keyframe point, that point (normal zero).
+struct Pairing {
+  std::uint32_t point = 0;
+  Eigen::Vector2d normal = Eigen::Vector2d::Zero();
+  double rho = 0.0;
+  Eigen::Vector2d lone = Eigen::Vector2d::Zero();
+};
+
+// Accumulates the normal equations (yaw scaled by D(2)) and the counts at pose T in one
+// pass. With `reuse` false every current point is paired anew and its pairing stored in
+// `pairs`; with it true the stored pairings are used as they are (no search: the step since
+// they were made is small), and `covered` is kept from the pass that made them.
 void accumulate(const KeyframeIndex& ix, const RefinerParams& P, const std::vector<Eigen::Vector2d>& pts,
-                const Pose2D& T, double yaw_scale, Accumulator& acc) {
+                const Pose2D& T, double yaw_scale, std::vector<Pairing>& pairs, bool reuse, Accumulator& acc) {
+  const std::size_t covered = acc.covered;
   acc = Accumulator{};
+  if (reuse) acc.covered = covered;
+  else pairs.clear();
   const double c = std::cos(T.yaw), s = std::sin(T.yaw);
   const double inv_c2 = 1.0 / (P.robust_scale_m * P.robust_scale_m);
   const double inlier_limit = 3.0 * P.robust_scale_m;
   double h[6] = {0, 0, 0, 0, 0, 0}, hu[6] = {0, 0, 0, 0, 0, 0}, g[3] = {0, 0, 0};
-  for (const Eigen::Vector2d& p : pts) {
+  const std::size_t count = reuse ? pairs.size() : pts.size();
+  for (std::size_t i = 0; i < count; ++i) {
+    const Eigen::Vector2d& p = pts[reuse ? pairs[i].point : i];
     const double rx = c * p.x() - s * p.y(), ry = s * p.x() + c * p.y();
     const Eigen::Vector2d q(rx + T.x, ry + T.y);
     double r = 0.0;
     Eigen::Vector2d n, offset;
-    bool is_covered = false;
-    const bool paired = pairPoint(ix, P, q, r, n, offset, is_covered);
-    acc.covered += is_covered;
-    if (!paired) continue;
+    if (reuse) {
+      const Pairing& pr = pairs[i];
+      n = pr.normal;
+      if (n.x() != 0.0 || n.y() != 0.0) {
+        r = n.dot(q) - pr.rho;
+      } else {
+        offset = q - pr.lone;
+        r = offset.norm();
+      }
+    } else {
+      bool is_covered = false;
+      const bool paired = pairPoint(ix, P, q, r, n, offset, is_covered);
+      acc.covered += is_covered;
+      if (!paired) continue;
+      Pairing pr;
+      pr.point = static_cast<std::uint32_t>(i);
+      pr.normal = n;
+      if (n.x() != 0.0 || n.y() != 0.0) pr.rho = n.dot(q) - r;
+      else pr.lone = q - offset;
+      pairs.push_back(pr);
+    }
     ++acc.paired;
     const double w = 1.0 / (1.0 + r * r * inv_c2);  // Cauchy, on the distance
     // One row per residual: along the line's normal, or the x and y of a point's offset.
@@ -313,6 +347,7 @@ void RefinerParams::validate() const {
   detail::requireNonNegative("min_constraint_points", min_constraint_points);
   detail::requirePositive("unconstrained_sigma_m", unconstrained_sigma_m);
   detail::requirePositive("convergence_m", convergence_m);
+  detail::requireNonNegative("reassociate_m", reassociate_m);
   if (max_points < min_points) detail::failKey("max_points", ">= min_points", static_cast<double>(max_points));
 }
 
@@ -392,8 +427,10 @@ RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segme
 
   // Each iteration pairs the points at T, solves, and steps; the statistics come from the
   // last pairing (the final step is below convergence_m, or the iterations ran out).
+  thread_local std::vector<Pairing> pairs;
+  bool reuse = false;
   for (std::size_t it = 0; it < P.max_iterations; ++it) {
-    accumulate(keyframe, P, points, T, D(2), acc);
+    accumulate(keyframe, P, points, T, D(2), pairs, reuse, acc);
     if (acc.paired < P.min_points || !decompose(acc.Hu)) return result;
     // Step in the constrained subspace only (the weak directions keep their value).
     const Basis Vs = strongBasis();
@@ -405,7 +442,10 @@ RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segme
     T.y += step.y();
     T.yaw = wrapAngle(T.yaw + step.z());
     result.iterations = it + 1;
-    if (std::hypot(step.x(), step.y()) < P.convergence_m && std::abs(step.z()) * L < P.convergence_m) break;
+    const double moved = std::max(std::hypot(step.x(), step.y()), std::abs(step.z()) * L);
+    if (moved < P.convergence_m) break;
+    // Small steps keep the pairings (the points move by less than reassociate_m).
+    reuse = moved < P.reassociate_m;
   }
   result.T_key_curr = T;
   result.inliers = acc.inliers;

@@ -123,6 +123,7 @@ struct RefinerKeys {
     visit("degeneracy_ratio", p.degeneracy_ratio);
     visit("unconstrained_sigma_m", p.unconstrained_sigma_m);
     visit("convergence_m", p.convergence_m);
+    visit("reassociate_m", p.reassociate_m);
   }
 };
 

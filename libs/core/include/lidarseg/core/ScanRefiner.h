@@ -76,6 +76,11 @@ struct RefinerParams {
   double unconstrained_sigma_m = 1.0;
   /// Stop when a step moves less than this (m, and the same in rad per metre of range).
   double convergence_m = 1e-3;
+  /// After a step moving the points by less than this (m, the same measure), the next
+  /// iteration keeps the points' pairings instead of searching them again (0 = always
+  /// search, the default). 0.01 makes the real logs' median scan 1.4-1.6 times faster but
+  /// moves two of them above ICP's median error (docs/performance.md): a speed setting.
+  double reassociate_m = 0.0;
 
   /// @throws std::invalid_argument naming the key (as in the [refiner] section).
   void validate() const;
