@@ -61,6 +61,30 @@ Jamb jambOf(const Segment& wall, const Eigen::Vector2d& wall_end, const Eigen::V
   return j;
 }
 
+// Spacing along a wall with unit normal `normal` between neighbouring beams `step` apart
+// around the point q on it: r * step / cos(incidence) (infinite at 90 degrees).
+double beamSpacing(const Eigen::Vector2d& q, const Eigen::Vector2d& normal, double step) {
+  const double r = q.norm();
+  const double c = r > 0.0 ? std::abs(normal.dot(q)) / r : 0.0;
+  return c > 1e-6 ? r * step / c : std::numeric_limits<double>::infinity();
+}
+
+// Cosine of the incidence on a wall with unit normal `normal` at its point q.
+double incidenceCos(const Eigen::Vector2d& q, const Eigen::Vector2d& normal) {
+  const double r = q.norm();
+  return r > 0.0 ? std::abs(normal.dot(q)) / r : 1.0;
+}
+
+// The tolerance of q's distance from the line of `a` when q is the end of `b`: the wall's
+// allowance (flatness, and the placement of an end between two beams) plus door_noise_sigmas
+// standard deviations of the range noise `sigma` seen at that incidence (a range error moves
+// a point along its beam, so across the wall by cos(incidence) of it). The fits' own
+// uncertainty is left out on purpose: a far, short wall whose line is unsure is no evidence
+// that two pieces are one wall, so it must not widen the test.
+double collinearToleranceOf(const FeatureDetectorParams& p, double sigma, const Segment& a, const Eigen::Vector2d& q) {
+  return p.door_collinear_offset_m + p.door_noise_sigmas * sigma * incidenceCos(q, a.normal);
+}
+
 std::size_t beamsBetween(std::uint32_t last_of_a, std::uint32_t first_of_b, std::size_t num_beams) {
   // Beams strictly after last_of_a and strictly before first_of_b, in scan order (wrapping).
   const std::size_t n = num_beams;
@@ -90,10 +114,21 @@ void FeatureDetectorParams::validate() const {
   requirePositive("door_max_width_m", door_max_width_m);
   if (door_max_width_m < door_min_width_m) failKey("door_max_width_m", ">= door_min_width_m", door_max_width_m);
   requireInRange("door_collinear_angle_deg", door_collinear_angle_deg, 0.0, 45.0);
-  requirePositive("door_collinear_offset_m", door_collinear_offset_m);
+  requireNonNegative("door_collinear_offset_m", door_collinear_offset_m);
+  requireInRange("door_noise_sigmas", door_noise_sigmas, 0.0, 20.0);
+  requirePositive("door_min_range_sigma_m", door_min_range_sigma_m);
+  requireInRange("door_gap_min_spacings", door_gap_min_spacings, 0.0, 100.0);
+  requireInRange("door_quantum_min_share", door_quantum_min_share, 0.0, 1.0);
+  if (door_quantum_min_share <= 0.2) {
+    // Centimetre ranges fall on a 5 cm grid's best class by chance one time in five or more.
+    failKey("door_quantum_min_share", "> 0.2", door_quantum_min_share);
+  }
   requireNonNegative("door_min_wall_m", door_min_wall_m);
   if (door_min_wall_points < 2) {
     failKey("door_min_wall_points", ">= 2", static_cast<double>(door_min_wall_points));
+  }
+  if (door_min_sparse_wall_points < 2 || door_min_sparse_wall_points > door_min_wall_points) {
+    failKey("door_min_sparse_wall_points", "in [2, door_min_wall_points]", static_cast<double>(door_min_sparse_wall_points));
   }
   if (door_min_gap_beams < 1) failKey("door_min_gap_beams", ">= 1", static_cast<double>(door_min_gap_beams));
   requireNonNegative("door_front_tolerance_m", door_front_tolerance_m);
@@ -141,19 +176,110 @@ std::vector<Feature> FeatureDetector::detect(const Segmentation& segmentation) c
 void FeatureDetector::detect(const Segmentation& segmentation, std::vector<Feature>& out) const {
   out.clear();
   if (segmentation.points.empty()) return;
-  detectDoors(segmentation, out);
-  detectShallowDoors(segmentation, out);
+  const ScanGeometry geometry = measure(segmentation);
+  detectDoors(segmentation, geometry, out);
+  detectShallowDoors(segmentation, geometry, out);
   detectCorners(segmentation, out);
 }
 
-void FeatureDetector::detectDoors(const Segmentation& segmentation, std::vector<Feature>& out) const {
+FeatureDetector::ScanGeometry FeatureDetector::measure(const Segmentation& segmentation) const {
+  ScanGeometry g;
+  const std::vector<Eigen::Vector2d>& pts = segmentation.points;
+  // The beam step: the median angle between the first (up to) 9 pairs of neighbouring
+  // valid beams (exact without bearing noise; the median ignores a pair across a gap).
+  double steps[9];
+  std::size_t num_steps = 0;
+  for (std::size_t i = 0; i + 1 < pts.size() && num_steps < 9; ++i) {
+    const Eigen::Vector2d &u = pts[i], &v = pts[i + 1];
+    if (!std::isfinite(u.x()) || !std::isfinite(v.x())) continue;
+    const double step = std::abs(std::atan2(cross(u, v), u.dot(v)));
+    if (step > 0.0) steps[num_steps++] = step;
+  }
+  if (num_steps > 0) {
+    std::nth_element(steps, steps + num_steps / 2, steps + num_steps);
+    g.beam_step_rad = steps[num_steps / 2];
+  }
+  // The range noise: each raw wall of at least 10 points gives RSS / sum(cos^2 incidence)
+  // (a range error dr moves a point by dr cos(incidence) off its line; cos = rho / r, so the
+  // sum is rho^2 * sum(1 / r^2), a moment the fit keeps), corrected for the 2 fitted
+  // parameters; the median over the walls ignores the ones bent at a leaf or a corner.
+  thread_local std::vector<double> tl_sigmas;
+  std::vector<double>& sigmas = tl_sigmas;
+  sigmas.clear();
+  for (const Segment& s : segmentation.level(CascadeLevel::kWallDanielsson).segments) {
+    if (s.num_points < 10) continue;
+    const double cos2 = s.rho_m * s.rho_m * s.moments.sum_w;
+    if (!(cos2 > 1e-6)) continue;
+    const double n = static_cast<double>(s.num_points);
+    sigmas.push_back(s.residual_ss_m2 / cos2 * n / (n - 2.0));
+  }
+  double var = params_.door_min_range_sigma_m * params_.door_min_range_sigma_m;
+  if (sigmas.size() >= 3) {
+    std::nth_element(sigmas.begin(), sigmas.begin() + sigmas.size() / 2, sigmas.end());
+    var = std::max(var, sigmas[sigmas.size() / 2]);
+  }
+  g.range_sigma_m = std::sqrt(var);
+  return g;
+}
+
+double FeatureDetector::rangeQuantum(const Segmentation& segmentation, std::size_t first_beam, std::size_t count) const {
+  const std::vector<Eigen::Vector2d>& pts = segmentation.points;
+  const std::size_t num_beams = pts.size();
+  if (num_beams == 0) return 0.0;
+  // Residues of the ranges in millimetres modulo 10 cm; every grid tried divides 10 cm.
+  std::uint32_t hist[100] = {};
+  std::size_t n = 0;
+  for (std::size_t c = 0, beam = first_beam % num_beams; c < count && c < num_beams; ++c, beam = (beam + 1) % num_beams) {
+    const Eigen::Vector2d& q = pts[beam];
+    if (!std::isfinite(q.x())) continue;
+    const long mm = std::lround(q.norm() * 1000.0);
+    ++hist[static_cast<std::size_t>(((mm % 100) + 100) % 100)];
+    ++n;
+  }
+  if (n < 8) return 0.0;
+  // Share of the ranges on the best grid of each step (any offset).
+  const int grids[4] = {10, 20, 50, 100};
+  double share[4];
+  for (int g = 0; g < 4; ++g) {
+    std::size_t best = 0;
+    for (int o = 0; o < grids[g]; ++o) {
+      std::size_t on = 0;
+      for (int k = o; k < 100; k += grids[g]) on += hist[k];
+      best = std::max(best, on);
+    }
+    share[g] = static_cast<double>(best) / static_cast<double>(n);
+  }
+  // The largest step holding door_quantum_min_share of the ranges and nearly (80 %) as many
+  // as each finer step that divides it: ranges on a 5 cm grid put half of them on each of
+  // two 10 cm grids, which is no 10 cm grid.
+  for (int g = 3; g >= 0; --g) {
+    if (share[g] < params_.door_quantum_min_share) continue;
+    bool coarse = true;
+    for (int d = 0; d < g; ++d) coarse = coarse && (grids[g] % grids[d] != 0 || share[g] >= 0.8 * share[d]);
+    if (coarse) return grids[g] * 1e-3;
+  }
+  return 0.0;
+}
+
+void FeatureDetector::detectDoors(const Segmentation& segmentation, const ScanGeometry& geometry,
+                                  std::vector<Feature>& out) const {
   const FeatureDetectorParams& p = params_;
   const std::vector<Segment>& segs = segmentation.level(params_.level).segments;
   const std::size_t n = segs.size();
   const std::size_t num_beams = segmentation.points.size();
   const bool wraps = segmentation.wraps_around;
+  const double step = geometry.beam_step_rad;
+  const double sigma = geometry.range_sigma_m;
+  // A wall beside a door: door_min_wall_m long, with door_min_wall_points points or as many
+  // as the beams can leave on that length where it is (sparse at range and grazing
+  // incidence), but at least door_min_sparse_wall_points.
   auto wallOk = [&](const Segment& s) {
-    return s.length_m >= p.door_min_wall_m && s.num_points >= p.door_min_wall_points;
+    if (s.length_m < p.door_min_wall_m || s.num_points < p.door_min_sparse_wall_points) return false;
+    if (s.num_points >= p.door_min_wall_points) return true;
+    if (step <= 0.0) return false;
+    const double spacing = beamSpacing(s.cog, s.normal, step);
+    return static_cast<double>(s.num_points) >= std::min<double>(static_cast<double>(p.door_min_wall_points),
+                                                                    1.0 + std::floor(p.door_min_wall_m / spacing));
   };
   for (std::size_t i = 0; i < n; ++i) {
     const Segment& a = segs[i];
@@ -168,8 +294,8 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, std::vector<
       }
       const Segment& b = segs[j];
       if (a.normal.dot(b.normal) < cos_collinear_) continue;
-      if (std::abs(a.signedDistance(b.start)) > p.door_collinear_offset_m ||
-          std::abs(b.signedDistance(a.end)) > p.door_collinear_offset_m) {
+      if (std::abs(a.signedDistance(b.start)) > collinearToleranceOf(p, sigma, a, b.start) ||
+          std::abs(b.signedDistance(a.end)) > collinearToleranceOf(p, sigma, b, a.end)) {
         continue;
       }
       const Eigen::Vector2d gap0 = b.start - a.end;
@@ -187,6 +313,12 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, std::vector<
       // frame, not the doorway.
       const std::size_t count = beamsBetween(a.last_beam, b.first_beam, num_beams);
       if (count < p.door_min_gap_beams) break;
+      // Sparse sampling is no opening: the gap must be door_gap_min_spacings beam spacings
+      // wide at both jambs (the spacing grows with range and with incidence).
+      if (step > 0.0 && width < p.door_gap_min_spacings * std::max(beamSpacing(jamb_a.point, a.normal, step),
+                                                                   beamSpacing(jamb_b.point, a.normal, step))) {
+        break;
+      }
       // A reveal runs straight back from a jamb, which lies between the wall's last point
       // and one beam spacing into the gap: along the wall, within that interval (plus the
       // tolerance) of a wall's end.
@@ -208,12 +340,12 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, std::vector<
         return 0;
       };
       auto onReveal = [&](const Eigen::Vector2d& q) { return revealOf(q) != 0; };
-      std::size_t front = 0, beyond = 0, reveal = 0;
+      std::size_t front = 0, beyond = 0, reveal = 0, seen_beyond = 0;
       std::size_t beam = (a.last_beam + 1) % num_beams;
       for (std::size_t c = 0; c < count; ++c, beam = (beam + 1) % num_beams) {
         const Eigen::Vector2d& q = segmentation.points[beam];
         if (!std::isfinite(q.x())) {
-          ++beyond;  // no return: nothing stopped the beam in the doorway
+          ++beyond;  // no return: nothing stopped the beam in the doorway (or it was lost)
           continue;
         }
         const double d = a.signedDistance(q);
@@ -223,13 +355,25 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, std::vector<
           ++front;
         } else if (d > p.door_max_recess_m) {
           ++beyond;
+          ++seen_beyond;
         }
       }
       // Shares are of the doorway's beams (at a grazing angle, the reveal may take most).
       const double total = static_cast<double>(std::max<std::size_t>(1, count - reveal));
       if (static_cast<double>(front) > p.door_max_occluded_fraction * total) break;
 
-      // Segments inside the gap: a recessed leaf (closed) or a turned leaf (ajar).
+      // Segments inside the gap: a recessed leaf (closed) or a turned leaf (ajar). Ranges on
+      // a grid of step q make staircases q cos(incidence) deep on a plain wall, and add
+      // q^2 / 12 to the range variance: looked for over the gap and a few points each side.
+      const std::size_t side = 8;
+      const double quantum = rangeQuantum(segmentation, (a.last_beam + num_beams + 1 - std::min<std::size_t>(side, a.num_points)) % num_beams,
+                                          count + 2 * side);
+      const double sigma_local = std::sqrt(sigma * sigma + quantum * quantum / 12.0);
+      const Eigen::Vector2d mid_gap = 0.5 * (jamb_a.point + jamb_b.point);
+      const double cos_gap = incidenceCos(mid_gap, a.normal);
+      const double min_recess = std::max(p.door_min_recess_m, quantum * cos_gap);
+      // An ajar leaf's free end stands clearly behind the wall: beyond the noise band.
+      const double min_leaf_depth = p.door_min_recess_m + p.door_noise_sigmas * sigma_local * cos_gap;
       double closed_support = 0.0, ajar_support = 0.0;
       Eigen::Vector2d hinge_point = Eigen::Vector2d::Zero();
       // A segment end at the hinge: along the wall near a jamb, at most a frame's depth behind.
@@ -249,10 +393,11 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, std::vector<
         if (sin_angle > sin_leaf_parallel_ && reveal_of_start != 0 && reveal_of_start == revealOf(s.end)) continue;
         const double offset = a.signedDistance(s.centroid);
         if (sin_angle <= sin_leaf_parallel_) {
-          if (offset >= p.door_min_recess_m && offset <= p.door_max_recess_m) {
+          if (offset >= min_recess && offset <= p.door_max_recess_m) {
             closed_support += static_cast<double>(s.num_points) / total;
           }
-        } else if (offset > 0.0 && s.length_m >= p.door_min_ajar_leaf_m) {
+        } else if (offset > 0.0 && s.length_m >= p.door_min_ajar_leaf_m &&
+                   std::max(a.signedDistance(s.start), a.signedDistance(s.end)) >= min_leaf_depth) {
           const double hinge = std::min(hingeDistance(s.start), hingeDistance(s.end));
           if (hinge <= p.door_hinge_tolerance_m && s.length_m / width > ajar_support) {
             ajar_support = std::min(1.0, s.length_m / width);
@@ -261,7 +406,10 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, std::vector<
           }
         }
       }
-      const double beyond_fraction = static_cast<double>(beyond) / total;
+      // A lost return on a wall at a grazing angle looks like a beam through an opening:
+      // lost returns count as beyond only as many as the beams seen beyond.
+      const std::size_t lost = beyond - seen_beyond;
+      const double beyond_fraction = static_cast<double>(seen_beyond + std::min(lost, seen_beyond)) / total;
       FeatureType type;
       double support;
       if (closed_support >= p.door_min_leaf_fraction) {
@@ -305,7 +453,8 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, std::vector<
   }
 }
 
-void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, std::vector<Feature>& out) const {
+void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const ScanGeometry& geometry,
+                                         std::vector<Feature>& out) const {
   const FeatureDetectorParams& p = params_;
   if (p.door_shallow_min_sigmas <= 0.0) return;
   const std::vector<Segment>& segs = segmentation.level(p.level).segments;
@@ -319,8 +468,8 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, std::
   std::vector<std::uint32_t>&beam_of = tl_beam_of, &starts = tl_starts, &ends = tl_ends;
   const double inv_w = 1.0 / static_cast<double>(W);
   const std::size_t doors_before = out.size();
-  // A run of consecutive segments on one line (parallel, each start within
-  // door_collinear_offset_m of the first's line, no beam between them): the segmenter may
+  // A run of consecutive segments on one line (parallel, each end within the collinearity
+  // tolerance of the first's line, no beam between them): the segmenter may
   // have split a shallow leaf from one wall only.
   std::size_t next = 0;
   for (std::size_t si = 0; si < segs.size(); si = next) {
@@ -328,8 +477,10 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, std::
     std::size_t last = si;
     while (last + 1 < segs.size() && segs[last + 1].first_beam == segs[last].last_beam + 1 &&
            s.normal.dot(segs[last + 1].normal) >= cos_collinear_ &&
-           std::abs(s.signedDistance(segs[last + 1].start)) <= p.door_collinear_offset_m &&
-           std::abs(s.signedDistance(segs[last + 1].end)) <= p.door_collinear_offset_m) {
+           std::abs(s.signedDistance(segs[last + 1].start)) <=
+               collinearToleranceOf(p, geometry.range_sigma_m, s, segs[last + 1].start) &&
+           std::abs(s.signedDistance(segs[last + 1].end)) <=
+               collinearToleranceOf(p, geometry.range_sigma_m, s, segs[last + 1].end)) {
       ++last;
     }
     next = last + 1;
@@ -428,7 +579,15 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, std::
     if (known) continue;
     // Seen too obliquely, a step is smeared over few, far-apart points: its jambs are unsure.
     const Eigen::Vector2d centre = 0.5 * (segmentation.points[beam_of[best_k]] + segmentation.points[beam_of[best_e - 1]]);
-    if (std::abs(s.normal.dot(centre.normalized())) < cos_shallow_incidence_) continue;
+    const double cos_incidence = std::abs(s.normal.dot(centre.normalized()));
+    if (cos_incidence < cos_shallow_incidence_) continue;
+    // Ranges on a grid of step q leave steps up to q cos(incidence) on a plain wall (a run of
+    // beams reading the same range), correlated over many points: the t-test cannot see
+    // through them, so the leaf must be deeper than that.
+    const std::size_t from = beam_of[best_k > W ? best_k - W : 0];
+    const std::size_t to = beam_of[std::min(n - 1, best_e + W)];
+    const double quantum = rangeQuantum(segmentation, from, (to + num_beams - from) % num_beams + 1);
+    if (best_depth < quantum * cos_incidence) continue;
     // The wall's line is the segment's moved to the points beside the leaf; the jambs lie on
     // it between the last wall point and the first leaf point of each step.
     const double rho_wall = s.rho_m + best_out;

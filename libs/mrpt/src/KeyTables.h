@@ -156,9 +156,14 @@ struct FeatureKeys {
     visit("door_max_width_m", p.door_max_width_m);
     visit("door_collinear_angle_deg", p.door_collinear_angle_deg);
     visit("door_collinear_offset_m", p.door_collinear_offset_m);
+    visit("door_noise_sigmas", p.door_noise_sigmas);
+    visit("door_min_range_sigma_m", p.door_min_range_sigma_m);
     visit("door_min_wall_m", p.door_min_wall_m);
     visit("door_min_wall_points", p.door_min_wall_points);
+    visit("door_min_sparse_wall_points", p.door_min_sparse_wall_points);
     visit("door_min_gap_beams", p.door_min_gap_beams);
+    visit("door_gap_min_spacings", p.door_gap_min_spacings);
+    visit("door_quantum_min_share", p.door_quantum_min_share);
     visit("door_front_tolerance_m", p.door_front_tolerance_m);
     visit("door_max_occluded_fraction", p.door_max_occluded_fraction);
     visit("door_min_beyond_fraction", p.door_min_beyond_fraction);

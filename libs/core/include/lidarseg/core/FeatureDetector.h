@@ -37,19 +37,46 @@ struct FeatureDetectorParams {
   double door_max_width_m = 2.1;
   /// The walls on both sides of the gap are parallel within this (deg) ...
   double door_collinear_angle_deg = 5.0;
-  /// ... and each one's end lies within this of the other's line (m).
-  double door_collinear_offset_m = 0.06;
-  /// Each wall beside the door at least this long (m) with at least this many points.
+  /// ... and each one's end lies within door_collinear_offset_m (a real wall's bow or step
+  /// between two pieces, and where an end falls between two beams) plus door_noise_sigmas
+  /// standard deviations of the scan's measured range noise seen at that end's incidence
+  /// (sigma * cos(incidence)) of the other's line (m). Also joins the runs of segments the
+  /// shallow-leaf pass reads.
+  double door_collinear_offset_m = 0.04;
+  /// Tolerances from the scan's noise are this many of its standard deviations: the
+  /// collinearity above and the depth an ajar leaf's free end must reach behind the wall.
+  double door_noise_sigmas = 3.0;
+  /// Floor of the range noise measured on the scan (m): the median, over the walls of at
+  /// least 10 points, of their residual scatter divided by the incidence (range noise moves
+  /// a point along its beam); used alone when fewer than 3 walls measure it.
+  double door_min_range_sigma_m = 0.01;
+  /// Each wall beside the door at least this long (m) with at least this many points, or
+  /// with as many as the beams leave on door_min_wall_m of it (1 + door_min_wall_m / the
+  /// beam spacing r * dtheta / cos(incidence) there), but never fewer than
+  /// door_min_sparse_wall_points (= door_min_wall_points: no allowance for sparse walls).
   double door_min_wall_m = 0.25;
   std::size_t door_min_wall_points = 4;
+  std::size_t door_min_sparse_wall_points = 3;
   /// Fewer beams than this in the gap: no door (too far, or seen at a grazing angle).
   std::size_t door_min_gap_beams = 3;
+  /// A gap is an opening only when it is at least this many times the spacing the scan's
+  /// beams leave on the wall at either jamb (r * dtheta / cos(incidence), dtheta measured on
+  /// the scan): a wall sampled sparsely at a grazing angle, or two beams in a row lost on
+  /// it, leave gaps of one to three spacings.
+  double door_gap_min_spacings = 3.0;
+  /// Ranges on a grid: when at least this share of the ranges near a door (or a shallow
+  /// leaf) lie on one grid of 1, 2, 5 or 10 cm (the largest such), the grid step q is part
+  /// of the noise: a recess must exceed q cos(incidence) (quantised ranges make staircases
+  /// of that depth on a plain wall) and q^2/12 adds to the range variance.
+  double door_quantum_min_share = 0.5;
   /// A beam in the gap ending more than this in front of the wall line is an obstacle in
   /// the doorway; beyond door_max_occluded_fraction of them, the gap is no door (m).
   double door_front_tolerance_m = 0.1;
   double door_max_occluded_fraction = 0.2;
   /// Open door: at least this fraction of the gap's beams reach further than
-  /// door_max_recess_m beyond the wall line (beams without a return count as beyond).
+  /// door_max_recess_m beyond the wall line. Beams without a return count as beyond, but
+  /// only as many as the beams seen beyond: a lost return on a wall at a grazing angle looks
+  /// like a beam through an opening, so lost returns alone are no door.
   double door_min_beyond_fraction = 0.7;
   /// Closed door: leaf segments parallel to the wall within door_leaf_parallel_deg,
   /// recessed behind the wall line by [door_min_recess_m, door_max_recess_m], together
@@ -61,7 +88,9 @@ struct FeatureDetectorParams {
   /// Door ajar: a leaf segment behind the wall, at more than door_leaf_parallel_deg to it,
   /// at least door_min_ajar_leaf_m long, with one end (the hinge) within
   /// door_hinge_tolerance_m of a jamb along the wall and at most door_max_recess_m (+ the
-  /// tolerance) behind it: the hinges stand in the frame, which may be recessed.
+  /// tolerance) behind it: the hinges stand in the frame, which may be recessed. Its free
+  /// end lies deeper than door_min_recess_m + door_noise_sigmas range sigmas (with the
+  /// grid's q^2 / 12) x cos(incidence): a turned piece inside the noise band is the wall.
   double door_min_ajar_leaf_m = 0.2;
   double door_hinge_tolerance_m = 0.15;
   /// The reveals: the sides of the opening through a thick wall (or of a recess), from each
@@ -104,6 +133,19 @@ struct FeatureDetectorParams {
 /// O(n * door_max_segments_between + beams) per scan, no allocation once `out` has grown.
 class FeatureDetector {
  public:
+  /// What the detector measures on each scan before applying its rules.
+  struct ScanGeometry {
+    /// Angle between neighbouring beams (rad); 0 when not measurable (rules using it off).
+    double beam_step_rad = 0.0;
+    /// Range noise measured on the scan's walls (m), at least door_min_range_sigma_m.
+    double range_sigma_m = 0.0;
+  };
+  /// Measures the beam step and the range noise of one scan.
+  ScanGeometry measure(const Segmentation& segmentation) const;
+  /// The grid step (m) of the ranges of `count` beams from `first_beam` (NaN beams
+  /// skipped), or 0 when fewer than door_quantum_min_share of them lie on one grid.
+  double rangeQuantum(const Segmentation& segmentation, std::size_t first_beam, std::size_t count) const;
+
   /// @throws std::invalid_argument when a parameter is out of range.
   explicit FeatureDetector(const FeatureDetectorParams& params = {});
 
@@ -116,9 +158,10 @@ class FeatureDetector {
   const FeatureDetectorParams& params() const { return params_; }
 
  private:
-  void detectDoors(const Segmentation& segmentation, std::vector<Feature>& out) const;
+  void detectDoors(const Segmentation& segmentation, const ScanGeometry& geometry, std::vector<Feature>& out) const;
   void detectCorners(const Segmentation& segmentation, std::vector<Feature>& out) const;
-  void detectShallowDoors(const Segmentation& segmentation, std::vector<Feature>& out) const;
+  void detectShallowDoors(const Segmentation& segmentation, const ScanGeometry& geometry,
+                          std::vector<Feature>& out) const;
 
   FeatureDetectorParams params_;
   // Derived from the parameters (cosines and sines of the angle thresholds).
