@@ -85,6 +85,15 @@ double collinearToleranceOf(const FeatureDetectorParams& p, double sigma, const 
   return p.door_collinear_offset_m + p.door_noise_sigmas * sigma * incidenceCos(q, a.normal);
 }
 
+// Whether q lies within that tolerance of a's line; the incidence (a square root) is only
+// computed when the distance falls between the tolerance's bounds (cos in [0, 1]).
+bool onLineOf(const FeatureDetectorParams& p, double sigma, const Segment& a, const Eigen::Vector2d& q) {
+  const double d = std::abs(a.signedDistance(q));
+  if (d <= p.door_collinear_offset_m) return true;
+  if (d > p.door_collinear_offset_m + p.door_noise_sigmas * sigma) return false;
+  return d <= collinearToleranceOf(p, sigma, a, q);
+}
+
 std::size_t beamsBetween(std::uint32_t last_of_a, std::uint32_t first_of_b, std::size_t num_beams) {
   // Beams strictly after last_of_a and strictly before first_of_b, in scan order (wrapping).
   const std::size_t n = num_beams;
@@ -294,8 +303,7 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, const ScanGe
       }
       const Segment& b = segs[j];
       if (a.normal.dot(b.normal) < cos_collinear_) continue;
-      if (std::abs(a.signedDistance(b.start)) > collinearToleranceOf(p, sigma, a, b.start) ||
-          std::abs(b.signedDistance(a.end)) > collinearToleranceOf(p, sigma, b, a.end)) {
+      if (!onLineOf(p, sigma, a, b.start) || !onLineOf(p, sigma, b, a.end)) {
         continue;
       }
       const Eigen::Vector2d gap0 = b.start - a.end;
@@ -365,15 +373,23 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, const ScanGe
       // Segments inside the gap: a recessed leaf (closed) or a turned leaf (ajar). Ranges on
       // a grid of step q make staircases q cos(incidence) deep on a plain wall, and add
       // q^2 / 12 to the range variance: looked for over the gap and a few points each side.
+      // Measured only when a segment in the gap needs it (most gaps hold none).
       const std::size_t side = 8;
-      const double quantum = rangeQuantum(segmentation, (a.last_beam + num_beams + 1 - std::min<std::size_t>(side, a.num_points)) % num_beams,
-                                          count + 2 * side);
-      const double sigma_local = std::sqrt(sigma * sigma + quantum * quantum / 12.0);
-      const Eigen::Vector2d mid_gap = 0.5 * (jamb_a.point + jamb_b.point);
-      const double cos_gap = incidenceCos(mid_gap, a.normal);
-      const double min_recess = std::max(p.door_min_recess_m, quantum * cos_gap);
+      const double cos_gap = incidenceCos(0.5 * (jamb_a.point + jamb_b.point), a.normal);
+      double quantum = -1.0;
+      auto quantumHere = [&] {
+        if (quantum < 0.0) {
+          quantum = rangeQuantum(segmentation, (a.last_beam + num_beams + 1 - std::min<std::size_t>(side, a.num_points)) % num_beams,
+                                 count + 2 * side);
+        }
+        return quantum;
+      };
+      auto minRecess = [&] { return std::max(p.door_min_recess_m, quantumHere() * cos_gap); };
       // An ajar leaf's free end stands clearly behind the wall: beyond the noise band.
-      const double min_leaf_depth = p.door_min_recess_m + p.door_noise_sigmas * sigma_local * cos_gap;
+      auto minLeafDepth = [&] {
+        const double q = quantumHere();
+        return p.door_min_recess_m + p.door_noise_sigmas * std::sqrt(sigma * sigma + q * q / 12.0) * cos_gap;
+      };
       double closed_support = 0.0, ajar_support = 0.0;
       Eigen::Vector2d hinge_point = Eigen::Vector2d::Zero();
       // A segment end at the hinge: along the wall near a jamb, at most a frame's depth behind.
@@ -393,13 +409,13 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, const ScanGe
         if (sin_angle > sin_leaf_parallel_ && reveal_of_start != 0 && reveal_of_start == revealOf(s.end)) continue;
         const double offset = a.signedDistance(s.centroid);
         if (sin_angle <= sin_leaf_parallel_) {
-          if (offset >= min_recess && offset <= p.door_max_recess_m) {
+          if (offset >= p.door_min_recess_m && offset <= p.door_max_recess_m && offset >= minRecess()) {
             closed_support += static_cast<double>(s.num_points) / total;
           }
-        } else if (offset > 0.0 && s.length_m >= p.door_min_ajar_leaf_m &&
-                   std::max(a.signedDistance(s.start), a.signedDistance(s.end)) >= min_leaf_depth) {
+        } else if (offset > 0.0 && s.length_m >= p.door_min_ajar_leaf_m) {
           const double hinge = std::min(hingeDistance(s.start), hingeDistance(s.end));
-          if (hinge <= p.door_hinge_tolerance_m && s.length_m / width > ajar_support) {
+          if (hinge <= p.door_hinge_tolerance_m && s.length_m / width > ajar_support &&
+              std::max(a.signedDistance(s.start), a.signedDistance(s.end)) >= minLeafDepth()) {
             ajar_support = std::min(1.0, s.length_m / width);
             // The leaf's end on the wall line is the hinge, hence a jamb.
             hinge_point = std::abs(a.signedDistance(s.start)) < std::abs(a.signedDistance(s.end)) ? s.start : s.end;
@@ -477,10 +493,8 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
     std::size_t last = si;
     while (last + 1 < segs.size() && segs[last + 1].first_beam == segs[last].last_beam + 1 &&
            s.normal.dot(segs[last + 1].normal) >= cos_collinear_ &&
-           std::abs(s.signedDistance(segs[last + 1].start)) <=
-               collinearToleranceOf(p, geometry.range_sigma_m, s, segs[last + 1].start) &&
-           std::abs(s.signedDistance(segs[last + 1].end)) <=
-               collinearToleranceOf(p, geometry.range_sigma_m, s, segs[last + 1].end)) {
+           onLineOf(p, geometry.range_sigma_m, s, segs[last + 1].start) &&
+           onLineOf(p, geometry.range_sigma_m, s, segs[last + 1].end)) {
       ++last;
     }
     next = last + 1;
