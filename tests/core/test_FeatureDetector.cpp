@@ -193,7 +193,9 @@ TEST(FeatureDetector, DoorsInThickWallsDoubleAndShallowLeaves) {
       const Feature* f = nearest(fs, toSensor(pose, d.centre()), 0.15);
       if (f == nullptr || f->type != type) continue;  // a miss: counted below
       ++found;
-      if (type == FeatureType::kDoorClosed) EXPECT_NEAR(f->width_m, d.width(), 0.12) << d.centre().x();
+      if (type == FeatureType::kDoorClosed) {
+        EXPECT_NEAR(f->width_m, d.width(), 0.12) << d.centre().x();
+      }
     }
   }
   EXPECT_GE(found, 36);  // of 40
