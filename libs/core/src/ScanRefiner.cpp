@@ -53,8 +53,9 @@ bool finitePoint(const Eigen::Vector2d& p) { return std::isfinite(p.x()) && std:
 // neighbour when that one lies within `link_m`: a two-point finite line (point to line, as in
 // PL-ICP). Without such a neighbour, a point between two valid ones that lies on their line
 // (within `on_line_m`) samples a surface seen at grazing incidence: the line through the
-// three. Only a point off its neighbours' line is kept alone (length 0: point to point, a
-// chair leg or a post); one with an invalid neighbour has no known shape and is left out.
+// three. Only a point off its neighbours' line is kept alone (length 0: point to point with
+// two residuals, a chair leg or a post); one with an invalid neighbour has no known shape and
+// is left out.
 template <typename Rotate>
 void linkUnsegmented(const std::vector<Eigen::Vector2d>& points, const Pose2D& T, const Rotate& rotate,
                      double link_m, double on_line_m, KeyframeIndex& ix) {
@@ -92,7 +93,8 @@ void linkUnsegmented(const std::vector<Eigen::Vector2d>& points, const Pose2D& T
       if (off <= on_line_m) {
         l = lineThrough(a, c);
       } else {
-        l.start = T * p;  // a lone point: length 0, its normal chosen per pairing
+        l.start = T * p;  // a lone point: length 0, paired by its x and y offsets
+        l.normal = l.direction = Eigen::Vector2d::Zero();
       }
     } else {
       continue;
