@@ -15,6 +15,7 @@
 #include "lidarseg/core/ScanSegmenter.h"
 #include "lidarseg/core/SegmentMatcher.h"
 #include "lidarseg/mrpt/ScanConverter.h"
+#include "lidarseg/mrpt/SegmentAlignment.h"
 
 namespace {
 using namespace lidarseg;
@@ -142,6 +143,34 @@ void BM_MrptIcp(benchmark::State& state) {
   state.counters["mean_error_mm"] = 1e3 * error / static_cast<double>(state.iterations());
 }
 
+// lidarseg behind MRPT's interface: SegmentAlignment::AlignPDF on the same point maps as
+// BM_MrptIcp (one object for the whole run, as a caller aligning scan after scan uses it).
+void BM_SegmentAlignment(benchmark::State& state) {
+  const auto pairs = officePairs(static_cast<std::size_t>(state.range(0)));
+  std::vector<mrpt::maps::CSimplePointsMap> prev(pairs.size());
+  std::vector<mrpt::obs::CObservation2DRangeScan::Ptr> cur(pairs.size());
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const auto a = mrpt_adapter::makeRangeScanObservation(pairs[k].previous, "L", mrpt::poses::CPose3D(), 0.012);
+    cur[k] = mrpt_adapter::makeRangeScanObservation(pairs[k].current, "L", mrpt::poses::CPose3D(), 0.012);
+    prev[k].insertionOptions.minDistBetweenLaserPoints = 0.0f;
+    prev[k].loadFromRangeScan(*a);
+  }
+  mrpt_adapter::SegmentAlignment align;
+  std::size_t i = 0;
+  double error = 0.0;
+  for (auto _ : state) {
+    const std::size_t k = i++ % pairs.size();
+    mrpt::maps::CSimplePointsMap current;
+    current.insertionOptions.minDistBetweenLaserPoints = 0.0f;
+    current.loadFromRangeScan(*cur[k]);
+    const auto pdf = align.AlignPDF(&prev[k], &current, mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D(0.02, 0, 0)));
+    const auto m = pdf->getMeanVal();
+    error += std::hypot(m.x() - pairs[k].motion.x, m.y() - pairs[k].motion.y);
+    benchmark::DoNotOptimize(m);
+  }
+  state.counters["mean_error_mm"] = 1e3 * error / static_cast<double>(state.iterations());
+}
+
 }  // namespace
 
 // Worst case (docs/performance.md, "Bounded latency"): a pathological scan pair holding
@@ -190,4 +219,5 @@ BENCHMARK(BM_MatchClutterWorstCase)
 BENCHMARK(BM_SegmentCascadeMatch)->Arg(541)->Arg(1081)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SegmentCascadeMatchRefine)->Arg(541)->Arg(1081)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_MrptIcp)->ArgsProduct({{541, 1081}, {1, 2}})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SegmentAlignment)->Arg(541)->Arg(1081)->Unit(benchmark::kMicrosecond);
 BENCHMARK_MAIN();

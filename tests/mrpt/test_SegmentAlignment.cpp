@@ -56,6 +56,37 @@ TEST(SegmentAlignment, RecoversTheMotionBetweenTwoScansWithItsCovariance) {
   EXPECT_LT(g.cov(2, 2), std::pow(0.5 * kDeg, 2));
 }
 
+// One object aligns many pairs (it keeps its odometry between calls): each result equals a
+// fresh object's, whatever was aligned before, and a change of the options takes effect.
+TEST(SegmentAlignment, RepeatedCallsEqualFreshObjectsAndFollowTheOptions) {
+  const auto m1 = mapAt({1.0, 1.0, 0.0}, 1), m2 = mapAt({1.25, 1.08, 4 * kDeg}, 2);
+  const auto m3 = mapAt({2.0, 1.2, -10 * kDeg}, 3), m4 = mapAt({2.3, 1.1, -4 * kDeg}, 4);
+  const mrpt::poses::CPosePDFGaussian zero(mrpt::poses::CPose2D{});
+  const auto meanOf = [](const mrpt::poses::CPosePDF::Ptr& pdf) {
+    return dynamic_cast<const mrpt::poses::CPosePDFGaussian&>(*pdf);
+  };
+  SegmentAlignment reused;
+  const auto first = meanOf(reused.AlignPDF(&m3, &m4, zero));  // something else before
+  const auto again = meanOf(reused.AlignPDF(&m1, &m2, zero));
+  SegmentAlignment fresh;
+  const auto reference = meanOf(fresh.AlignPDF(&m1, &m2, zero));
+  EXPECT_EQ(again.mean.x(), reference.mean.x());
+  EXPECT_EQ(again.mean.y(), reference.mean.y());
+  EXPECT_EQ(again.mean.phi(), reference.mean.phi());
+  EXPECT_EQ(again.cov, reference.cov);
+  EXPECT_EQ(meanOf(reused.AlignPDF(&m3, &m4, zero)).mean.x(), first.mean.x());
+  // Options changed between calls: the next call uses them (no refinement: a coarser
+  // estimate than the refined one, as a fresh object with those options gives).
+  reused.options.refiner.enabled = false;
+  SegmentAlignment unrefined;
+  unrefined.options.refiner.enabled = false;
+  const auto changed = meanOf(reused.AlignPDF(&m1, &m2, zero));
+  const auto expected = meanOf(unrefined.AlignPDF(&m1, &m2, zero));
+  EXPECT_EQ(changed.mean.x(), expected.mean.x());
+  EXPECT_EQ(changed.mean.y(), expected.mean.y());
+  EXPECT_NE(changed.mean.x(), reference.mean.x());
+}
+
 TEST(SegmentAlignment, Align3DHandlesThePlanarCaseAndRefusesTheOthers) {
   const auto m1 = mapAt({1.0, 1.0, 0.0}, 1), m2 = mapAt({1.2, 1.0, 0.0}, 2);
   SegmentAlignment align;

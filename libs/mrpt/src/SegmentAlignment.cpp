@@ -83,6 +83,13 @@ OdometryParams odometryParams(const SegmentAlignment::TConfigParams& o) {
   return p;
 }
 
+// Every key's value, in the table's order: equal vectors mean equal options.
+std::vector<double> keyValues(SegmentAlignment::TConfigParams& o) {
+  std::vector<double> values;
+  AlignmentKeys{}(o, [&](const char*, auto& field) { values.push_back(static_cast<double>(field)); });
+  return values;
+}
+
 // `segments2`: m2's segments at the level matched; `points2`: m2's points.
 void fillInfo(const OdometryStep& step, const std::vector<Segment>& segments2, std::size_t points2,
               SegmentAlignment::TReturnInfo& info) {
@@ -143,7 +150,15 @@ mrpt::poses::CPosePDF::Ptr SegmentAlignment::AlignPDF(
   // The odometry's own step on a pair of scans: m1 is the keyframe, m2 the current scan,
   // the initial estimate the prior. Whatever lidarseg-odometry does to one scan (segment
   // match, point refinement, recovery search, degenerate handling) is done here.
-  SegmentOdometry odometry(odometryParams(options));
+  // One odometry kept across calls (its segmenter, refiner and search grid allocate), made
+  // again only when the options changed; reset before each pair.
+  std::vector<double> key = keyValues(options);
+  if (!odometry_ || key != odometry_key_) {
+    odometry_.emplace(odometryParams(options));
+    odometry_key_ = std::move(key);
+  }
+  SegmentOdometry& odometry = *odometry_;
+  odometry.reset();
   odometry.process(s1);
   const std::size_t segments1 = odometry.lastSegmentation().level(options.level).segments.size();
   const OdometryStep step = odometry.process(s2, toPose2D(initial.mean));

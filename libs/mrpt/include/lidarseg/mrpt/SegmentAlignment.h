@@ -4,7 +4,9 @@
 /// to mrpt::slam::CICP for 2D scans of structured buildings.
 
 #include <cstddef>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/slam/CMetricMapsAlignmentAlgorithm.h>
@@ -130,6 +132,11 @@ class SegmentAlignment : public mrpt::slam::CMetricMapsAlignmentAlgorithm {
       const mrpt::maps::CMetricMap* m1, const mrpt::maps::CMetricMap* m2,
       const mrpt::poses::CPose3DPDFGaussian& initialEstimationPDF,
       mrpt::optional_ref<mrpt::slam::TMetricMapAlignmentResult> outInfo = std::nullopt) override;
+
+ private:
+  /// The odometry that aligns each pair, kept while `options` stay the same (key values).
+  std::optional<SegmentOdometry> odometry_;
+  std::vector<double> odometry_key_;
 };
 
 }  // namespace lidarseg::mrpt_adapter
