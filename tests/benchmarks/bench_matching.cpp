@@ -108,10 +108,11 @@ void BM_SegmentCascadeMatchRefine(benchmark::State& state) {
   state.counters["mean_error_mm"] = 1e3 * error / static_cast<double>(state.iterations());
 }
 
-// MRPT's ICP: build the current scan's point map, align it with the previous one from the
-// same prior. Arg 1: MRPT's default parameters; arg 2: the [icp] section of
-// config/default.ini, the baseline the project compares with (every point paired).
-void BM_MrptIcp(benchmark::State& state) {
+// Aligns, with `aligner` (any mrpt::slam::CMetricMapsAlignmentAlgorithm), each pair's
+// current scan, made a point map inside the timed loop, with the previous scan's map, from
+// the same prior; the mean translation error goes in the counters.
+template <typename Aligner>
+void alignPointMaps(benchmark::State& state, Aligner& aligner) {
   const auto pairs = officePairs(static_cast<std::size_t>(state.range(0)));
   std::vector<mrpt::maps::CSimplePointsMap> prev(pairs.size());
   std::vector<mrpt::obs::CObservation2DRangeScan::Ptr> cur(pairs.size());
@@ -121,13 +122,6 @@ void BM_MrptIcp(benchmark::State& state) {
     prev[k].insertionOptions.minDistBetweenLaserPoints = 0.0f;
     prev[k].loadFromRangeScan(*a);
   }
-  mrpt::slam::CICP icp;
-  if (state.range(1) == 2) {
-    icp.options.corresponding_points_decimation = 1;
-    icp.options.thresholdDist = 0.5;
-    icp.options.thresholdAng = 0.0262;
-    icp.options.maxIterations = 60;
-  }
   std::size_t i = 0;
   double error = 0.0;
   for (auto _ : state) {
@@ -135,7 +129,7 @@ void BM_MrptIcp(benchmark::State& state) {
     mrpt::maps::CSimplePointsMap current;
     current.insertionOptions.minDistBetweenLaserPoints = 0.0f;
     current.loadFromRangeScan(*cur[k]);
-    const auto pdf = icp.AlignPDF(&prev[k], &current, mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D(0.02, 0, 0)));
+    const auto pdf = aligner.AlignPDF(&prev[k], &current, mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D(0.02, 0, 0)));
     const auto m = pdf->getMeanVal();
     error += std::hypot(m.x() - pairs[k].motion.x, m.y() - pairs[k].motion.y);
     benchmark::DoNotOptimize(m);
@@ -143,32 +137,25 @@ void BM_MrptIcp(benchmark::State& state) {
   state.counters["mean_error_mm"] = 1e3 * error / static_cast<double>(state.iterations());
 }
 
+// MRPT's ICP: build the current scan's point map, align it with the previous one from the
+// same prior. Arg 1: MRPT's default parameters; arg 2: the [icp] section of
+// config/default.ini, the baseline the project compares with (every point paired).
+void BM_MrptIcp(benchmark::State& state) {
+  mrpt::slam::CICP icp;
+  if (state.range(1) == 2) {
+    icp.options.corresponding_points_decimation = 1;
+    icp.options.thresholdDist = 0.5;
+    icp.options.thresholdAng = 0.0262;
+    icp.options.maxIterations = 60;
+  }
+  alignPointMaps(state, icp);
+}
+
 // lidarseg behind MRPT's interface: SegmentAlignment::AlignPDF on the same point maps as
 // BM_MrptIcp (one object for the whole run, as a caller aligning scan after scan uses it).
 void BM_SegmentAlignment(benchmark::State& state) {
-  const auto pairs = officePairs(static_cast<std::size_t>(state.range(0)));
-  std::vector<mrpt::maps::CSimplePointsMap> prev(pairs.size());
-  std::vector<mrpt::obs::CObservation2DRangeScan::Ptr> cur(pairs.size());
-  for (std::size_t k = 0; k < pairs.size(); ++k) {
-    const auto a = mrpt_adapter::makeRangeScanObservation(pairs[k].previous, "L", mrpt::poses::CPose3D(), 0.012);
-    cur[k] = mrpt_adapter::makeRangeScanObservation(pairs[k].current, "L", mrpt::poses::CPose3D(), 0.012);
-    prev[k].insertionOptions.minDistBetweenLaserPoints = 0.0f;
-    prev[k].loadFromRangeScan(*a);
-  }
   mrpt_adapter::SegmentAlignment align;
-  std::size_t i = 0;
-  double error = 0.0;
-  for (auto _ : state) {
-    const std::size_t k = i++ % pairs.size();
-    mrpt::maps::CSimplePointsMap current;
-    current.insertionOptions.minDistBetweenLaserPoints = 0.0f;
-    current.loadFromRangeScan(*cur[k]);
-    const auto pdf = align.AlignPDF(&prev[k], &current, mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D(0.02, 0, 0)));
-    const auto m = pdf->getMeanVal();
-    error += std::hypot(m.x() - pairs[k].motion.x, m.y() - pairs[k].motion.y);
-    benchmark::DoNotOptimize(m);
-  }
-  state.counters["mean_error_mm"] = 1e3 * error / static_cast<double>(state.iterations());
+  alignPointMaps(state, align);
 }
 
 }  // namespace
