@@ -41,6 +41,7 @@ import shutil
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 
 TOOLS = "odometry|features|segment|simulate|inspect|people|batch"
@@ -150,7 +151,9 @@ class Runner:
         self.source = os.path.abspath(args.source)
         self.apps = os.path.abspath(args.apps)
         self.build = os.path.abspath(args.build)
-        self.work = os.path.abspath(args.work or os.path.join(self.build, "tmp", "docs-commands-run"))
+        # Short by default (the system's temporary folder): the commands' TMPDIR is in it, and
+        # a UNIX socket path there (Chromium's) must stay under 108 characters.
+        self.work = os.path.abspath(args.work) if args.work else None
         shared = args.shared if args.shared is not None else os.path.join(self.source, "..", "shared")
         self.shared = os.path.realpath(shared) if shared and os.path.isdir(shared) else None
         self.args = args
@@ -339,6 +342,9 @@ class Runner:
         except OSError:
             return ""
         for l in lines:
+            if re.search(r"\bFATAL\b|AddressSanitizer|runtime error", l):
+                return l[:300]
+        for l in lines:
             if re.search(r"error|fail|cannot|can't|no such|not found|usage|invalid|unknown|exception|abort",
                          l, re.I):
                 return l[:300]
@@ -462,9 +468,11 @@ class Runner:
             sorted(glob.glob(os.path.join(self.source, "apps", "*", "README.md")))
         if self.args.only:
             files = [f for f in files if re.search(self.args.only, os.path.relpath(f, self.source))]
-        if os.path.exists(self.work):
+        if self.work is None:
+            self.work = tempfile.mkdtemp(prefix="lidarseg-docs-")
+        elif os.path.exists(self.work):
             shutil.rmtree(self.work)
-        os.makedirs(self.work)
+        os.makedirs(self.work, exist_ok=True)
         print("scratch %s: clone/ (a copy of the %d source files, the working folder), tmp/ "
               "(the docs' /tmp/), shared -> %s" % (self.work, len(self.clone_files), self.shared or "(absent)"))
         print("budget per command %d s (%d s when a later command reads its output; heavy: %d s)"
@@ -501,7 +509,8 @@ def main():
     p.add_argument("source")
     p.add_argument("apps")
     p.add_argument("build")
-    p.add_argument("--work", help="scratch folder (default BUILD/tmp/docs-commands-run), emptied first")
+    p.add_argument("--work", help="scratch folder, emptied first (default: a new one in the system's "
+                   "temporary folder; keep its path short, see Runner.__init__)")
     p.add_argument("--shared", help="the shared data folder (default SOURCE/../shared; '' for none)")
     p.add_argument("--budget", type=int, default=30)
     p.add_argument("--heavy-budget", type=int, default=10)
