@@ -123,18 +123,28 @@ def commands(path):
 
 
 def programs(text):
-    """The programs a command line starts (first word of each pipeline/list element)."""
-    progs = []
-    for part in re.split(r"\|\||&&|[|;()]", text):
-        try:
-            words = shlex.split(part)
-        except ValueError:
-            words = part.split()
-        while words and (words[0] == "time" or ASSIGN.match(words[0]) or "=" in words[0] and
-                         re.match(r"^[A-Za-z_]\w*=", words[0])):
-            words = words[1:]
-        if words:
-            progs.append(words[0])
+    """The programs a command line starts (first word of each pipeline/list element; quotes
+    respected, `time` and NAME=value prefixes and redirection targets left out)."""
+    lexer = shlex.shlex(text, posix=True, punctuation_chars=True)
+    lexer.whitespace_split = True
+    try:
+        tokens = list(lexer)
+    except ValueError:
+        tokens = text.split()
+    progs, expect, target = [], True, False
+    for t in tokens:
+        if target:
+            target = False
+            continue
+        if t and all(c in "|&;()<>" for c in t):
+            if set(t) <= set("<>&") and t not in ("&", "&&"):
+                target = True  # the file of a redirection
+            else:
+                expect = True
+            continue
+        if expect and not (t == "time" or re.match(r"^[A-Za-z_]\w*=", t)):
+            progs.append(t)
+            expect = False
     return progs
 
 
