@@ -199,11 +199,13 @@ class Runner:
 
     # -- text substitutions --------------------------------------------------------------
     def substitute(self, text, root):
+        # The docs' /tmp/ first: the build tree itself may live under /tmp (a CI clone), and
+        # its paths, put in below, must not be moved into the scratch folder.
+        text = re.sub(r"(?<![\w.-])/tmp/", os.path.join(root, "tmp") + "/", text)
         text = TOOL_TOKEN.sub(lambda m: os.path.join(self.apps, m.group(1)), text)
         text = re.sub(r"(?<!\S)build/release/apps(?=/?(?:\s|$))", self.apps, text)
         text = re.sub(r"(?<![\w.-])build/release/tests/benchmarks/",
                       os.path.join(self.build, "tests", "benchmarks") + "/", text)
-        text = re.sub(r"(?<![\w.-])/tmp/", os.path.join(root, "tmp") + "/", text)
         return text
 
     # -- why a command is not run --------------------------------------------------------
