@@ -1,5 +1,6 @@
 // Correlative search: finds a pose far from a wrong prior; its result equals the brute force.
 #include <cmath>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -48,6 +49,58 @@ TEST(CorrelativeSearch, BranchAndBoundEqualsTheFullGridSearch) {
   const SearchResult b = CorrelativeSearch(brute).search(key, cur, Pose2D{});
   EXPECT_FLOAT_EQ(static_cast<float>(f.score), static_cast<float>(b.score));
   EXPECT_LT(f.bounds, b.bounds);  // the coarse level prunes: far fewer poses scored
+}
+
+// Every top-level block side, power of two or not, gives the full search's pose (the levels
+// below halve it, rounded up), with less than half the scoring passes of the full search.
+TEST(CorrelativeSearch, EveryBlockSideGivesTheFullSearchPose) {
+  const sim::World world = testing::officeScene();
+  const auto key = pointsAt(world, {0.0, 1.0, 0.0}, 5);
+  const auto cur = pointsAt(world, {0.35, 1.2, -0.08}, 6);
+  SearchParams brute;
+  brute.linear_window_m = 0.5;
+  brute.angular_window_rad = 0.15;
+  brute.angular_step_rad = 0.01;
+  brute.coarse_cells = 1;
+  const SearchResult b = CorrelativeSearch(brute).search(key, cur, Pose2D{});
+  ASSERT_TRUE(b.found);
+  const std::size_t poses = b.bounds;  // with blocks of one cell, every pose is scored once
+  for (std::size_t side : {2u, 3u, 5u, 6u, 8u, 13u, 16u, 32u}) {
+    SCOPED_TRACE("coarse_cells " + std::to_string(side));
+    SearchParams p = brute;
+    p.coarse_cells = side;
+    const SearchResult r = CorrelativeSearch(p).search(key, cur, Pose2D{});
+    EXPECT_FLOAT_EQ(static_cast<float>(r.score), static_cast<float>(b.score));
+    EXPECT_DOUBLE_EQ(r.T_key_curr.x, b.T_key_curr.x);
+    EXPECT_DOUBLE_EQ(r.T_key_curr.y, b.T_key_curr.y);
+    EXPECT_DOUBLE_EQ(r.T_key_curr.yaw, b.T_key_curr.yaw);
+    EXPECT_LT(r.bounds + r.evaluated, poses / 2);
+  }
+}
+
+// A keyframe prepared once serves several scans with the results of preparing it each time;
+// a grid never prepared finds nothing.
+TEST(CorrelativeSearch, APreparedKeyframeGivesTheSameResults) {
+  const sim::World world = testing::officeScene();
+  const auto key = pointsAt(world, {0.0, 1.0, 0.0}, 7);
+  const CorrelativeSearch search;
+  SearchGrid grid;
+  EXPECT_FALSE(search.search(grid, key, Pose2D{}).found);
+  search.prepare(key, grid);
+  ASSERT_TRUE(grid.ready);
+  for (const Pose2D& pose : {Pose2D{0.5, 1.3, 0.2}, Pose2D{-0.4, 0.8, -0.3}}) {
+    const auto cur = pointsAt(world, pose, 8);
+    const SearchResult once = search.search(key, cur, Pose2D{});
+    const SearchResult prepared = search.search(grid, cur, Pose2D{});
+    EXPECT_EQ(once.found, prepared.found);
+    EXPECT_DOUBLE_EQ(once.score, prepared.score);
+    EXPECT_DOUBLE_EQ(once.T_key_curr.x, prepared.T_key_curr.x);
+    EXPECT_DOUBLE_EQ(once.T_key_curr.y, prepared.T_key_curr.y);
+    EXPECT_DOUBLE_EQ(once.T_key_curr.yaw, prepared.T_key_curr.yaw);
+    const Pose2D truth = relative(pose, {0.0, 1.0, 0.0});
+    EXPECT_NEAR(prepared.T_key_curr.x, truth.x, 0.06);
+    EXPECT_NEAR(prepared.T_key_curr.y, truth.y, 0.06);
+  }
 }
 
 TEST(CorrelativeSearch, EmptyInputsAndBadParameters) {

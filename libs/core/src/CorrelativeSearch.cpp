@@ -2,6 +2,7 @@
 #include "lidarseg/core/Angles.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "Validation.h"
@@ -10,90 +11,117 @@ namespace lidarseg {
 
 namespace {
 
+bool finite(const Eigen::Vector2d& p) { return std::isfinite(p.x()) && std::isfinite(p.y()); }
 
-struct Grid {
-  double x0 = 0.0, y0 = 0.0, res = 0.05;
-  int w = 0, h = 0;
-  std::vector<float> fine;    // likelihood, 0..1
-  std::vector<float> coarse;  // max of fine over [i, i + k) x [j, j + k)
-  std::vector<float> tmp;
+// Every level is stored with `pad` extra cells on each side, so that a block starting left of
+// (or below) the grid still reads the maximum over the part of it inside the grid, and one
+// unsigned comparison tells whether a lookup falls outside (likelihood 0).
+struct Padded {
+  int pad = 0, w = 0, h = 0;  // padded sides
   float at(const std::vector<float>& g, int i, int j) const {
-    return (i < 0 || j < 0 || i >= w || j >= h) ? 0.0f : g[static_cast<std::size_t>(j) * w + i];
+    const int pi = i + pad, pj = j + pad;
+    return (static_cast<unsigned>(pi) >= static_cast<unsigned>(w) || static_cast<unsigned>(pj) >= static_cast<unsigned>(h))
+               ? 0.0f
+               : g[static_cast<std::size_t>(pj) * static_cast<std::size_t>(w) + static_cast<std::size_t>(pi)];
   }
 };
 
-struct Coarse {
+Padded paddedOf(const SearchGrid& g) {
+  const int pad = g.sides.empty() ? 0 : g.sides.front();
+  return {pad, g.w + 2 * pad, g.h + 2 * pad};
+}
+
+// A block of poses: rotation index, first translation offsets (cells), its side (cells) and
+// the bound (or, for a single cell, the exact score) of every pose in it.
+struct Block {
   float bound;
   int rot, ix, iy;
 };
 
 struct Workspace {
-  Grid grid;
   std::vector<Eigen::Vector2d> pts;
   std::vector<int> cells;  // per rotation: (ci, cj) of every used point, at the prior translation
-  std::vector<Coarse> candidates;
+  std::vector<Block> top;
+  SearchGrid grid;  // for the overload that prepares the keyframe itself
 };
 
-bool finite(const Eigen::Vector2d& p) { return std::isfinite(p.x()) && std::isfinite(p.y()); }
+// The depth-first branch and bound below the top level: children best bound first, a branch
+// dropped as soon as its bound is below the best score found (ties are kept, so the pose
+// nearest the prior among equal scores is found as by the full search).
+class BranchAndBound {
+ public:
+  BranchAndBound(const SearchGrid& g, const std::vector<int>& cells, int n, int W, int A, double step,
+                 SearchResult& result)
+      : g_(g), pad_(paddedOf(g)), cells_(cells), n_(n), W_(W), A_(A), step_(step), inv_n_(1.0f / static_cast<float>(n)),
+        result_(result) {}
 
-void buildGrid(const std::vector<Eigen::Vector2d>& key, const SearchParams& P, Grid& g) {
-  double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
-  for (const auto& p : key) {
-    if (!finite(p)) continue;
-    xmin = std::min(xmin, p.x());
-    xmax = std::max(xmax, p.x());
-    ymin = std::min(ymin, p.y());
-    ymax = std::max(ymax, p.y());
+  float score(std::size_t level, int rot, int dx, int dy) const {
+    const std::vector<float>& grid = g_.levels[level];
+    const int* c = &cells_[static_cast<std::size_t>(rot) * static_cast<std::size_t>(n_) * 2];
+    float sum = 0.0f;
+    for (int i = 0; i < n_; ++i) sum += pad_.at(grid, c[2 * i] + dx, c[2 * i + 1] + dy);
+    return sum * inv_n_;
   }
-  g.res = P.resolution_m;
-  const double margin = 3.0 * P.sigma_m + P.resolution_m;
-  const double half = 0.5 * static_cast<double>(P.max_grid_cells) * g.res;
-  // Clipped around the sensor: beyond, points are ignored (bounded memory).
-  xmin = std::max(xmin - margin, -half);
-  ymin = std::max(ymin - margin, -half);
-  xmax = std::min(xmax + margin, half);
-  ymax = std::min(ymax + margin, half);
-  g.x0 = xmin;
-  g.y0 = ymin;
-  g.w = std::max(1, static_cast<int>(std::ceil((xmax - xmin) / g.res)));
-  g.h = std::max(1, static_cast<int>(std::ceil((ymax - ymin) / g.res)));
-  const std::size_t cells = static_cast<std::size_t>(g.w) * static_cast<std::size_t>(g.h);
-  g.fine.assign(cells, 0.0f);
-  const int r = static_cast<int>(std::ceil(3.0 * P.sigma_m / g.res));
-  const double inv2s2 = 1.0 / (2.0 * P.sigma_m * P.sigma_m);
-  for (const auto& p : key) {
-    if (!finite(p)) continue;
-    const double fx = (p.x() - g.x0) / g.res, fy = (p.y() - g.y0) / g.res;
-    if (fx < -r || fy < -r || fx > g.w + r || fy > g.h + r) continue;
-    const int ci = static_cast<int>(std::floor(fx)), cj = static_cast<int>(std::floor(fy));
-    for (int j = std::max(0, cj - r); j <= std::min(g.h - 1, cj + r); ++j) {
-      for (int i = std::max(0, ci - r); i <= std::min(g.w - 1, ci + r); ++i) {
-        const double dx = (i + 0.5) * g.res + g.x0 - p.x(), dy = (j + 0.5) * g.res + g.y0 - p.y();
-        const float v = static_cast<float>(std::exp(-(dx * dx + dy * dy) * inv2s2));
-        float& cell = g.fine[static_cast<std::size_t>(j) * g.w + i];
-        cell = std::max(cell, v);
+
+  // A pose whose exact score is known.
+  void leaf(const Block& b) {
+    ++result_.evaluated;
+    const double cost = std::hypot(b.ix * g_.res, b.iy * g_.res) + std::abs(b.rot - A_) * step_;
+    if (b.bound > best_ || (b.bound == best_ && cost < best_cost_)) {
+      best_ = b.bound;
+      best_cost_ = cost;
+      best_block_ = b;
+    }
+  }
+
+  // Block `b` of side sides[level] (its bound already compared with the best).
+  void descend(const Block& b, std::size_t level) {
+    if (g_.sides[level] == 1) {
+      leaf(b);
+      return;
+    }
+    const std::size_t next = level + 1;
+    const int c = g_.sides[next];
+    std::array<Block, 4> children;
+    int count = 0;
+    for (int oy = 0; oy < 2; ++oy) {
+      for (int ox = 0; ox < 2; ++ox) {
+        const int ix = b.ix + ox * c, iy = b.iy + oy * c;
+        if (ix > W_ || iy > W_) continue;  // 2c >= s: the children cover the block
+        children[static_cast<std::size_t>(count++)] = {score(next, b.rot, ix, iy), b.rot, ix, iy};
       }
     }
-  }
-  // Sliding maximum over k cells, rows then columns.
-  const int k = static_cast<int>(P.coarse_cells);
-  g.tmp.assign(cells, 0.0f);
-  g.coarse.assign(cells, 0.0f);
-  for (int j = 0; j < g.h; ++j) {
-    for (int i = 0; i < g.w; ++i) {
-      float m = 0.0f;
-      for (int d = 0; d < k && i + d < g.w; ++d) m = std::max(m, g.fine[static_cast<std::size_t>(j) * g.w + i + d]);
-      g.tmp[static_cast<std::size_t>(j) * g.w + i] = m;
+    if (g_.sides[next] > 1) result_.bounds += static_cast<std::size_t>(count);
+    for (int a = 1; a < count; ++a) {  // at most four: insertion sort, best bound first
+      const Block key = children[static_cast<std::size_t>(a)];
+      int j = a - 1;
+      for (; j >= 0 && children[static_cast<std::size_t>(j)].bound < key.bound; --j) {
+        children[static_cast<std::size_t>(j + 1)] = children[static_cast<std::size_t>(j)];
+      }
+      children[static_cast<std::size_t>(j + 1)] = key;
+    }
+    for (int k = 0; k < count; ++k) {
+      const Block& child = children[static_cast<std::size_t>(k)];
+      if (child.bound < best_) break;
+      descend(child, next);
     }
   }
-  for (int j = 0; j < g.h; ++j) {
-    for (int i = 0; i < g.w; ++i) {
-      float m = 0.0f;
-      for (int d = 0; d < k && j + d < g.h; ++d) m = std::max(m, g.tmp[static_cast<std::size_t>(j + d) * g.w + i]);
-      g.coarse[static_cast<std::size_t>(j) * g.w + i] = m;
-    }
-  }
-}
+
+  float best() const { return best_; }
+  const Block& bestBlock() const { return best_block_; }
+
+ private:
+  const SearchGrid& g_;
+  Padded pad_;
+  const std::vector<int>& cells_;
+  int n_, W_, A_;
+  double step_;
+  float inv_n_;
+  SearchResult& result_;
+  float best_ = -1.0f;
+  double best_cost_ = 0.0;
+  Block best_block_{0.0f, 0, 0, 0};
+};
 
 }  // namespace
 
@@ -116,12 +144,105 @@ void SearchParams::validate() const {
 
 CorrelativeSearch::CorrelativeSearch(const SearchParams& params) : params_(params) { params_.validate(); }
 
+void CorrelativeSearch::prepare(const std::vector<Eigen::Vector2d>& key, SearchGrid& g) const {
+  const SearchParams& P = params_;
+  double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
+  for (const auto& p : key) {
+    if (!finite(p)) continue;
+    xmin = std::min(xmin, p.x());
+    xmax = std::max(xmax, p.x());
+    ymin = std::min(ymin, p.y());
+    ymax = std::max(ymax, p.y());
+  }
+  g.res = P.resolution_m;
+  const double margin = 3.0 * P.sigma_m + P.resolution_m;
+  const double half = 0.5 * static_cast<double>(P.max_grid_cells) * g.res;
+  // Clipped around the sensor: beyond, points are ignored (bounded memory).
+  xmin = std::max(xmin - margin, -half);
+  ymin = std::max(ymin - margin, -half);
+  xmax = std::min(xmax + margin, half);
+  ymax = std::min(ymax + margin, half);
+  if (!(xmax > xmin)) xmin = xmax = 0.0;
+  if (!(ymax > ymin)) ymin = ymax = 0.0;
+  g.x0 = xmin;
+  g.y0 = ymin;
+  g.w = std::max(1, static_cast<int>(std::ceil((xmax - xmin) / g.res)));
+  g.h = std::max(1, static_cast<int>(std::ceil((ymax - ymin) / g.res)));
+
+  // Block sides, top level first: coarse_cells, then halved (rounded up) down to 1.
+  g.sides.clear();
+  for (int s = static_cast<int>(P.coarse_cells); ; s = (s + 1) / 2) {
+    g.sides.push_back(s);
+    if (s == 1) break;
+  }
+  g.levels.resize(g.sides.size());
+  const Padded pad = paddedOf(g);
+  const std::size_t cells = static_cast<std::size_t>(pad.w) * static_cast<std::size_t>(pad.h);
+
+  // The likelihood: a Gaussian of sigma_m around each point (the maximum where they overlap).
+  // exp(-(dx^2 + dy^2) / 2s^2) is the product of one factor per axis: 2(2r + 1) exponentials
+  // per point instead of (2r + 1)^2.
+  std::vector<float>& fine = g.levels.back();
+  fine.assign(cells, 0.0f);
+  const int r = static_cast<int>(std::ceil(3.0 * P.sigma_m / g.res));
+  const double inv2s2 = 1.0 / (2.0 * P.sigma_m * P.sigma_m);
+  std::vector<double> fx_factor(static_cast<std::size_t>(2 * r + 1)), fy_factor(static_cast<std::size_t>(2 * r + 1));
+  for (const auto& p : key) {
+    if (!finite(p)) continue;
+    const double fx = (p.x() - g.x0) / g.res, fy = (p.y() - g.y0) / g.res;
+    if (fx < -r || fy < -r || fx > g.w + r || fy > g.h + r) continue;
+    const int ci = static_cast<int>(std::floor(fx)), cj = static_cast<int>(std::floor(fy));
+    const int i0 = std::max(0, ci - r), i1 = std::min(g.w - 1, ci + r);
+    const int j0 = std::max(0, cj - r), j1 = std::min(g.h - 1, cj + r);
+    for (int i = i0; i <= i1; ++i) {
+      const double dx = (i + 0.5) * g.res + g.x0 - p.x();
+      fx_factor[static_cast<std::size_t>(i - i0)] = std::exp(-dx * dx * inv2s2);
+    }
+    for (int j = j0; j <= j1; ++j) {
+      const double dy = (j + 0.5) * g.res + g.y0 - p.y();
+      fy_factor[static_cast<std::size_t>(j - j0)] = std::exp(-dy * dy * inv2s2);
+    }
+    for (int j = j0; j <= j1; ++j) {
+      float* row = &fine[static_cast<std::size_t>(j + pad.pad) * static_cast<std::size_t>(pad.w) + static_cast<std::size_t>(pad.pad)];
+      const double ey = fy_factor[static_cast<std::size_t>(j - j0)];
+      for (int i = i0; i <= i1; ++i) {
+        const float v = static_cast<float>(fx_factor[static_cast<std::size_t>(i - i0)] * ey);
+        row[i] = std::max(row[i], v);
+      }
+    }
+  }
+  // Each coarser level from the one below: a block of side s is covered by four blocks of
+  // side c = ceil(s / 2) at offsets 0 and s - c, so four lookups per cell and level.
+  for (std::size_t l = g.sides.size() - 1; l-- > 0;) {
+    const std::vector<float>& below = g.levels[l + 1];
+    std::vector<float>& level = g.levels[l];
+    level.assign(cells, 0.0f);
+    const int d = g.sides[l] - g.sides[l + 1];
+    for (int j = -pad.pad; j < g.h + pad.pad; ++j) {
+      for (int i = -pad.pad; i < g.w + pad.pad; ++i) {
+        const float m = std::max(std::max(pad.at(below, i, j), pad.at(below, i + d, j)),
+                                 std::max(pad.at(below, i, j + d), pad.at(below, i + d, j + d)));
+        level[static_cast<std::size_t>(j + pad.pad) * static_cast<std::size_t>(pad.w) + static_cast<std::size_t>(i + pad.pad)] = m;
+      }
+    }
+  }
+  g.ready = true;
+}
+
 SearchResult CorrelativeSearch::search(const std::vector<Eigen::Vector2d>& keyframe_points,
                                        const std::vector<Eigen::Vector2d>& current_points,
+                                       const Pose2D& prior) const {
+  thread_local SearchGrid grid;
+  prepare(keyframe_points, grid);
+  return search(grid, current_points, prior);
+}
+
+SearchResult CorrelativeSearch::search(const SearchGrid& g, const std::vector<Eigen::Vector2d>& current_points,
                                        const Pose2D& prior) const {
   const SearchParams& P = params_;
   SearchResult result;
   result.T_key_curr = prior;
+  if (!g.ready || g.levels.empty()) return result;
   thread_local Workspace ws;
   ws.pts.clear();
   std::size_t valid = 0;
@@ -138,19 +259,16 @@ SearchResult CorrelativeSearch::search(const std::vector<Eigen::Vector2d>& keyfr
       next += stride;
     }
   }
-  buildGrid(keyframe_points, P, ws.grid);
-  const Grid& g = ws.grid;
   double step = P.angular_step_rad;
   if (!(step > 0.0)) step = std::clamp(P.resolution_m / std::max(max_range, 1e-3), 0.5 * kDegToRad, 2.0 * kDegToRad);
   const int A = static_cast<int>(std::floor(P.angular_window_rad / step + 1e-9));
   const int W = static_cast<int>(std::floor(P.linear_window_m / P.resolution_m + 1e-9));
-  const int K = static_cast<int>(P.coarse_cells);
+  const int K = g.sides.front();
   const int n = static_cast<int>(ws.pts.size());
-  const float inv_n = 1.0f / static_cast<float>(n);
   const int rotations = 2 * A + 1;
 
   // Cells of every point at each rotation and at the prior translation.
-  ws.cells.resize(static_cast<std::size_t>(rotations) * n * 2);
+  ws.cells.resize(static_cast<std::size_t>(rotations) * static_cast<std::size_t>(n) * 2);
   for (int a = 0; a < rotations; ++a) {
     const double yaw = prior.yaw + (a - A) * step;
     const double c = std::cos(yaw), s = std::sin(yaw);
@@ -158,56 +276,40 @@ SearchResult CorrelativeSearch::search(const std::vector<Eigen::Vector2d>& keyfr
       const Eigen::Vector2d& p = ws.pts[static_cast<std::size_t>(i)];
       const double x = prior.x + c * p.x() - s * p.y(), y = prior.y + s * p.x() + c * p.y();
       const double fx = std::clamp((x - g.x0) / g.res, -1e6, 1e6), fy = std::clamp((y - g.y0) / g.res, -1e6, 1e6);
-      ws.cells[(static_cast<std::size_t>(a) * n + i) * 2] = static_cast<int>(std::floor(fx));
-      ws.cells[(static_cast<std::size_t>(a) * n + i) * 2 + 1] = static_cast<int>(std::floor(fy));
+      const std::size_t at = (static_cast<std::size_t>(a) * static_cast<std::size_t>(n) + static_cast<std::size_t>(i)) * 2;
+      ws.cells[at] = static_cast<int>(std::floor(fx));
+      ws.cells[at + 1] = static_cast<int>(std::floor(fy));
     }
   }
-  const auto score = [&](const std::vector<float>& grid, int a, int dx, int dy) {
-    float sum = 0.0f;
-    const int* c = &ws.cells[static_cast<std::size_t>(a) * n * 2];
-    for (int i = 0; i < n; ++i) sum += g.at(grid, c[2 * i] + dx, c[2 * i + 1] + dy);
-    return sum * inv_n;
-  };
-  result.prior_score = score(g.fine, A, 0, 0);
+  BranchAndBound bnb(g, ws.cells, n, W, A, step, result);
+  result.prior_score = bnb.score(g.levels.size() - 1, A, 0, 0);
 
-  // Coarse bounds: block (ix, iy) covers offsets [ix, ix + K) x [iy, iy + K).
-  ws.candidates.clear();
+  // Top level: every rotation x block of K x K translations, best bound first.
+  ws.top.clear();
   for (int a = 0; a < rotations; ++a) {
     for (int iy = -W; iy <= W; iy += K) {
-      for (int ix = -W; ix <= W; ix += K) {
-        ws.candidates.push_back({score(g.coarse, a, ix, iy), a, ix, iy});
-      }
+      for (int ix = -W; ix <= W; ix += K) ws.top.push_back({bnb.score(0, a, ix, iy), a, ix, iy});
     }
   }
-  result.bounds = ws.candidates.size();
-  std::sort(ws.candidates.begin(), ws.candidates.end(), [](const Coarse& l, const Coarse& r) {
-    return l.bound > r.bound || (l.bound == r.bound && std::abs(l.rot) < std::abs(r.rot));
-  });
-  float best = -1.0f;
-  double best_cost = 0.0;
-  int best_a = A, best_x = 0, best_y = 0;
-  for (const Coarse& c : ws.candidates) {
-    if (c.bound < best) break;
-    for (int dy = c.iy; dy < std::min(c.iy + K, W + 1); ++dy) {
-      for (int dx = c.ix; dx < std::min(c.ix + K, W + 1); ++dx) {
-        const float s = score(g.fine, c.rot, dx, dy);
-        ++result.evaluated;
-        // Ties go to the pose nearest the prior.
-        const double cost = std::hypot(dx * P.resolution_m, dy * P.resolution_m) + std::abs(c.rot - A) * step;
-        if (s > best || (s == best && cost < best_cost)) {
-          best = s;
-          best_cost = cost;
-          best_a = c.rot;
-          best_x = dx;
-          best_y = dy;
-        }
-      }
-    }
+  result.bounds += ws.top.size();
+  // A heap, not a sort: the search usually ends after a few of them.
+  const auto lower = [A](const Block& l, const Block& r) {
+    return l.bound < r.bound || (l.bound == r.bound && std::abs(l.rot - A) > std::abs(r.rot - A));
+  };
+  std::make_heap(ws.top.begin(), ws.top.end(), lower);
+  for (auto end = ws.top.end(); end != ws.top.begin(); --end) {
+    std::pop_heap(ws.top.begin(), end, lower);
+    const Block& b = *(end - 1);
+    if (b.bound < bnb.best()) break;
+    bnb.descend(b, 0);
   }
-  result.found = best > 0.0f;
-  result.score = std::max(0.0f, best);
-  result.T_key_curr = {prior.x + best_x * P.resolution_m, prior.y + best_y * P.resolution_m,
-                       wrapAngle(prior.yaw + (best_a - A) * step)};
+  const Block& best = bnb.bestBlock();
+  result.found = bnb.best() > 0.0f;
+  result.score = std::max(0.0f, bnb.best());
+  if (result.found) {
+    result.T_key_curr = {prior.x + best.ix * P.resolution_m, prior.y + best.iy * P.resolution_m,
+                         wrapAngle(prior.yaw + (best.rot - A) * step)};
+  }
   return result;
 }
 

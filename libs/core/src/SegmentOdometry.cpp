@@ -83,6 +83,7 @@ void SegmentOdometry::reset() {
   history_size_ = 0;
   velocity_ = {};
   map_size_ = 0;
+  search_grid_.ready = false;
 }
 
 void SegmentOdometry::segmentInto(const Scan& scan, int slot, const Twist2D& motion, OdometryStep& step) {
@@ -185,7 +186,8 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
   bool recovered = false;
   // 3. A bounded correlative search around the prior, then the refinement from its best.
   if (params_.recovery && (best.status == RefineStatus::kFailed || (params_.search_when_doubtful && doubtful(best)))) {
-    step.search = search_.search(key.points, cur.points, prior);
+    if (!search_grid_.ready) search_.prepare(key.points, search_grid_);
+    step.search = search_.search(search_grid_, cur.points, prior);
     if (step.search->found) {
       RefineResult r = refiner_.refine(refine_keyframe_, cur, step.search->T_key_curr);
       if (replaces(r, true) && better(r, best)) {
@@ -259,7 +261,7 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
     keyframe_ = slot;
     keyframe_pose_ = pose_;
     map_size_ = 0;
-    prepareKeyframe();
+    prepareKeyframe(step);
     last_stamp_ = scan.stamp_s;
     ++count_;
     step.T_odom_sensor = pose_;
@@ -339,14 +341,16 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
     if (step.status == TrackStatus::kLost) map_size_ = 0;
     keyframe_ = slot;
     keyframe_pose_ = pose_;
-    prepareKeyframe();
+    prepareKeyframe(step);
     step.keyframe = true;
   }
   return step;
 }
 
-void SegmentOdometry::prepareKeyframe() {
+void SegmentOdometry::prepareKeyframe(OdometryStep& step) {
+  search_grid_.ready = false;  // made again, for the new keyframe, when a search needs it
   if (!params_.refiner.enabled) return;
+  const auto t0 = std::chrono::steady_clock::now();
   map_scans_.clear();
   map_scans_.push_back({&segmentation_[keyframe_], Pose2D{}});
   for (std::size_t i = 0; i < map_size_; ++i) {
@@ -354,6 +358,8 @@ void SegmentOdometry::prepareKeyframe() {
     map_scans_.push_back({&k.segmentation, relative(k.T_odom_sensor, keyframe_pose_)});
   }
   refiner_.prepare(map_scans_, refine_keyframe_);
+  step.keyframe_us = microsecondsSince(t0);
+  step.matching_us += step.keyframe_us;
 }
 
 void SegmentOdometry::remember(double stamp) {

@@ -27,8 +27,9 @@ struct SearchParams {
   double angular_step_rad = 0.0;
   /// Points of the current scan used at most (evenly subsampled).
   std::size_t max_points = 100;
-  /// Coarse translation step of the branch and bound, in cells (>= 1).
-  std::size_t coarse_cells = 8;
+  /// Top-level translation block of the branch and bound, in cells (>= 1); each level
+  /// below halves it (rounded up) down to single cells.
+  std::size_t coarse_cells = 16;
   /// Largest grid side (cells): a keyframe spanning more is clipped around the sensor.
   std::size_t max_grid_cells = 1200;
 
@@ -49,10 +50,28 @@ struct SearchResult {
   std::size_t bounds = 0;
 };
 
+/// A keyframe rasterised for the search: its likelihood grid and, for each block size of the
+/// branch and bound, the maximum of that grid over the block (keyframe sensor frame, m).
+/// Depends only on the keyframe's points and the parameters, so one serves every scan matched
+/// against the same keyframe.
+struct SearchGrid {
+  double x0 = 0.0, y0 = 0.0;  ///< corner of cell (0, 0) (m)
+  double res = 0.05;          ///< cell side (m)
+  int w = 0, h = 0;           ///< cells
+  /// levels[l]: block side sides[l] (cells); levels.back() is the likelihood itself (side 1),
+  /// levels[0] the top-level bound (side coarse_cells). Row-major, w x h, values in [0, 1].
+  std::vector<std::vector<float>> levels;
+  std::vector<int> sides;
+  /// Whether prepare() filled it (a default grid holds no keyframe).
+  bool ready = false;
+};
+
 /// Exhaustive-in-effect search of T_key_curr over a window around a prior: the keyframe's
 /// points are rasterised into a likelihood grid, and every rotation step x translation cell
-/// of the window is scored by the current scan's points, with a one-level branch and bound
-/// on a sliding-maximum grid (exact: the result is the best pose of the full grid search).
+/// of the window is scored by the current scan's points, with a multi-level branch and bound
+/// (blocks of coarse_cells, then halves, down to single cells) on sliding-maximum grids,
+/// depth first, best bound first (exact: the result is the best pose of the full grid
+/// search, ties going to the pose nearest the prior).
 /// Points are in the sensor frames (m); invalid (non-finite) points are skipped.
 /// Bounded cost: O(grid cells + rotations * (window / coarse)^2 * points + refinement).
 class CorrelativeSearch {
@@ -62,6 +81,14 @@ class CorrelativeSearch {
 
   SearchResult search(const std::vector<Eigen::Vector2d>& keyframe_points,
                       const std::vector<Eigen::Vector2d>& current_points, const Pose2D& prior) const;
+
+  /// Rasterises the keyframe's points (sensor frame, m) into `grid`, reusing its buffers.
+  /// Cost O(points * (sigma / resolution)^2 + cells * levels).
+  void prepare(const std::vector<Eigen::Vector2d>& keyframe_points, SearchGrid& grid) const;
+
+  /// The search against a keyframe prepared once (same result as the overload above).
+  SearchResult search(const SearchGrid& grid, const std::vector<Eigen::Vector2d>& current_points,
+                      const Pose2D& prior) const;
 
   const SearchParams& params() const { return params_; }
 

@@ -143,6 +143,10 @@ struct OdometryStep {
   double matching_us = 0.0;
   /// Refinement and (when it ran) search; part of the matching time above.
   double refinement_us = 0.0;
+  /// Indexing this scan as the new keyframe (and local map) for the next scans' refinements,
+  /// when it became one; part of the matching time above, so that a scan's time is all the
+  /// work done for it.
+  double keyframe_us = 0.0;
 };
 
 /// Laser odometry with the segment matcher. Each scan is segmented once; the keyframe's
@@ -184,7 +188,7 @@ class SegmentOdometry {
   PriorGate priorGate(double dt, const std::optional<Pose2D>& odometry_increment) const;
   Pose2D refineWithKeyframe(int slot, const Pose2D& prior, const PriorGate& gate, OdometryStep& step);
   /// Prepares the keyframe (and the local map) for the refinements.
-  void prepareKeyframe();
+  void prepareKeyframe(OdometryStep& step);
   Twist2D meanVelocity(double stamp, double window) const;
   const Scan& withBeamTimes(const Scan& scan);
 
@@ -202,6 +206,7 @@ class SegmentOdometry {
   std::size_t map_size_ = 0;      // how many slots hold a keyframe
   std::vector<RefinementMapScan> map_scans_;
   CorrelativeSearch search_;
+  SearchGrid search_grid_;  // the keyframe rasterised for the search, made when first needed
   Segmentation segmentation_[2];  // the keyframe's and the current scan's
   int keyframe_ = 0;
   int current_ = 0;
