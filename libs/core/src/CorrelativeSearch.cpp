@@ -212,19 +212,31 @@ void CorrelativeSearch::prepare(const std::vector<Eigen::Vector2d>& key, SearchG
     }
   }
   // Each coarser level from the one below: a block of side s is covered by four blocks of
-  // side c = ceil(s / 2) at offsets 0 and s - c, so four lookups per cell and level.
+  // side c = ceil(s / 2) at offsets 0 and d = s - c; the maximum of the four in two passes
+  // (rows, then columns), beyond the padded grid counting as 0.
+  const std::size_t PW = static_cast<std::size_t>(pad.w), PH = static_cast<std::size_t>(pad.h);
+  g.scratch.resize(cells);
   for (std::size_t l = g.sides.size() - 1; l-- > 0;) {
     const std::vector<float>& below = g.levels[l + 1];
     std::vector<float>& level = g.levels[l];
-    level.assign(cells, 0.0f);
-    const int d = g.sides[l] - g.sides[l + 1];
-    for (int j = -pad.pad; j < g.h + pad.pad; ++j) {
-      for (int i = -pad.pad; i < g.w + pad.pad; ++i) {
-        const float m = std::max(std::max(pad.at(below, i, j), pad.at(below, i + d, j)),
-                                 std::max(pad.at(below, i, j + d), pad.at(below, i + d, j + d)));
-        level[static_cast<std::size_t>(j + pad.pad) * static_cast<std::size_t>(pad.w) + static_cast<std::size_t>(i + pad.pad)] = m;
-      }
+    level.resize(cells);  // every cell is written below
+    const std::size_t d = static_cast<std::size_t>(g.sides[l] - g.sides[l + 1]);
+    float* t = g.scratch.data();
+    for (std::size_t j = 0; j < PH; ++j) {
+      const float* b = &below[j * PW];
+      float* row = t + j * PW;
+      const std::size_t inner = PW > d ? PW - d : 0;
+      for (std::size_t i = 0; i < inner; ++i) row[i] = std::max(b[i], b[i + d]);
+      for (std::size_t i = inner; i < PW; ++i) row[i] = b[i];
     }
+    const std::size_t inner_rows = PH > d ? PH - d : 0;
+    for (std::size_t j = 0; j < inner_rows; ++j) {
+      const float* a = t + j * PW;
+      const float* c = t + (j + d) * PW;
+      float* row = &level[j * PW];
+      for (std::size_t i = 0; i < PW; ++i) row[i] = std::max(a[i], c[i]);
+    }
+    for (std::size_t j = inner_rows; j < PH; ++j) std::copy(t + j * PW, t + (j + 1) * PW, &level[j * PW]);
   }
   g.ready = true;
 }

@@ -62,6 +62,8 @@ struct SearchGrid {
   /// levels[0] the top-level bound (side coarse_cells). Row-major, w x h, values in [0, 1].
   std::vector<std::vector<float>> levels;
   std::vector<int> sides;
+  /// Working buffer of prepare() (kept to reuse its allocation).
+  std::vector<float> scratch;
   /// Whether prepare() filled it (a default grid holds no keyframe).
   bool ready = false;
 };
