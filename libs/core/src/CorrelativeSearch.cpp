@@ -18,10 +18,10 @@ bool finite(const Eigen::Vector2d& p) { return std::isfinite(p.x()) && std::isfi
 // unsigned comparison tells whether a lookup falls outside (likelihood 0).
 struct Padded {
   int pad = 0, w = 0, h = 0;  // padded sides
-  float at(const std::vector<float>& g, int i, int j) const {
+  int at(const std::vector<SearchGrid::Cell>& g, int i, int j) const {
     const int pi = i + pad, pj = j + pad;
     return (static_cast<unsigned>(pi) >= static_cast<unsigned>(w) || static_cast<unsigned>(pj) >= static_cast<unsigned>(h))
-               ? 0.0f
+               ? 0
                : g[static_cast<std::size_t>(pj) * static_cast<std::size_t>(w) + static_cast<std::size_t>(pi)];
   }
 };
@@ -31,10 +31,10 @@ Padded paddedOf(const SearchGrid& g) {
   return {pad, g.w + 2 * pad, g.h + 2 * pad};
 }
 
-// A block of poses: rotation index, first translation offsets (cells), its side (cells) and
-// the bound (or, for a single cell, the exact score) of every pose in it.
+// A block of poses: rotation index, first translation offsets (cells), and the bound (or,
+// for a single cell, the exact score) of every pose in it, as a sum of quantised cells.
 struct Block {
-  float bound;
+  int bound;
   int rot, ix, iy;
 };
 
@@ -52,16 +52,18 @@ class BranchAndBound {
  public:
   BranchAndBound(const SearchGrid& g, const std::vector<int>& cells, int n, int W, int A, double step,
                  SearchResult& result)
-      : g_(g), pad_(paddedOf(g)), cells_(cells), n_(n), W_(W), A_(A), step_(step), inv_n_(1.0f / static_cast<float>(n)),
-        result_(result) {}
+      : g_(g), pad_(paddedOf(g)), cells_(cells), n_(n), W_(W), A_(A), step_(step), result_(result) {}
 
-  float score(std::size_t level, int rot, int dx, int dy) const {
-    const std::vector<float>& grid = g_.levels[level];
+  // The sum of the points' cells (integers: exact, so the bounds hold to the last unit).
+  int score(std::size_t level, int rot, int dx, int dy) const {
+    const std::vector<SearchGrid::Cell>& grid = g_.levels[level];
     const int* c = &cells_[static_cast<std::size_t>(rot) * static_cast<std::size_t>(n_) * 2];
-    float sum = 0.0f;
+    int sum = 0;
     for (int i = 0; i < n_; ++i) sum += pad_.at(grid, c[2 * i] + dx, c[2 * i + 1] + dy);
-    return sum * inv_n_;
+    return sum;
   }
+  // A score as the mean likelihood of the points, in [0, 1].
+  double meanLikelihood(int sum) const { return static_cast<double>(sum) / (SearchGrid::kCellMax * static_cast<double>(n_)); }
 
   // A pose whose exact score is known.
   void leaf(const Block& b) {
@@ -107,7 +109,7 @@ class BranchAndBound {
     }
   }
 
-  float best() const { return best_; }
+  int best() const { return best_; }
   const Block& bestBlock() const { return best_block_; }
 
  private:
@@ -116,11 +118,10 @@ class BranchAndBound {
   const std::vector<int>& cells_;
   int n_, W_, A_;
   double step_;
-  float inv_n_;
   SearchResult& result_;
-  float best_ = -1.0f;
+  int best_ = -1;
   double best_cost_ = 0.0;
-  Block best_block_{0.0f, 0, 0, 0};
+  Block best_block_{0, 0, 0, 0};
 };
 
 }  // namespace
@@ -182,8 +183,8 @@ void CorrelativeSearch::prepare(const std::vector<Eigen::Vector2d>& key, SearchG
   // The likelihood: a Gaussian of sigma_m around each point (the maximum where they overlap).
   // exp(-(dx^2 + dy^2) / 2s^2) is the product of one factor per axis: 2(2r + 1) exponentials
   // per point instead of (2r + 1)^2.
-  std::vector<float>& fine = g.levels.back();
-  fine.assign(cells, 0.0f);
+  std::vector<SearchGrid::Cell>& fine = g.levels.back();
+  fine.assign(cells, 0);
   const int r = static_cast<int>(std::ceil(3.0 * P.sigma_m / g.res));
   const double inv2s2 = 1.0 / (2.0 * P.sigma_m * P.sigma_m);
   std::vector<double> fx_factor(static_cast<std::size_t>(2 * r + 1)), fy_factor(static_cast<std::size_t>(2 * r + 1));
@@ -203,10 +204,11 @@ void CorrelativeSearch::prepare(const std::vector<Eigen::Vector2d>& key, SearchG
       fy_factor[static_cast<std::size_t>(j - j0)] = std::exp(-dy * dy * inv2s2);
     }
     for (int j = j0; j <= j1; ++j) {
-      float* row = &fine[static_cast<std::size_t>(j + pad.pad) * static_cast<std::size_t>(pad.w) + static_cast<std::size_t>(pad.pad)];
-      const double ey = fy_factor[static_cast<std::size_t>(j - j0)];
+      SearchGrid::Cell* row =
+          &fine[static_cast<std::size_t>(j + pad.pad) * static_cast<std::size_t>(pad.w) + static_cast<std::size_t>(pad.pad)];
+      const double ey = fy_factor[static_cast<std::size_t>(j - j0)] * SearchGrid::kCellMax;
       for (int i = i0; i <= i1; ++i) {
-        const float v = static_cast<float>(fx_factor[static_cast<std::size_t>(i - i0)] * ey);
+        const auto v = static_cast<SearchGrid::Cell>(std::lround(fx_factor[static_cast<std::size_t>(i - i0)] * ey));
         row[i] = std::max(row[i], v);
       }
     }
@@ -217,23 +219,23 @@ void CorrelativeSearch::prepare(const std::vector<Eigen::Vector2d>& key, SearchG
   const std::size_t PW = static_cast<std::size_t>(pad.w), PH = static_cast<std::size_t>(pad.h);
   g.scratch.resize(cells);
   for (std::size_t l = g.sides.size() - 1; l-- > 0;) {
-    const std::vector<float>& below = g.levels[l + 1];
-    std::vector<float>& level = g.levels[l];
+    const std::vector<SearchGrid::Cell>& below = g.levels[l + 1];
+    std::vector<SearchGrid::Cell>& level = g.levels[l];
     level.resize(cells);  // every cell is written below
     const std::size_t d = static_cast<std::size_t>(g.sides[l] - g.sides[l + 1]);
-    float* t = g.scratch.data();
+    SearchGrid::Cell* t = g.scratch.data();
     for (std::size_t j = 0; j < PH; ++j) {
-      const float* b = &below[j * PW];
-      float* row = t + j * PW;
+      const SearchGrid::Cell* b = &below[j * PW];
+      SearchGrid::Cell* row = t + j * PW;
       const std::size_t inner = PW > d ? PW - d : 0;
       for (std::size_t i = 0; i < inner; ++i) row[i] = std::max(b[i], b[i + d]);
       for (std::size_t i = inner; i < PW; ++i) row[i] = b[i];
     }
     const std::size_t inner_rows = PH > d ? PH - d : 0;
     for (std::size_t j = 0; j < inner_rows; ++j) {
-      const float* a = t + j * PW;
-      const float* c = t + (j + d) * PW;
-      float* row = &level[j * PW];
+      const SearchGrid::Cell* a = t + j * PW;
+      const SearchGrid::Cell* c = t + (j + d) * PW;
+      SearchGrid::Cell* row = &level[j * PW];
       for (std::size_t i = 0; i < PW; ++i) row[i] = std::max(a[i], c[i]);
     }
     for (std::size_t j = inner_rows; j < PH; ++j) std::copy(t + j * PW, t + (j + 1) * PW, &level[j * PW]);
@@ -294,7 +296,7 @@ SearchResult CorrelativeSearch::search(const SearchGrid& g, const std::vector<Ei
     }
   }
   BranchAndBound bnb(g, ws.cells, n, W, A, step, result);
-  result.prior_score = bnb.score(g.levels.size() - 1, A, 0, 0);
+  result.prior_score = bnb.meanLikelihood(bnb.score(g.levels.size() - 1, A, 0, 0));
 
   // Top level: every rotation x block of K x K translations, best bound first.
   ws.top.clear();
@@ -316,8 +318,8 @@ SearchResult CorrelativeSearch::search(const SearchGrid& g, const std::vector<Ei
     bnb.descend(b, 0);
   }
   const Block& best = bnb.bestBlock();
-  result.found = bnb.best() > 0.0f;
-  result.score = std::max(0.0f, bnb.best());
+  result.found = bnb.best() > 0;
+  result.score = bnb.meanLikelihood(std::max(0, bnb.best()));
   if (result.found) {
     result.T_key_curr = {prior.x + best.ix * P.resolution_m, prior.y + best.iy * P.resolution_m,
                          wrapAngle(prior.yaw + (best.rot - A) * step)};

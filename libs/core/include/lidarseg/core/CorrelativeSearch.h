@@ -58,12 +58,17 @@ struct SearchGrid {
   double x0 = 0.0, y0 = 0.0;  ///< corner of cell (0, 0) (m)
   double res = 0.05;          ///< cell side (m)
   int w = 0, h = 0;           ///< cells
+  /// A cell's likelihood in [0, 1], quantised to 1/255 (a quarter of a float's memory: the
+  /// grid is written and read once per keyframe and per search, and bandwidth is its cost).
+  using Cell = std::uint8_t;
+  static constexpr int kCellMax = 255;
   /// levels[l]: block side sides[l] (cells); levels.back() is the likelihood itself (side 1),
-  /// levels[0] the top-level bound (side coarse_cells). Row-major, w x h, values in [0, 1].
-  std::vector<std::vector<float>> levels;
+  /// levels[0] the top-level bound (side coarse_cells). Row-major, padded by sides[0] cells
+  /// on every side.
+  std::vector<std::vector<Cell>> levels;
   std::vector<int> sides;
   /// Working buffer of prepare() (kept to reuse its allocation).
-  std::vector<float> scratch;
+  std::vector<Cell> scratch;
   /// Whether prepare() filled it (a default grid holds no keyframe).
   bool ready = false;
 };
