@@ -310,7 +310,7 @@ FeaturesReport FeaturesApp::run() {
     pass.addImages(*record);
     if (options_.max_scans > 0 && report.scans >= options_.max_scans) break;
     pass.addScan(*record);
-    progress.update(report.scans);
+    progress.update(report.scans, reader.fractionRead());
   }
   progress.done(report.scans);
   if (report.scans == 0) throw std::runtime_error(options_.input + ": no laser scan read");

@@ -152,7 +152,7 @@ SegmentStatsReport SegmentStatsApp::run() {
   while (auto record = reader.next()) {
     if (options_.max_scans > 0 && report.scans + report.skipped.size() >= options_.max_scans) break;
     pass.addScan(*record);
-    progress.update(report.scans);
+    progress.update(report.scans, reader.fractionRead());
   }
   progress.done(report.scans);
   report.sensor_label = reader.sensor();

@@ -67,6 +67,12 @@ RawlogScanReader::RawlogScanReader(const std::string& path, std::string sensor_l
           static_cast<unsigned char>(magic[1]) == 0x8b;
 }
 
+double RawlogScanReader::fractionRead() const {
+  const auto total = file_->getTotalBytesCount();
+  if (total == 0) return 0.0;
+  return std::clamp(static_cast<double>(file_->getPosition()) / static_cast<double>(total), 0.0, 1.0);
+}
+
 void RawlogScanReader::checkCompressedEnd() const {
   if (!gzip_) return;
   // The gzip trailer holds the uncompressed size modulo 2^32: equal to what was read, the

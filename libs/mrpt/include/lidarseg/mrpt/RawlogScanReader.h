@@ -67,6 +67,9 @@ class RawlogScanReader {
   std::optional<RawlogScan> next();
 
   const std::string& path() const { return path_; }
+  /// Share of the file's bytes (compressed bytes for a gzip rawlog) read so far, 0 to 1:
+  /// for a progress's time left.
+  double fractionRead() const;
   /// The label scans are filtered by (empty until the first scan when none was given).
   const std::string& sensorLabel() const { return label_; }
   /// Laser labels seen so far, including skipped ones (the first kMaxLabelsListed).
