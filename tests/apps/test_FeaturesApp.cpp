@@ -1,5 +1,4 @@
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -15,6 +14,7 @@
 #include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/apps/SimulateApp.h"
 #include "lidarseg/vision/ImageFile.h"
+#include "EmptyPath.h"
 
 namespace lidarseg::apps {
 namespace {
@@ -101,19 +101,11 @@ TEST(FeaturesApp, AFigureThatCannotBeDrawnIsAWarningAndNoFile) {
   o.progress = false;
   o.figure_scan = 20;
   o.figure_path = testDir() + "/scan20.png";
-  const char* old_path = std::getenv("PATH");
-  const std::string saved = old_path != nullptr ? old_path : "";
-  const std::string empty = testDir() + "/no-programs";
-  fs::create_directories(empty);
-  ::setenv("PATH", empty.c_str(), 1);
   FeaturesReport r;
-  try {
+  {
+    const lidarseg::testing::EmptyPath no_gnuplot;
     r = FeaturesApp(o).run();
-  } catch (...) {
-    ::setenv("PATH", saved.c_str(), 1);
-    throw;
   }
-  ::setenv("PATH", saved.c_str(), 1);
   EXPECT_EQ(r.scans, 40u);
   EXPECT_FALSE(fs::exists(o.figure_path));
   ASSERT_EQ(r.warnings.size(), 1u);

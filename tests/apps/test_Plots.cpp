@@ -1,8 +1,6 @@
 // The charts' series (libs/apps' private Plots.h): how a style is drawn, the histograms
 // drawn as steps from their samples, and the paper's Fig. 6 drawn by gnuplot on equal scales.
 #include <cmath>
-#include <cstdlib>
-#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <numeric>
@@ -12,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "EmptyPath.h"
 #include "Plots.h"
 #include "lidarseg/vision/ImageFile.h"
 
@@ -154,18 +153,15 @@ TEST(Plots, TheScanFigureIsAPngOfItsLayoutWithThePalettesColoursInPlace) {
 }
 
 TEST(Plots, WithoutGnuplotTheScanFigureIsRefusedNamingIt) {
-  const char* old = std::getenv("PATH");
-  const std::string saved = old != nullptr ? old : "";
-  const std::string empty = std::string(LIDARSEG_TEST_TMP_DIR) + "/no-programs";
-  std::filesystem::create_directories(empty);
-  ::setenv("PATH", empty.c_str(), 1);
   std::string what;
-  try {
-    scanFeaturesPng(corridorScan(), "a corridor");
-  } catch (const std::runtime_error& e) {
-    what = e.what();
+  {
+    const lidarseg::testing::EmptyPath no_gnuplot;
+    try {
+      scanFeaturesPng(corridorScan(), "a corridor");
+    } catch (const std::runtime_error& e) {
+      what = e.what();
+    }
   }
-  ::setenv("PATH", saved.c_str(), 1);
   EXPECT_NE(what.find("gnuplot is not installed"), std::string::npos) << what;
 }
 

@@ -496,8 +496,15 @@ BatchSummary BatchApp::aggregate(const std::string& out_dir, const std::string& 
   const fs::path out(out_dir);
   outputs.add((out / "aggregate.csv").string(), aggregateCsv(rows));
   outputs.add((out / "table1.md").string(), summary.table_markdown);
-  outputs.add((out / "final_errors.png").string(),
-              finalErrorsPng(rows, stats.at("icp_final_error_m").count > 0, title));
+  // Without gnuplot the table is written without its picture, with a warning (decision 55).
+  try {
+    outputs.add((out / "final_errors.png").string(),
+                finalErrorsPng(rows, stats.at("icp_final_error_m").count > 0, title));
+  } catch (const std::runtime_error& e) {
+    std::cerr << "lidarseg-batch: warning: no picture final_errors.png: " << e.what() << "\n";
+    std::error_code ec;
+    fs::remove(out / "final_errors.png", ec);  // not a picture of earlier runs beside the new table
+  }
   outputs.commit();
   return summary;
 }
