@@ -57,7 +57,10 @@ int main(int argc, char** argv) {
     options.rois_out = rois.getValue();
     options.images_out = images.getValue();
     lidarseg::apps::FeaturesApp app(options);
-    lidarseg::apps::FeaturesApp::print(app.run(), std::cout);
+    const lidarseg::apps::FeaturesReport result = app.run();
+    lidarseg::apps::FeaturesApp::print(result, std::cout);
+    std::cout.flush();
+    lidarseg::apps::FeaturesApp::printWarnings(result, std::cerr);
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "lidarseg-features: error: " << lidarseg::apps::describeError(e) << "\n";

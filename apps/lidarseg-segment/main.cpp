@@ -36,7 +36,10 @@ int main(int argc, char** argv) {
     options.csv_path = out.getValue().empty() ? csv.getValue() : out.getValue() + "/segments.csv";
     options.progress = !quiet.getValue();
     lidarseg::apps::SegmentStatsApp app(options);
-    lidarseg::apps::SegmentStatsApp::print(app.run(), std::cout);
+    const lidarseg::apps::SegmentStatsReport result = app.run();
+    lidarseg::apps::SegmentStatsApp::print(result, std::cout);
+    std::cout.flush();
+    lidarseg::apps::SegmentStatsApp::printWarnings(result, std::cerr);
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "lidarseg-segment: error: " << lidarseg::apps::describeError(e) << "\n";

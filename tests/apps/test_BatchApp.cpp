@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "EmptyPath.h"
 #include "lidarseg/apps/BatchApp.h"
 
 namespace lidarseg::apps {
@@ -59,6 +60,18 @@ TEST(BatchApp, RunsResumeAndAggregate) {
   EXPECT_TRUE(fs::exists(job.out_dir + "/aggregate.csv"));
   EXPECT_TRUE(fs::exists(job.out_dir + "/final_errors.png"));
   EXPECT_THROW(BatchApp::aggregate(kTmp + "/nothing-here", "x"), std::runtime_error);
+  // Without gnuplot: the table and a warning, no picture (none of the earlier runs left).
+  ::testing::internal::CaptureStderr();
+  {
+    const lidarseg::testing::EmptyPath no_gnuplot;
+    EXPECT_EQ(BatchApp::aggregate(job.out_dir, "test").runs, 2u);
+  }
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("lidarseg-batch: warning: no picture final_errors.png: gnuplot is not installed"),
+            std::string::npos)
+      << err;
+  EXPECT_TRUE(fs::exists(job.out_dir + "/table1.md"));
+  EXPECT_FALSE(fs::exists(job.out_dir + "/final_errors.png"));
 }
 
 TEST(BatchApp, AFailingJobLeavesNothingThatLooksFinished) {

@@ -13,6 +13,8 @@
 #include "lidarseg/apps/FeaturesApp.h"
 #include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/apps/SimulateApp.h"
+#include "lidarseg/vision/ImageFile.h"
+#include "EmptyPath.h"
 
 namespace lidarseg::apps {
 namespace {
@@ -80,7 +82,46 @@ TEST(FeaturesApp, FindsTheHospitalsDoorsAndCornersAndWritesTheFiles) {
   EXPECT_EQ(lines, detections);
   EXPECT_TRUE(fs::exists(o.report_dir + "/features.md"));
   EXPECT_TRUE(fs::exists(o.report_dir + "/features.json"));
-  EXPECT_GT(fs::file_size(o.figure_path), 1000u);
+  // The paper's Fig. 6: a PNG of the figure's width (two panels drawn by gnuplot).
+  const auto figure = vision::readImageHeader(o.figure_path);
+  ASSERT_TRUE(figure.has_value()) << o.figure_path;
+  EXPECT_EQ(figure->format, "PNG");
+  EXPECT_EQ(figure->width, 1600u);
+  EXPECT_GE(figure->height, 300u);
+  EXPECT_TRUE(r.warnings.empty()) << r.warnings.front();
+}
+
+// Without gnuplot the run goes on: a warning naming the figure and gnuplot, and no file; a
+// scan the log does not reach is a warning too. Both on stderr, none on stdout.
+TEST(FeaturesApp, AFigureThatCannotBeDrawnIsAWarningAndNoFile) {
+  const std::string prefix = simulatedPrefix();
+  FeaturesOptions o;
+  o.input = prefix + ".rawlog";
+  o.max_scans = 40;
+  o.progress = false;
+  o.figure_scan = 20;
+  o.figure_path = testDir() + "/scan20.png";
+  FeaturesReport r;
+  {
+    const lidarseg::testing::EmptyPath no_gnuplot;
+    r = FeaturesApp(o).run();
+  }
+  EXPECT_EQ(r.scans, 40u);
+  EXPECT_FALSE(fs::exists(o.figure_path));
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("scan20.png"), std::string::npos) << r.warnings[0];
+  EXPECT_NE(r.warnings[0].find("gnuplot is not installed"), std::string::npos) << r.warnings[0];
+  std::ostringstream out, err;
+  FeaturesApp::print(r, out);
+  FeaturesApp::printWarnings(r, err);
+  EXPECT_EQ(out.str().find("warning"), std::string::npos) << out.str();
+  EXPECT_EQ(err.str(), "lidarseg-features: warning: " + r.warnings[0] + "\n");
+
+  o.figure_scan = 100;  // past the 40 scans read
+  const FeaturesReport past = FeaturesApp(o).run();
+  EXPECT_FALSE(fs::exists(o.figure_path));
+  ASSERT_EQ(past.warnings.size(), 1u);
+  EXPECT_NE(past.warnings[0].find("no scan 100 among the 40 scans read"), std::string::npos) << past.warnings[0];
 }
 
 TEST(FeaturesApp, BadInputsAreNamed) {

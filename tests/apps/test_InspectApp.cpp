@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include "EmptyPath.h"
 #include "lidarseg/apps/InspectApp.h"
 #include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/apps/SimulateApp.h"
@@ -199,6 +200,35 @@ TEST(InspectApp, ReportHasTheTablePlotsAndWorstFramesFirst) {
   // Worst first: the gallery's order follows the table's.
   EXPECT_LT(html.find("scan_" + std::to_string(r.gallery[0]) + ".png"),
             html.find("scan_" + std::to_string(r.gallery[1]) + ".png"));
+}
+
+// Without gnuplot the report is still written, table and gallery, with a warning on stderr
+// and a line in the page saying why there are no plots (no broken images).
+TEST(InspectApp, ReportWithoutGnuplotHasNoPlotsAndSaysWhy) {
+  InspectOptions o;
+  o.input = simulatedLog();
+  o.report_dir = testDir() + "/report";
+  o.gallery = 2;
+  o.progress = false;
+  InspectApp app(o);
+  inspect::Session s(o.input, "", {});
+  ::testing::internal::CaptureStderr();
+  {
+    const lidarseg::testing::EmptyPath no_gnuplot;
+    app.writeReport(s);
+  }
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("lidarseg-inspect: warning: no plots in the report: gnuplot is not installed"), std::string::npos)
+      << err;
+  std::ifstream in(o.report_dir + "/index.html");
+  const std::string html((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(html.find("<table id=\"results\">"), std::string::npos);
+  EXPECT_NE(html.find("<p>No plots: gnuplot is not installed"), std::string::npos);
+  for (const char* f : {"trajectory.png", "error_over_time.png", "timing.png"}) {
+    EXPECT_EQ(html.find(f), std::string::npos) << f;
+    EXPECT_FALSE(fs::exists(o.report_dir + "/" + f)) << f;
+  }
+  EXPECT_NE(html.find("frames/scan_"), std::string::npos);  // the gallery is still there
 }
 
 TEST(InspectApp, KeysAreListed) {

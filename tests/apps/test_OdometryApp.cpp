@@ -128,9 +128,11 @@ TEST(OdometryApp, SimulatedRunBothMethodsEveryOutput) {
 
 TEST(OdometryApp, CarmenLogOfTheSameRunGivesTheSameAccuracy) {
   const std::string prefix = simulatedPrefix();
-  OdometryOptions o = optionsFor(prefix + ".carmen.log", "");
+  OdometryOptions o = optionsFor(prefix + ".carmen.log", "out_carmen");
   o.gt_path = prefix + ".gt.tum";
   o.log_reference = true;
+  o.plots = false;
+  fs::remove_all(o.out_dir);
   const OdometryReport r = OdometryApp(o).run();
   EXPECT_EQ(r.format, "carmen");
   EXPECT_GT(r.frames, 700u);
@@ -138,6 +140,37 @@ TEST(OdometryApp, CarmenLogOfTheSameRunGivesTheSameAccuracy) {
   EXPECT_LT(r.lidarseg.errors->final_position_error_m, 0.2);
   ASSERT_TRUE(r.lidarseg.log_relations);
   EXPECT_EQ(r.lidarseg.log_relations->evaluated, r.frames - 1);
+  // The log's own laser poses (a corrected log's poses; the simulator writes its odometry
+  // there) and its wheel odometry as TUM files beside lidarseg's, one row per scan at
+  // lidarseg's stamps, from the origin: the simulator's odometry (PREFIX.odom.tum) re-based
+  // to the first scan, to the CARMEN file's 4 digits. The wheel odometry is the ODOM line
+  // before the scan's laser line, which the simulator writes after it: one scan (2 cm) older.
+  const auto lidarseg = eval::readTum(o.out_dir + "/lidarseg.tum");
+  const auto odom = eval::readTum(prefix + ".odom.tum");
+  ASSERT_FALSE(odom.empty());
+  const auto odomAt = [&](double stamp_s) {
+    const auto it = std::min_element(odom.begin(), odom.end(), [&](const auto& a, const auto& b) {
+      return std::abs(a.stamp_s - stamp_s) < std::abs(b.stamp_s - stamp_s);
+    });
+    EXPECT_NEAR(it->stamp_s, stamp_s, 1e-3);
+    return it->pose;
+  };
+  const Pose2D first = odomAt(lidarseg.front().stamp_s);
+  for (const auto& [name, tolerance_m] : {std::pair<const char*, double>{"log-poses.tum", 2e-3},
+                                          std::pair<const char*, double>{"wheel-odometry.tum", 0.03}}) {
+    const auto t = eval::readTum(o.out_dir + "/" + name);
+    ASSERT_EQ(t.size(), r.frames) << name;
+    EXPECT_EQ(t.front().pose.x, 0.0) << name;
+    EXPECT_EQ(t.front().pose.y, 0.0) << name;
+    for (std::size_t k : {std::size_t{0}, t.size() / 2, t.size() - 1}) {
+      EXPECT_EQ(t[k].stamp_s, lidarseg[k].stamp_s) << name << " " << k;
+      const Pose2D want = relative(odomAt(t[k].stamp_s), first);
+      EXPECT_NEAR(t[k].pose.x, want.x, tolerance_m) << name << " " << k;
+      EXPECT_NEAR(t[k].pose.y, want.y, tolerance_m) << name << " " << k;
+    }
+  }
+  EXPECT_GT(std::hypot(relative(odomAt(lidarseg.back().stamp_s), first).x,
+                       relative(odomAt(lidarseg.back().stamp_s), first).y), 5.0);  // not a run standing still
 }
 
 TEST(OdometryApp, WrittenRawlogCarriesLidarsegOdometry) {

@@ -43,6 +43,22 @@ TEST(SegmentStatsApp, SummarisesEveryLevelOfTheRealLog) {
   SegmentStatsApp::print(r, printed);
   EXPECT_NE(printed.str().find("fused-again"), std::string::npos);
   EXPECT_NE(printed.str().find("scans: 225"), std::string::npos);
+  std::ostringstream warned;
+  SegmentStatsApp::printWarnings(r, warned);
+  EXPECT_EQ(warned.str(), "");  // nothing skipped, nothing said
+}
+
+TEST(SegmentStatsApp, SkippedScansAreAWarningOnStderrNotInTheResults) {
+  SegmentStatsReport r;
+  r.input = "log.rawlog";
+  r.scans = 3;
+  r.skipped = {"log.rawlog: entry 7 (scan 2): no valid beam", "log.rawlog: entry 9 (scan 4): no valid beam"};
+  std::ostringstream out, err;
+  SegmentStatsApp::print(r, out);
+  SegmentStatsApp::printWarnings(r, err);
+  EXPECT_EQ(out.str().find("entry 7"), std::string::npos) << out.str();
+  EXPECT_NE(out.str().find("scans: 3"), std::string::npos);
+  EXPECT_EQ(err.str(), "lidarseg-segment: warning: 2 scans skipped, the first: log.rawlog: entry 7 (scan 2): no valid beam\n");
 }
 
 TEST(SegmentStatsApp, MaxScansAndErrors) {

@@ -75,6 +75,35 @@ TEST(CarmenLogReader, GzipAndPlainGiveTheSameRecords) {
   EXPECT_FALSE(gz.next());
 }
 
+// The share of the file read (a progress's time left): from 0, never back, small after the
+// first line of a 2 MB log (64 KiB read ahead), about half at the middle one, 1 at the end;
+// the same for gzip (compressed bytes).
+TEST(CarmenLogReader, TheShareReadGrowsToOne) {
+  std::string text;
+  for (int k = 0; k < 1500; ++k) text += flaser(181, 2.0 + 0.001 * k, 0.01 * k, 1.0 + 0.1 * k);
+  ASSERT_GT(text.size(), std::size_t{2} << 20);
+  for (const std::string& path : {writeText("share.log", text), writeGz("share.log.gz", text)}) {
+    CarmenLogReader reader(path);
+    EXPECT_EQ(reader.fractionRead(), 0.0) << path;
+    double last = 0.0, after_first = -1.0, middle = -1.0;
+    std::size_t n = 0;
+    while (reader.next()) {
+      const double f = reader.fractionRead();
+      EXPECT_GE(f, last) << path << " record " << n;
+      if (n == 0) after_first = f;
+      if (n == 750) middle = f;
+      ++n;
+      last = f;
+    }
+    EXPECT_EQ(n, 1500u);
+    EXPECT_GT(after_first, 0.0) << path;
+    EXPECT_LT(after_first, 0.2) << path;
+    EXPECT_GT(middle, 0.4) << path;
+    EXPECT_LT(middle, 0.6) << path;
+    EXPECT_DOUBLE_EQ(last, 1.0) << path;
+  }
+}
+
 TEST(CarmenLogReader, MalformedLinesAreSkippedWithTheirLineAndUnknownTypesCounted) {
   const std::string text = flaser(5, 1.0, 0.0, 1.0) +      // line 1: good
                            "FLASER 5 1 2 3\n" +              // line 2: too few fields

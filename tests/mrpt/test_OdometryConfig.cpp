@@ -31,6 +31,18 @@ TEST(OdometryConfig, TheShippedDefaultFileSetsEveryKeyToTheDefaults) {
   EXPECT_DOUBLE_EQ(p.search.linear_window_m, d.search.linear_window_m);
 }
 
+// A saved value is the shortest text that reads back as the same double: what a user typed
+// (0.3), not 0.29999999999999999; a value that is not 0.3 keeps the digits that tell it.
+TEST(OdometryConfig, ValuesAreSavedAsTheShortestTextThatReadsBack) {
+  OdometryParams p;
+  p.keyframe_distance_m = 0.3;
+  p.keyframe_angle_rad = 0.1 + 0.2;
+  mrpt::config::CConfigFileMemory cfg;
+  saveOdometryParams(p, cfg);
+  EXPECT_EQ(cfg.read_string("odometry", "keyframe_distance_m", ""), "0.3");
+  EXPECT_EQ(cfg.read_string("odometry", "keyframe_angle_rad", ""), "0.30000000000000004");
+}
+
 TEST(OdometryConfig, RoundTripKeepsEveryValue) {
   OdometryParams p;
   p.matcher.cog_gate_m = 1.7;

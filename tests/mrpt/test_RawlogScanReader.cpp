@@ -49,6 +49,32 @@ TEST(RawlogScanReader, EveryScanOfTheRealTelecomLogSegments) {
   }
 }
 
+// The share of the (gzip) file read, a progress's time left: from 0, never back, a small
+// share after the first of 225 scans, about half at the middle one (uncompressed bytes
+// against the trailer's size: MRPT's position and size of a gzip stream are in different
+// units, and gave 1 at a third of the log), all of it at the end.
+TEST(RawlogScanReader, TheShareReadGrowsToOne) {
+  if (!fs::exists(kTelecom)) GTEST_SKIP() << "missing " << kTelecom << " (Debian mrpt-common)";
+  RawlogScanReader reader(kTelecom);
+  EXPECT_EQ(reader.fractionRead(), 0.0);
+  double last = 0.0, after_first = -1.0, middle = -1.0;
+  std::size_t n = 0;
+  while (reader.next()) {
+    const double f = reader.fractionRead();
+    EXPECT_GE(f, last) << "scan " << n;
+    if (n == 0) after_first = f;
+    if (n == 112) middle = f;
+    ++n;
+    last = f;
+  }
+  EXPECT_EQ(n, 225u);
+  EXPECT_GT(after_first, 0.0);
+  EXPECT_LT(after_first, 0.05);
+  EXPECT_GT(middle, 0.35);
+  EXPECT_LT(middle, 0.65);
+  EXPECT_GT(last, 0.99);
+}
+
 TEST(RawlogScanReader, ReadsTheSensoryFrameLayoutOfTheIntelLog) {
   if (!fs::exists(kIntel)) GTEST_SKIP() << "missing " << kIntel;
   RawlogScanReader reader(kIntel);

@@ -35,5 +35,14 @@ TEST(Palette, NoReferenceIsDrawnInLidarsegsColour) {
   }
 }
 
+TEST(Palette, AScanDrawingsMarksAreToldApart) {
+  // Points, doors, corners and the segments (lidarseg's blue) in one drawing: no two alike,
+  // and the robot's red apart from the doors' it sits among.
+  const std::vector<Rgb> marks = {kScanPointColour, kDoorColour, kCornerColour, kLidarsegColour, kRobotColour};
+  for (std::size_t i = 0; i < marks.size(); ++i) {
+    for (std::size_t j = i + 1; j < marks.size(); ++j) EXPECT_FALSE(same(marks[i], marks[j])) << i << " " << j;
+  }
+}
+
 }  // namespace
 }  // namespace lidarseg::pipeline

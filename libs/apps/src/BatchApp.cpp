@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -435,6 +436,10 @@ std::vector<std::string> BatchApp::runMany(const BatchJob& base, const std::vect
   for (auto s : seeds) {
     if (!finished(base.out_dir, s)) todo.push_back(s);
   }
+  // Progress only on a terminal (as every tool's): a line per finished run, with the time
+  // so far and the time left at the rate of the runs done.
+  progress = progress && ::isatty(STDERR_FILENO) == 1;
+  const auto start = std::chrono::steady_clock::now();
   if (progress) {
     std::cerr << "[lidarseg-batch] " << seeds.size() - todo.size() << " run(s) already finished, " << todo.size()
               << " to do, " << jobs << " at a time\n";
@@ -465,8 +470,14 @@ std::vector<std::string> BatchApp::runMany(const BatchJob& base, const std::vect
       failed.push_back(failureOf(seed, status, jobLogPath(base.out_dir, seed)));
     }
     if (progress) {
+      const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::cerr << "[lidarseg-batch] " << done << "/" << todo.size() << " done (seed " << seed
-                << (ok ? " ok" : " FAILED") << ")\n";
+                << (ok ? " ok" : " FAILED") << "), " << std::fixed << std::setprecision(0) << elapsed_s << " s";
+      if (done < todo.size()) {
+        std::cerr << ", ~" << elapsed_s / static_cast<double>(done) * static_cast<double>(todo.size() - done)
+                  << " s left";
+      }
+      std::cerr << std::defaultfloat << "\n";
     }
   }
   claimed.commit();  // nothing of its own to publish; the folder is kept
@@ -485,8 +496,15 @@ BatchSummary BatchApp::aggregate(const std::string& out_dir, const std::string& 
   const fs::path out(out_dir);
   outputs.add((out / "aggregate.csv").string(), aggregateCsv(rows));
   outputs.add((out / "table1.md").string(), summary.table_markdown);
-  outputs.add((out / "final_errors.png").string(),
-              finalErrorsPng(rows, stats.at("icp_final_error_m").count > 0, title));
+  // Without gnuplot the table is written without its picture, with a warning (decision 55).
+  try {
+    outputs.add((out / "final_errors.png").string(),
+                finalErrorsPng(rows, stats.at("icp_final_error_m").count > 0, title));
+  } catch (const std::runtime_error& e) {
+    std::cerr << "lidarseg-batch: warning: no picture final_errors.png: " << e.what() << "\n";
+    std::error_code ec;
+    fs::remove(out / "final_errors.png", ec);  // not a picture of earlier runs beside the new table
+  }
   outputs.commit();
   return summary;
 }

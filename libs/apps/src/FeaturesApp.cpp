@@ -137,6 +137,8 @@ class LogPass {
   std::string csv() const { return csv_.str(); }
   std::string roisCsv() const { return rois_csv_.str(); }
   std::string matchesCsv() const { return matches_csv_.str(); }
+  // Whether the --figure-scan scan was met in the log (drawn, or warned about).
+  bool figureMet() const { return figure_met_; }
 
  private:
   // Image n: its regions as CSV rows and coverage and, when asked, drawn on its pixels; an
@@ -206,12 +208,20 @@ class LogPass {
     }
   }
 
-  // Paper Fig. 6 of this scan, written at once.
-  void drawFigure(std::size_t scan) const {
+  // Paper Fig. 6 of this scan, written at once; without gnuplot a warning and no file
+  // (decision 55), the run goes on.
+  void drawFigure(std::size_t scan) {
+    figure_met_ = true;
     const std::string title =
         "scan " + std::to_string(scan) + " of " + std::filesystem::path(options_.input).filename().string();
-    writeFileAtomically(options_.figure_path,
-                        scanFeaturesPng(scanPicture(segmentation_, detector_.params().level, features_), title));
+    std::string png;
+    try {
+      png = scanFeaturesPng(scanPicture(segmentation_, detector_.params().level, features_), title);
+    } catch (const std::runtime_error& e) {
+      report_.warnings.push_back("no figure " + options_.figure_path + ": " + e.what());
+      return;
+    }
+    writeFileAtomically(options_.figure_path, png);
   }
 
   const FeaturesOptions& options_;
@@ -227,6 +237,7 @@ class LogPass {
   std::optional<LastScan> last_;
   std::ostringstream csv_, rois_csv_, matches_csv_;
   std::vector<double> detect_us_, segment_us_, errors_, coverage_;
+  bool figure_met_ = false;
 };
 
 // Truths found and detections right of one kind of feature, for features.json.
@@ -299,11 +310,16 @@ FeaturesReport FeaturesApp::run() {
     pass.addImages(*record);
     if (options_.max_scans > 0 && report.scans >= options_.max_scans) break;
     pass.addScan(*record);
-    progress.update(report.scans);
+    progress.update(report.scans, reader.fractionRead());
   }
   progress.done(report.scans);
   if (report.scans == 0) throw std::runtime_error(options_.input + ": no laser scan read");
   for (const std::string& issue : reader.issues()) report.skipped.push_back(issue);
+  if (options_.figure_scan && !pass.figureMet()) {
+    report.warnings.push_back("no figure " + options_.figure_path + ": no scan " +
+                              std::to_string(*options_.figure_scan) + " among the " + std::to_string(report.scans) +
+                              " scans read");
+  }
   pass.summarise();
   writeOutputs(options_, report, pass, outputs);
   return report;
@@ -356,13 +372,13 @@ std::string FeaturesApp::markdown(const FeaturesReport& r) {
   return os.str();
 }
 
-void FeaturesApp::print(const FeaturesReport& report, std::ostream& os) {
-  os << markdown(report);
+void FeaturesApp::print(const FeaturesReport& report, std::ostream& os) { os << markdown(report); }
+
+void FeaturesApp::printWarnings(const FeaturesReport& report, std::ostream& err) {
+  const std::string tool = "lidarseg-features: warning: ";
+  for (const std::string& w : report.warnings) err << tool << w << '\n';
   if (!report.skipped.empty()) {
-    os << "\nSkipped (" << report.skipped.size() << "):\n";
-    for (std::size_t i = 0; i < std::min<std::size_t>(report.skipped.size(), 20); ++i) {
-      os << "  " << report.skipped[i] << '\n';
-    }
+    err << tool << report.skipped.size() << " scans or images skipped, the first: " << report.skipped.front() << '\n';
   }
 }
 

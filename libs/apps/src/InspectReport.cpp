@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
+#include <iostream>
 #include <numeric>
 #include <sstream>
 
@@ -201,8 +202,9 @@ std::string htmlHeader(const std::string& input) {
   return html.str();
 }
 
-// The results table and the three plots.
-std::string htmlResults(const InspectReport& report, const std::vector<ScanRow>& rows, bool with_truth) {
+// The results table and the three plots (or, when they could not be drawn, why).
+std::string htmlResults(const InspectReport& report, const std::vector<ScanRow>& rows, bool with_truth,
+                        const std::string& no_plots) {
   std::vector<double> us;
   for (const ScanRow& r : rows) us.push_back(r.total_us);
   const Summary t = summarize(us);
@@ -212,8 +214,12 @@ std::string htmlResults(const InspectReport& report, const std::vector<ScanRow>&
        << "<th>p99 (&micro;s)</th><th>max (&micro;s)</th></tr>\n<tr><td>" << report.scans << "</td><td>"
        << fixed(report.length_m, 2) << "</td><td>" << report.failed_matches << "</td><td>"
        << (report.final_error_m ? fixed(*report.final_error_m, 3) : std::string("no ground truth")) << "</td><td>"
-       << fixed(t.median, 1) << "</td><td>" << fixed(t.p99, 1) << "</td><td>" << fixed(t.max, 1) << "</td></tr>\n</table>\n"
-       << "<h2>Trajectory</h2>\n<img src=\"trajectory.png\" alt=\"trajectories\">\n"
+       << fixed(t.median, 1) << "</td><td>" << fixed(t.p99, 1) << "</td><td>" << fixed(t.max, 1) << "</td></tr>\n</table>\n";
+  if (!no_plots.empty()) {
+    html << "<p>No plots: " << escapeXml(no_plots) << "</p>\n";
+    return html.str();
+  }
+  html << "<h2>Trajectory</h2>\n<img src=\"trajectory.png\" alt=\"trajectories\">\n"
        << "<h2>" << (with_truth ? "Error over time" : "Match uncertainty over time") << "</h2>\n"
        << "<img src=\"error_over_time.png\" alt=\"error over time\">\n"
        << "<h2>Timing</h2>\n<img src=\"timing.png\" alt=\"timing histogram\">\n";
@@ -266,10 +272,19 @@ InspectReport InspectApp::writeReport(inspect::Session& session) {
     outputs.add(dir + "/frames/scan_" + std::to_string(i) + ".png",
                 encodePng(inspect::renderPng(session.draw(i, layers), cv::Size(900, 700))));
   }
-  outputs.add(dir + "/trajectory.png", trajectoryPlot(rows, session.references()));
-  outputs.add(dir + "/error_over_time.png", errorPlot(rows, truth != nullptr));
-  outputs.add(dir + "/timing.png", timingPlot(rows));
-  outputs.add(dir + "/index.html", htmlHeader(options_.input) + htmlResults(report, rows, truth != nullptr) +
+  // Without gnuplot the report is written without its plots, with a warning (decision 55).
+  std::string no_plots;
+  try {
+    std::vector<std::pair<std::string, std::string>> plots;
+    plots.emplace_back("trajectory.png", trajectoryPlot(rows, session.references()));
+    plots.emplace_back("error_over_time.png", errorPlot(rows, truth != nullptr));
+    plots.emplace_back("timing.png", timingPlot(rows));
+    for (auto& [name, png] : plots) outputs.add(dir + "/" + name, std::move(png));
+  } catch (const std::runtime_error& e) {
+    no_plots = e.what();
+    std::cerr << "lidarseg-inspect: warning: no plots in the report: " << no_plots << "\n";
+  }
+  outputs.add(dir + "/index.html", htmlHeader(options_.input) + htmlResults(report, rows, truth != nullptr, no_plots) +
                                        htmlGallery(rows, report.gallery) + kHtmlFooter);
   outputs.commit();
   return report;

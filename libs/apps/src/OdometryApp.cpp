@@ -192,7 +192,7 @@ void OdometryApp::processLog(mrpt_adapter::LaserLogReader& reader, pipeline::Odo
   writeFeatureCsvHeader(features_csv);
   std::optional<RawlogOutput> rawlog;
   if (!o.write_rawlog.empty()) rawlog.emplace(o.write_rawlog, outputs, o.write_landmarks);
-  Progress progress("lidarseg-odometry", o.progress);
+  Progress progress("lidarseg-odometry", o.progress, o.max_scans);
   while (o.max_scans == 0 || odometry.counts().frames < o.max_scans) {
     std::optional<mrpt_adapter::LaserRecord> record;
     try {
@@ -214,7 +214,7 @@ void OdometryApp::processLog(mrpt_adapter::LaserLogReader& reader, pipeline::Odo
       }
     }
     if (rawlog) rawlog->write(*record, odometry.lidarseg().lastStep(), step.time.output_stamp_s, features);
-    progress.update(odometry.counts().frames);
+    progress.update(odometry.counts().frames, reader.fractionRead());
   }
   progress.done(odometry.counts().frames);
   if (odometry.counts().frames == 0) {

@@ -51,6 +51,14 @@ class FrameSource {
     }
   }
 
+  // How many frames the input holds: its image files, or the frame count the video's
+  // container declares (0 when it declares none); for the progress's time left only.
+  std::size_t expectedFrames() const {
+    if (!video_.isOpened()) return files_.size();
+    const double n = video_.get(cv::CAP_PROP_FRAME_COUNT);
+    return std::isfinite(n) && n > 0 ? static_cast<std::size_t>(n) : 0;
+  }
+
   // The next frame (BGR) and its file name; false at the end.
   bool next(cv::Mat& frame, std::string& file) {
     if (video_.isOpened()) {
@@ -253,7 +261,10 @@ PeopleReport PeopleApp::run() {
   if (!options_.draw_dir.empty()) fs::create_directories(options_.draw_dir);
   cv::Mat frame;
   std::string file;
-  Progress progress("lidarseg-people", options_.progress, options_.max_frames);
+  // The frames analysed: every `every`-th of the input's, at most max_frames.
+  std::size_t expected = (source.expectedFrames() + options_.every - 1) / options_.every;
+  if (options_.max_frames > 0 && (expected == 0 || expected > options_.max_frames)) expected = options_.max_frames;
+  Progress progress("lidarseg-people", options_.progress, expected);
   for (std::size_t index = 0; source.next(frame, file); ++index) {
     if (index % options_.every != 0) continue;
     if (options_.max_frames > 0 && report.frames >= options_.max_frames) break;

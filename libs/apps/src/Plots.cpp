@@ -19,16 +19,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
-
-#include "lidarseg/vision/ImageFile.h"
-
 extern char** environ;
 
 namespace lidarseg::apps {
-
-using vision::encodePng;
 
 namespace {
 
@@ -64,11 +57,14 @@ std::string quoted(const std::string& text) {
   return out + "'";
 }
 
-std::string rgb(const PlotSeries& s) {
+// gnuplot's colour of a palette entry: "#rrggbb".
+std::string hex(const pipeline::Rgb& c) {
   char buf[16];
-  std::snprintf(buf, sizeof buf, "#%02x%02x%02x", s.colour.r, s.colour.g, s.colour.b);
+  std::snprintf(buf, sizeof buf, "#%02x%02x%02x", c.r, c.g, c.b);
   return buf;
 }
+
+std::string rgb(const PlotSeries& s) { return hex(s.colour); }
 
 // Runs gnuplot on `script` (which writes `png`) and returns the PNG's bytes.
 std::string runGnuplot(const ScratchFolder& dir, const std::string& script) {
@@ -219,46 +215,158 @@ std::string plotXYPng(const std::vector<PlotSeries>& series, const std::string& 
   return runGnuplot(dir, gp + plotCommand(dir, series));
 }
 
-std::string scanFeaturesPng(const ScanPicture& scan, const std::string& title) {
-  constexpr int kPanel = 560, kTop = 40;
-  cv::Mat img(kPanel + kTop, 2 * kPanel, CV_8UC3, cv::Scalar(255, 255, 255));
-  // One scale for both panels, fitting every point (and the robot) with a margin.
-  double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
-  for (const auto& [x, y] : scan.points) {
+namespace {
+
+// The scan figure's pixels: the picture's width, each panel's margins (tick labels and the
+// y label on the left, the gap to the next panel on the right), the figure's top (its title
+// and the panels' titles) and bottom (the x label), the bands above and below the data for
+// the legend and the scale bar, and the bounds of a panel's plot height.
+constexpr int kFigureWidthPx = 1600;
+constexpr int kPanelLeftPx = 80, kPanelRightPx = 30;
+constexpr int kFigureTopPx = 95, kFigureBottomPx = 60;
+constexpr int kKeyBandPx = 66, kBarBandPx = 44;  // the legend takes up to two rows
+constexpr int kBarInsetPx = 20;                    // the scale bar from the frame's left edge
+constexpr int kMinPlotPx = 300, kMaxPlotPx = 1000;
+// The data's margin (share of its span on each side), the smallest span shown (m) and the
+// scale bar's length as a share of a panel's width.
+constexpr double kMarginShare = 0.05, kMinSpanM = 2.0, kBarShare = 1.0 / 6.0;
+
+// The largest 1, 2 or 5 times a power of ten not above `m` (> 0).
+double roundLength(double m) {
+  const double p = std::pow(10.0, std::floor(std::log10(m)));
+  for (double k : {5.0, 2.0}) {
+    if (k * p <= m) return k * p;
+  }
+  return p;
+}
+
+// Writes "x y" rows to `path`: one point per row (writePoints), or each quadruple as a
+// two-point line followed by a blank line, gnuplot's separator of polylines (writeLines).
+void writePoints(const std::string& path, const std::vector<std::pair<double, double>>& points) {
+  std::ofstream out(path);
+  out << std::setprecision(9);
+  for (const auto& [x, y] : points) out << x << ' ' << y << '\n';
+}
+void writeLines(const std::string& path, const std::vector<std::array<double, 4>>& lines) {
+  std::ofstream out(path);
+  out << std::setprecision(9);
+  for (const auto& l : lines) out << l[0] << ' ' << l[1] << '\n' << l[2] << ' ' << l[3] << "\n\n";
+}
+
+// "1 door", "2 doors".
+std::string counted(std::size_t n, const std::string& noun) {
+  return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
+
+}  // namespace
+
+ScanFigureLayout scanFigureLayout(const ScanPicture& scan) {
+  double x0 = 0, x1 = 0, y0 = 0, y1 = 0;  // the sensor is always shown
+  auto take = [&](double x, double y) {
+    if (!std::isfinite(x) || !std::isfinite(y)) return;
     x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-  }
-  const double span = std::max({x1 - x0, y1 - y0, 1.0}) * 1.08;
-  const double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
-  const double scale = kPanel / span;
-  auto px = [&](double x, double y, int panel) {
-    return cv::Point(static_cast<int>(std::lround(panel * kPanel + kPanel / 2 + (x - cx) * scale)),
-                     static_cast<int>(std::lround(kTop + kPanel / 2 - (y - cy) * scale)));
   };
-  cv::line(img, cv::Point(kPanel, kTop), cv::Point(kPanel, kTop + kPanel), cv::Scalar(180, 180, 180), 1);
-  for (const auto& [x, y] : scan.points) cv::circle(img, px(x, y, 0), 1, cv::Scalar(60, 60, 60), cv::FILLED);
-  for (const auto& s : scan.segments) {
-    cv::line(img, px(s[0], s[1], 1), px(s[2], s[3], 1), cv::Scalar(160, 90, 0), 2, cv::LINE_AA);
+  for (const auto& [x, y] : scan.points) take(x, y);
+  for (const auto& l : scan.segments) take(l[0], l[1]), take(l[2], l[3]);
+  for (const auto& l : scan.door_jambs) take(l[0], l[1]), take(l[2], l[3]);
+  for (const auto& [x, y] : scan.doors) take(x, y);
+  for (const auto& [x, y] : scan.corners) take(x, y);
+  const double span_x = std::max(x1 - x0, kMinSpanM) * (1.0 + 2.0 * kMarginShare);
+  const double span_y = std::max(y1 - y0, kMinSpanM) * (1.0 + 2.0 * kMarginShare);
+  const double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
+  const int plot_w = kFigureWidthPx / 2 - kPanelLeftPx - kPanelRightPx;
+  const int bands = kKeyBandPx + kBarBandPx;
+  const int data_h = std::clamp(static_cast<int>(std::lround(plot_w * span_y / span_x)), kMinPlotPx - bands,
+                                kMaxPlotPx - bands);
+  // One scale (pixels per metre) fitting the data in plot_w x data_h; the ranges widened to
+  // the plot's pixels, so a metre is as long on both axes.
+  const double scale = std::min(plot_w / span_x, data_h / span_y);
+  ScanFigureLayout layout;
+  layout.width_px = kFigureWidthPx;
+  layout.height_px = data_h + bands + kFigureTopPx + kFigureBottomPx;
+  layout.plot_left_px[0] = kPanelLeftPx;
+  layout.plot_left_px[1] = kFigureWidthPx / 2 + kPanelLeftPx;
+  layout.plot_top_px = kFigureTopPx;
+  layout.plot_width_px = plot_w;
+  layout.plot_height_px = data_h + bands;
+  layout.x_min_m = cx - 0.5 * plot_w / scale;
+  layout.x_max_m = cx + 0.5 * plot_w / scale;
+  layout.y_min_m = cy - (0.5 * data_h + kBarBandPx) / scale;
+  layout.y_max_m = cy + (0.5 * data_h + kKeyBandPx) / scale;
+  layout.scale_bar_m = roundLength(kBarShare * plot_w / scale);
+  return layout;
+}
+
+std::string scanFeaturesPng(const ScanPicture& scan, const std::string& title) {
+  const ScanFigureLayout L = scanFigureLayout(scan);
+  ScratchFolder dir;
+  const std::string points = dir.file("points.dat"), segments = dir.file("segments.dat"),
+                    jambs = dir.file("jambs.dat"), doors = dir.file("doors.dat"), corners = dir.file("corners.dat"),
+                    robot = dir.file("robot.dat");
+  writePoints(points, scan.points);
+  writeLines(segments, scan.segments);
+  writeLines(jambs, scan.door_jambs);
+  writePoints(doors, scan.doors);
+  writePoints(corners, scan.corners);
+  writePoints(robot, {{0.0, 0.0}});
+
+  const double W = L.width_px, H = L.height_px;
+  const double px_per_m = L.plot_width_px / (L.x_max_m - L.x_min_m);
+  const double bar_x = L.x_min_m + kBarInsetPx / px_per_m, bar_y = L.y_min_m + 0.5 * kBarBandPx / px_per_m;
+  std::ostringstream gp;
+  gp << std::setprecision(9);
+  gp << "set terminal pngcairo size " << L.width_px << ',' << L.height_px
+     << " enhanced font 'DejaVu Sans,12' linewidth 1.5\n"
+     << "set output " << quoted(dir.file("plot.png")) << "\n"
+     << "set encoding utf8\n"
+     << "set multiplot title " << quoted(title) << " noenhanced font ',14'\n"
+     << "set xrange [" << L.x_min_m << ':' << L.x_max_m << "]\nset yrange [" << L.y_min_m << ':' << L.y_max_m << "]\n"
+     << "set xlabel 'x (m, sensor frame)'\nset ylabel 'y (m, sensor frame)'\n"
+     << "set grid lc rgb '#dddddd'\n"
+     << "set format x '%h'\nset format y '%h'\n"
+     << "set key inside top left horizontal box opaque noenhanced samplen 1.5 width 1\n"
+     << "set tmargin at screen " << 1.0 - L.plot_top_px / H << "\nset bmargin at screen "
+     << 1.0 - (L.plot_top_px + L.plot_height_px) / H << "\n"
+     << "set arrow 1 from " << bar_x << ',' << bar_y << " to " << bar_x + L.scale_bar_m << ',' << bar_y
+     << " nohead lw 3 lc rgb 'black' front\n"
+     << "set label 1 '" << L.scale_bar_m << " m' at " << bar_x + L.scale_bar_m << ',' << bar_y
+     << " offset 0.8,0 left front\n";
+  const std::string robot_plot = quoted(robot) + " using 1:2 with points pt 2 ps 3 lw 2.5 lc rgb '" +
+                                 hex(pipeline::kRobotColour) + "' title 'robot'";
+  // Left: the raw points.
+  gp << "set lmargin at screen " << L.plot_left_px[0] / W << "\nset rmargin at screen "
+     << (L.plot_left_px[0] + L.plot_width_px) / W
+     << "\nset title 'raw scan: " << counted(scan.points.size(), "point") << "'\n"
+     << "plot ";
+  if (!scan.points.empty()) {
+    gp << quoted(points) << " using 1:2 with points pt 7 ps 0.45 lc rgb '" << hex(pipeline::kScanPointColour)
+       << "' title 'scan points', ";
   }
-  for (const auto& j : scan.door_jambs) {
-    cv::line(img, px(j[0], j[1], 1), px(j[2], j[3], 1), cv::Scalar(0, 0, 220), 1, cv::LINE_AA);
+  gp << robot_plot << "\n";
+  // Right: the segments, doors with their jambs, corners.
+  gp << "set lmargin at screen " << L.plot_left_px[1] / W << "\nset rmargin at screen "
+     << (L.plot_left_px[1] + L.plot_width_px) / W
+     << "\nset title '" << counted(scan.segments.size(), "segment") << ", " << counted(scan.doors.size(), "door")
+     << ", " << counted(scan.corners.size(), "corner") << "'\n"
+     << "plot ";
+  if (!scan.segments.empty()) {
+    gp << quoted(segments) << " using 1:2 with lines lw 2.5 lc rgb '" << hex(pipeline::kLidarsegColour)
+       << "' title 'segments', ";
   }
-  for (const auto& [x, y] : scan.doors) cv::circle(img, px(x, y, 1), 9, cv::Scalar(0, 0, 230), 2, cv::LINE_AA);
-  for (const auto& [x, y] : scan.corners) cv::circle(img, px(x, y, 1), 9, cv::Scalar(0, 170, 0), 2, cv::LINE_AA);
-  for (int panel = 0; panel < 2; ++panel) {
-    const cv::Point r = px(0, 0, panel);
-    cv::line(img, r - cv::Point(7, 7), r + cv::Point(7, 7), cv::Scalar(0, 0, 255), 2);
-    cv::line(img, r - cv::Point(7, -7), r + cv::Point(7, -7), cv::Scalar(0, 0, 255), 2);
+  if (!scan.door_jambs.empty()) {
+    gp << quoted(jambs) << " using 1:2 with lines lw 1.5 dt 2 lc rgb '" << hex(pipeline::kDoorColour)
+       << "' title 'door jambs', ";
   }
-  cv::putText(img, title, cv::Point(10, 26), cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-  cv::putText(img, "raw scan", cv::Point(10, kTop + 20), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1,
-              cv::LINE_AA);
-  cv::putText(img, "segments, doors (red), corners (green)", cv::Point(kPanel + 10, kTop + 20),
-              cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-  // Scale bar: 1 m.
-  const cv::Point b0(20, kTop + kPanel - 20);
-  cv::line(img, b0, b0 + cv::Point(static_cast<int>(scale), 0), cv::Scalar(0, 0, 0), 2);
-  cv::putText(img, "1 m", b0 + cv::Point(0, -8), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-  return encodePng(img);
+  if (!scan.doors.empty()) {
+    gp << quoted(doors) << " using 1:2 with points pt 6 ps 2.5 lw 2 lc rgb '" << hex(pipeline::kDoorColour)
+       << "' title 'door', ";
+  }
+  if (!scan.corners.empty()) {
+    gp << quoted(corners) << " using 1:2 with points pt 6 ps 2.5 lw 2 lc rgb '" << hex(pipeline::kCornerColour)
+       << "' title 'corner', ";
+  }
+  gp << robot_plot << "\nunset multiplot\n";
+  return runGnuplot(dir, gp.str());
 }
 
 }  // namespace lidarseg::apps

@@ -1,6 +1,7 @@
 #pragma once
 // Private to lidarseg::apps: the pictures of a run (trajectories, timing histograms,
-// per-run errors) as PNG images drawn by gnuplot (pngcairo); a scan's features with OpenCV.
+// per-run errors) and a scan's features (the paper's Fig. 6) as PNG images drawn by gnuplot
+// (pngcairo).
 // @throws std::runtime_error when gnuplot is missing or fails.
 
 #include <array>
@@ -66,8 +67,33 @@ struct ScanPicture {
   std::vector<std::array<double, 4>> door_jambs;  ///< jamb_a x, y, jamb_b x, y
   std::vector<std::pair<double, double>> corners;
 };
-/// The paper's Fig. 6: the raw scan (left) beside its segments with doors as red circles
-/// and corners as green circles (right); the robot is a red cross. Returns the PNG bytes.
+
+/// Where scanFeaturesPng() draws: the picture's size and each panel's view, one scale
+/// (pixels per metre) on both axes of both panels.
+struct ScanFigureLayout {
+  int width_px = 0, height_px = 0;  ///< the PNG's size
+  /// Each panel's plot (inside its frame), pixels from the picture's left and top: the left
+  /// edges of the raw scan's and the segments' panels, the top edge, the width and height.
+  int plot_left_px[2] = {0, 0};
+  int plot_top_px = 0, plot_width_px = 0, plot_height_px = 0;
+  double x_min_m = 0, x_max_m = 0;  ///< each panel's x range (sensor frame)
+  double y_min_m = 0, y_max_m = 0;  ///< each panel's y range (sensor frame)
+  double scale_bar_m = 1;           ///< the scale bar's length: 1, 2 or 5 times a power of ten
+};
+
+/// The layout of scanFeaturesPng() for `scan`: 1600 pixels wide, two panels side by side,
+/// each fitting every point, segment end, feature and the sensor with a margin (at least
+/// 2 m across), a band above the data for the legend and one below for the scale bar; the
+/// height follows the data's aspect (each panel's plot 300 to 1000 pixels high) and the
+/// ranges are widened so that a metre is as long on x as on y. O(size of `scan`).
+ScanFigureLayout scanFigureLayout(const ScanPicture& scan);
+
+/// The paper's Fig. 6 drawn by gnuplot (pngcairo), laid out by scanFigureLayout(): the raw
+/// scan (left) beside its segments (right) with doors as red circles and their jambs
+/// joined in red, corners as green circles, the sensor as a red cross in both; axes in
+/// metres on equal scales, a legend inside each frame, a scale bar; colours from
+/// lidarseg/pipeline/Palette.h. Returns the PNG bytes.
+/// @throws std::runtime_error when gnuplot is missing or fails.
 std::string scanFeaturesPng(const ScanPicture& scan, const std::string& title);
 
 }  // namespace lidarseg::apps

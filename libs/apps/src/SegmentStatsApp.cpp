@@ -152,7 +152,7 @@ SegmentStatsReport SegmentStatsApp::run() {
   while (auto record = reader.next()) {
     if (options_.max_scans > 0 && report.scans + report.skipped.size() >= options_.max_scans) break;
     pass.addScan(*record);
-    progress.update(report.scans);
+    progress.update(report.scans, reader.fractionRead());
   }
   progress.done(report.scans);
   report.sensor_label = reader.sensor();
@@ -169,6 +169,12 @@ SegmentStatsReport SegmentStatsApp::run() {
   return report;
 }
 
+void SegmentStatsApp::printWarnings(const SegmentStatsReport& r, std::ostream& err) {
+  if (r.skipped.empty()) return;
+  err << "lidarseg-segment: warning: " << r.skipped.size() << " scans skipped, the first: " << r.skipped.front()
+      << "\n";
+}
+
 void SegmentStatsApp::print(const SegmentStatsReport& r, std::ostream& os) {
   const auto flags = os.flags();
   os << std::fixed;
@@ -179,10 +185,6 @@ void SegmentStatsApp::print(const SegmentStatsReport& r, std::ostream& os) {
      << " beams over " << std::setprecision(1) << r.field_of_view_deg << " deg, max range "
      << r.max_range_m << " m; " << std::setprecision(0) << r.valid_beams_per_scan.mean
      << " valid beams per scan on average)\n";
-  if (!r.skipped.empty()) {
-    os << "  skipped scans: " << r.skipped.size() << "\n";
-    for (const auto& s : r.skipped) os << "    " << s << "\n";
-  }
   os << "\n  level              segments per scan           segment length (m)      "
         "points in   rms resid.  sigma theta\n";
   os << "                     mean  median   min   max     mean  median    max     "

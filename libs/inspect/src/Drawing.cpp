@@ -105,7 +105,7 @@ cv::Mat renderPng(const Drawing& d, const cv::Size& size) {
   }
   // The sensor: a small triangle pointing along x.
   std::vector<cv::Point> robot = {v({0.35, 0}), v({-0.15, 0.15}), v({-0.15, -0.15})};
-  cv::fillConvexPoly(img, robot, cv::Scalar(40, 40, 200), cv::LINE_AA);
+  cv::fillConvexPoly(img, robot, bgr(pipeline::kRobotColour), cv::LINE_AA);
   if (!d.camera.empty()) {
     const cv::Rect r = insetRect(d.camera, size);
     if ((r & cv::Rect(cv::Point(0, 0), size)) == r && r.area() > 0) {

@@ -296,7 +296,7 @@ double viewHalfWidth(const std::vector<Eigen::Vector2d>& points, double otherwis
 
 // The scan's valid points.
 PointLayer rawPoints(const std::vector<Eigen::Vector2d>& points) {
-  PointLayer layer{{}, {90, 90, 90}, 2};
+  PointLayer layer{{}, pipeline::kScanPointColour, 2};
   for (const auto& p : points) {
     if (std::isfinite(p.x())) layer.points.push_back(p);
   }
@@ -349,7 +349,7 @@ LineLayer matchedPairs(const Frame& f) {
 // Doors (red) and corners (green): a circle and the type's name.
 void drawFeatures(const std::vector<Feature>& features, Drawing& d) {
   for (const Feature& ft : features) {
-    const Rgb colour = isDoor(ft.type) ? Rgb{220, 20, 20} : Rgb{20, 170, 20};
+    const Rgb colour = isDoor(ft.type) ? pipeline::kDoorColour : pipeline::kCornerColour;
     d.circles.push_back({ft.position, isDoor(ft.type) ? 0.35 : 0.25, colour});
     d.labels.push_back({ft.position, toString(ft.type), colour});
   }

@@ -1,5 +1,7 @@
 #include "lidarseg/logs/LineReader.h"
 
+#include <algorithm>
+#include <filesystem>
 #include <stdexcept>
 
 #include <zlib.h>
@@ -10,6 +12,15 @@ LineReader::LineReader(const std::string& path) : path_(path) {
   gzFile f = gzopen(path.c_str(), "rb");
   if (f == nullptr) throw std::runtime_error("cannot open '" + path + "'");
   file_ = f;
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  file_bytes_ = ec ? 0.0 : static_cast<double>(size);
+}
+
+double LineReader::fractionRead() const {
+  if (file_bytes_ <= 0) return 0.0;
+  const z_off_t at = gzoffset(static_cast<gzFile>(file_));
+  return at < 0 ? 0.0 : std::clamp(static_cast<double>(at) / file_bytes_, 0.0, 1.0);
 }
 
 LineReader::~LineReader() {

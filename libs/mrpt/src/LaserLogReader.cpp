@@ -173,6 +173,10 @@ LaserLogReader::LaserLogReader(const std::string& path, const std::string& senso
 
 LaserLogReader::~LaserLogReader() = default;
 
+double LaserLogReader::fractionRead() const {
+  return rawlog_ ? rawlog_->fractionRead() : carmen_->fractionRead();
+}
+
 std::string LaserLogReader::sensor() const {
   return rawlog_ ? rawlog_->sensorLabel() : carmen_->laserType();
 }

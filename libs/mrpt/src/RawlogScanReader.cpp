@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
@@ -65,6 +66,28 @@ RawlogScanReader::RawlogScanReader(const std::string& path, std::string sensor_l
   std::array<char, 2> magic{};
   gzip_ = raw.read(magic.data(), 2) && static_cast<unsigned char>(magic[0]) == 0x1f &&
           static_cast<unsigned char>(magic[1]) == 0x8b;
+  std::error_code ec;
+  const double file_bytes = static_cast<double>(std::filesystem::file_size(path_, ec));
+  if (ec) return;
+  expected_bytes_ = file_bytes;
+  if (!gzip_ || file_bytes < 18) return;
+  // The trailer's size is modulo 2^32: for a log of more than 4 GiB, 2^32 is added until the
+  // size is at least half the file's (no rawlog compresses to more than twice its size; a
+  // file under 1 MB cannot hold 4 GiB of rawlog at deflate's ratio, and keeps the size read).
+  std::ifstream tail(path_, std::ios::binary);
+  tail.seekg(-4, std::ios::end);
+  std::array<unsigned char, 4> b{};
+  if (!tail.read(reinterpret_cast<char*>(b.data()), 4)) return;
+  double isize = static_cast<double>(b[0] | (b[1] << 8) | (b[2] << 16) | (static_cast<std::uint32_t>(b[3]) << 24));
+  while (file_bytes > 1e6 && isize < 0.5 * file_bytes) isize += 4294967296.0;
+  expected_bytes_ = isize;
+}
+
+double RawlogScanReader::fractionRead() const {
+  if (expected_bytes_ <= 0) return 0.0;
+  // MRPT's getPosition() of a gzip stream counts uncompressed bytes, its getTotalBytesCount()
+  // compressed ones: both sides are counted here in uncompressed bytes instead.
+  return std::clamp(static_cast<double>(counter_->bytes()) / expected_bytes_, 0.0, 1.0);
 }
 
 void RawlogScanReader::checkCompressedEnd() const {

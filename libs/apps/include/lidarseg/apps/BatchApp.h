@@ -52,7 +52,9 @@ class BatchApp {
 
   /// Runs the jobs for `seeds` that have not finished, `jobs` at a time, each in its own
   /// process (`self_exe one ...`), so that a failing or crashing run is reported while the
-  /// others finish. Returns the seeds that failed with their messages.
+  /// others finish. Returns the seeds that failed with their messages. `progress`: a line
+  /// on stderr per finished run with the time so far and the time left, shown only when
+  /// stderr is a terminal.
   static std::vector<std::string> runMany(const BatchJob& base, const std::vector<std::uint64_t>& seeds,
                                           std::size_t jobs, const std::string& self_exe, bool progress);
 

@@ -76,6 +76,9 @@ struct FeaturesReport {
   Summary roi_coverage;
   /// Scans skipped (unreadable), with the reason.
   std::vector<std::string> skipped;
+  /// What the run could not do but did not fail for, one line each (no figure without
+  /// gnuplot, a --figure-scan beyond the log): printed by printWarnings().
+  std::vector<std::string> warnings;
 };
 
 /// Runs the door and corner detector over a whole log.
@@ -89,7 +92,11 @@ class FeaturesApp {
 
   /// The report as Markdown (tables of recall and precision per type).
   static std::string markdown(const FeaturesReport& report);
+  /// The report's Markdown on `os` (the results: stdout).
   static void print(const FeaturesReport& report, std::ostream& os);
+  /// The run's warnings on `err` (stderr), after the results: each warning, then the
+  /// skipped scans and images counted with the first in full. Nothing when there is none.
+  static void printWarnings(const FeaturesReport& report, std::ostream& err);
 
  private:
   FeaturesOptions options_;

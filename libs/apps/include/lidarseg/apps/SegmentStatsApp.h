@@ -75,6 +75,9 @@ class SegmentStatsApp {
 
   /// Writes the report as a readable table.
   static void print(const SegmentStatsReport& report, std::ostream& os);
+  /// The run's warnings on `err` (stderr), after the results: the skipped scans counted,
+  /// with the first in full. Nothing when none was skipped.
+  static void printWarnings(const SegmentStatsReport& report, std::ostream& err);
 
  private:
   SegmentStatsOptions options_;

@@ -81,6 +81,8 @@ class CarmenLogReader {
   const std::map<std::string, std::string>& params() const { return params_; }
   const std::string& laserType() const { return options_.laser_type; }
   const std::string& path() const { return reader_.path(); }
+  /// Share of the file read so far, 0 to 1 (LineReader::fractionRead()).
+  double fractionRead() const { return reader_.fractionRead(); }
 
  private:
   bool parseLaser(const std::string& type, const std::vector<std::string>& f, CarmenLaser& out);

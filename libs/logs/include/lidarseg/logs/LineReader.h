@@ -27,6 +27,10 @@ class LineReader {
   /// stream, a read error or a line longer than kMaxLineBytes.
   bool next(std::string& line);
 
+  /// Share of the file's bytes (compressed bytes for a gzip file) read so far, 0 to 1: for
+  /// a progress's time left. Read ahead by up to 64 KiB (plus zlib's buffer).
+  double fractionRead() const;
+
   /// 1-based number of the last line returned.
   std::size_t lineNumber() const { return line_; }
   const std::string& path() const { return path_; }
@@ -35,6 +39,7 @@ class LineReader {
   std::string path_;
   void* file_ = nullptr;  // gzFile
   std::size_t line_ = 0;
+  double file_bytes_ = 0;   // the file's size on disk
   std::string buffer_;      // bytes read but not yet returned
   std::size_t begin_ = 0;   // first unreturned byte of buffer_
   bool eof_ = false;

@@ -55,6 +55,9 @@ class LaserLogReader {
 
   LogFormat format() const { return format_; }
   const std::string& path() const { return path_; }
+  /// Share of the file read so far, 0 to 1 (compressed bytes for a gzip file): for a
+  /// progress's time left when the number of scans is not known.
+  double fractionRead() const;
   /// The sensor label or line type being read (known after the first scan).
   std::string sensor() const;
   /// Skipped lines/scans with their location (the first 100), and how many in all.

@@ -67,6 +67,10 @@ class RawlogScanReader {
   std::optional<RawlogScan> next();
 
   const std::string& path() const { return path_; }
+  /// Share of the rawlog's bytes read so far, 0 to 1, for a progress's time left: of a gzip
+  /// rawlog, its uncompressed bytes over the size its gzip trailer declares (modulo 2^32,
+  /// taken above half the file's size); of a plain one, its bytes over the file's size.
+  double fractionRead() const;
   /// The label scans are filtered by (empty until the first scan when none was given).
   const std::string& sensorLabel() const { return label_; }
   /// Laser labels seen so far, including skipped ones (the first kMaxLabelsListed).
@@ -86,6 +90,7 @@ class RawlogScanReader {
   /// At the end of a gzip-compressed rawlog: throws if the compressed stream was cut.
   void checkCompressedEnd() const;
   bool gzip_ = false;
+  double expected_bytes_ = 0;  // the uncompressed size, for fractionRead()
 
   std::string path_;
   std::string label_;

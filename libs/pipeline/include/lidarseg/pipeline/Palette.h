@@ -21,6 +21,12 @@ inline constexpr Rgb kTruthColour{0, 0, 0};          ///< black: ground truth, l
 inline constexpr Rgb kWheelColour{140, 140, 140};    ///< grey: the log's wheel odometry
 inline constexpr Rgb kOtherColour{30, 150, 30};      ///< green: any other trajectory
 
+// What a scan drawing shows (the paper's Fig. 6, the inspector's window and renders).
+inline constexpr Rgb kScanPointColour{90, 90, 90};   ///< dark grey: a scan's raw points
+inline constexpr Rgb kDoorColour{220, 20, 20};       ///< red: a door and its jambs
+inline constexpr Rgb kCornerColour{20, 170, 20};     ///< green: a corner
+inline constexpr Rgb kRobotColour{200, 40, 40};      ///< red: the sensor (robot) itself
+
 /// The colour of each reference trajectory (named on the command line or read beside a
 /// log), in the order given: a ground truth (named "gt" or containing "truth") black, an
 /// MRPT ICP trajectory (containing "icp" or "ICP") red, and the others green and grey in
