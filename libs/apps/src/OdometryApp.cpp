@@ -7,23 +7,14 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <mrpt/io/CFileGZOutputStream.h>
-#include <mrpt/obs/CActionCollection.h>
-#include <mrpt/obs/CActionRobotMovement2D.h>
-#include <mrpt/obs/CObservationOdometry.h>
-#include <mrpt/obs/CSensoryFrame.h>
-#include <mrpt/poses/CPosePDFGaussian.h>
-#include <mrpt/serialization/CArchive.h>
-
-#include "FeatureCsv.h"
+#include "lidarseg/pipeline/FeatureCsv.h"
 #include "lidarseg/pipeline/OutputFiles.h"
 #include "Plots.h"
 #include "lidarseg/pipeline/Progress.h"
 #include "lidarseg/core/FeatureDetector.h"
-#include "lidarseg/mrpt/FeatureObservation.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
-#include "lidarseg/mrpt/PoseConversion.h"
 #include "lidarseg/pipeline/OdometryRun.h"
+#include "lidarseg/pipeline/RawlogWriter.h"
 #include "lidarseg/pipeline/ReportWriters.h"
 
 namespace lidarseg::apps {
@@ -37,8 +28,6 @@ using pipeline::Progress;
 namespace fs = std::filesystem;
 
 namespace {
-
-using mrpt_adapter::toMrpt;
 
 std::string stemOf(const std::string& path) {
   for (const char* ext : {".rawlog.gz", ".rawlog", ".clf.gz", ".log.gz", ".clf", ".log"}) {
@@ -61,53 +50,6 @@ struct OdometryApp::References {
 };
 
 namespace {
-
-// The input written back with lidarseg's motion as the robot's odometry action, then the
-// scan, the observations that came with it and its doors and corners as landmarks. Written
-// under a temporary name, put in place with the other outputs.
-class RawlogOutput {
- public:
-  // gzip level 1, as MRPT's own tools write rawlogs.
-  RawlogOutput(const std::string& path, OutputSet& outputs, bool landmarks) : landmarks_(landmarks) {
-    const std::string tmp = outputs.addWritten(path);
-    if (!out_.open(tmp, 1)) throw std::runtime_error("cannot write '" + tmp + "'");
-  }
-  // `stamp_s`: the scan's repaired stamp (the TUM files'), strictly increasing.
-  void write(const mrpt_adapter::LaserRecord& record, const mrpt_adapter::LaserOdometryStep& step, double stamp_s,
-             const std::vector<Feature>& features) {
-    const auto& obs = *record.observation;
-    auto archive = mrpt::serialization::archiveFrom(out_);
-    const Pose2D pose = mrpt_adapter::toPose2D(step.robot_pose.mean);
-    const Pose2D inc = step.core.first ? Pose2D{} : relative(pose, last_pose_);
-    last_pose_ = pose;
-    mrpt::obs::CActionCollection actions;
-    mrpt::obs::CActionRobotMovement2D move;
-    move.rawOdometryIncrementReading = toMrpt(inc);
-    move.estimationMethod = mrpt::obs::CActionRobotMovement2D::emScan2DMatching;
-    move.poseChange = mrpt::poses::CPosePDFGaussian::Create(toMrpt(inc), step.increment.cov);
-    move.timestamp = mrpt::Clock::fromDouble(stamp_s);
-    actions.insert(move);
-    archive << actions;
-    mrpt::obs::CSensoryFrame frame;
-    // The log's own odometry observations are replaced by lidarseg's action.
-    for (const auto& other : record.companions) {
-      if (!std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(other)) frame.insert(other);
-    }
-    frame.insert(record.observation);
-    if (landmarks_) {
-      auto landmarks = mrpt_adapter::makeBearingRangeObservation(features, obs.sensorPose, obs.maxRange, obs.aperture);
-      landmarks->timestamp = obs.timestamp;
-      frame.insert(landmarks);
-    }
-    archive << frame;
-  }
-  void close() { out_.close(); }
-
- private:
-  bool landmarks_;
-  mrpt::io::CFileGZOutputStream out_;
-  Pose2D last_pose_;
-};
 
 void evaluate(MethodReport& m, const OdometryApp::References& refs, double relations_tolerance_s) {
   if (refs.gt) m.errors = eval::evaluateTrajectory(m.trajectory, *refs.gt, refs.gt_tolerance_s);
@@ -189,8 +131,8 @@ void OdometryApp::processLog(mrpt_adapter::LaserLogReader& reader, pipeline::Odo
   const FeatureDetector detector(settings.config.features);
   std::vector<Feature> features;
   std::ostringstream features_csv;
-  writeFeatureCsvHeader(features_csv);
-  std::optional<RawlogOutput> rawlog;
+  pipeline::writeFeatureCsvHeader(features_csv);
+  std::optional<pipeline::RawlogWriter> rawlog;
   if (!o.write_rawlog.empty()) rawlog.emplace(o.write_rawlog, outputs, o.write_landmarks);
   Progress progress("lidarseg-odometry", o.progress);
   while (o.max_scans == 0 || odometry.counts().frames < o.max_scans) {
@@ -209,7 +151,7 @@ void OdometryApp::processLog(mrpt_adapter::LaserLogReader& reader, pipeline::Odo
       detector.detect(odometry.lidarseg().core().lastSegmentation(), features);
       const Pose2D& sp = record->sensor_on_robot;
       if (!o.features_out.empty()) {
-        writeFeatureCsvRows(features_csv, step.time.output_stamp_s, record->index, sp,
+        pipeline::writeFeatureCsvRows(features_csv, step.time.output_stamp_s, record->index, sp,
                             features);
       }
     }
@@ -265,40 +207,9 @@ void OdometryApp::writeOutputs(OdometryReport& report, const References& refs, c
                                const eval::StampedTrajectory& wheel_odometry, OutputSet& outputs) const {
   const OdometryOptions& o = options_;
   if (!o.out_dir.empty()) {
-    fs::create_directories(o.out_dir);
-    const auto path = [&](const char* name) { return (fs::path(o.out_dir) / name).string(); };
-    outputs.add(path("lidarseg.tum"), pipeline::tumText(report.lidarseg.trajectory, "lidarseg robot poses, odometry frame"));
-    if (report.icp) {
-      outputs.add(path("icp.tum"), pipeline::tumText(report.icp->trajectory, "MRPT ICP (keyframed) robot poses, odometry frame"));
-    }
-    if (report.icp_s2s) {
-      outputs.add(path("icp-s2s.tum"),
-                  pipeline::tumText(report.icp_s2s->trajectory, "MRPT ICP (scan to scan) robot poses, odometry frame"));
-    }
-    // The log's own wheel odometry and poses, for tools such as evo to compare with.
-    const auto from_first = [](eval::StampedTrajectory t) {
-      if (t.empty()) return t;
-      const Pose2D first = t.front().pose;
-      for (auto& p : t) p.pose = relative(p.pose, first);
-      return t;
-    };
-    if (!wheel_odometry.empty()) {
-      outputs.add(path("wheel-odometry.tum"),
-                  pipeline::tumText(from_first(wheel_odometry), "the log's wheel odometry, from the first scan's pose"));
-    }
-    if (!log_poses.empty()) {
-      outputs.add(path("log-poses.tum"),
-                  pipeline::tumText(from_first(log_poses), "the log's own poses (CARMEN: corrected), from the first scan's pose"));
-    }
-    outputs.add(path("timing.csv"), pipeline::timingCsv(report));
-    outputs.add(path("summary.json"), pipeline::summaryJson(report));
-    outputs.add(path("results.md"), pipeline::markdownTable(report));
+    const std::vector<std::string> written = pipeline::addRunOutputs(outputs, o.out_dir, report, log_poses, wheel_odometry);
     if (o.plots) addPlots(report, refs, log_poses, wheel_odometry, outputs);
-    report.outputs = {path("lidarseg.tum"), path("timing.csv"), path("summary.json"), path("results.md")};
-    if (report.icp) report.outputs.push_back(path("icp.tum"));
-    if (report.icp_s2s) report.outputs.push_back(path("icp-s2s.tum"));
-    if (!wheel_odometry.empty()) report.outputs.push_back(path("wheel-odometry.tum"));
-    if (!log_poses.empty()) report.outputs.push_back(path("log-poses.tum"));
+    report.outputs = written;
   }
   outputs.commit();
   if (!o.features_out.empty()) report.outputs.push_back(o.features_out);
@@ -347,64 +258,6 @@ void OdometryApp::addPlots(const OdometryReport& report, const References& refs,
     outputs.add(path("timing.png"), plotHistogramsPng(hist, "Time per scan", "microseconds"));
   } catch (const std::runtime_error& e) {
     std::cerr << "lidarseg-odometry: warning: no pictures: " << e.what() << "\n";
-  }
-}
-
-std::string OdometryApp::markdownTable(const OdometryReport& report) { return pipeline::markdownTable(report); }
-
-std::string OdometryApp::summaryJson(const OdometryReport& report) { return pipeline::summaryJson(report); }
-
-void OdometryApp::print(const OdometryReport& r, std::ostream& os) {
-  os << markdownTable(r);
-  os << "\nskipped: " << r.skipped_count << ", non-increasing stamps: " << r.non_increasing_stamps
-     << ", time gaps: " << r.time_gaps << ", clock jumps: " << r.clock_jumps << ", odometry jumps: " << r.odometry_jumps << "\n";
-  os << "lidarseg status:";
-  for (const auto& [k, v] : r.lidarseg.status_counts) os << " " << k << "=" << v;
-  os << "\n";
-  for (const auto& s : r.outputs) os << "wrote " << s << "\n";
-}
-
-namespace {
-// A warning's kind: its text after the place ("FILE:LINE: " or "FILE, entry N: ") up to
-// the first digit, e.g. "time gap of ".
-std::string warningKind(const std::string& w) {
-  std::size_t start = w.find(": ");
-  start = start == std::string::npos ? 0 : start + 2;
-  const std::size_t digit = w.find_first_of("0123456789", start);
-  return w.substr(start, (digit == std::string::npos ? w.size() : digit) - start);
-}
-}  // namespace
-
-void OdometryApp::printWarnings(const OdometryReport& r, std::ostream& err) {
-  const std::string tool = "lidarseg-odometry: warning: ";
-  // One line per kind: how many, and the first in full (its place in the log).
-  std::vector<std::pair<std::string, std::size_t>> kinds;
-  std::vector<std::string> first;
-  for (const auto& w : r.warnings) {
-    const std::string kind = warningKind(w);
-    auto it = std::find_if(kinds.begin(), kinds.end(), [&](const auto& k) { return k.first == kind; });
-    if (it == kinds.end()) {
-      kinds.emplace_back(kind, 0);
-      first.push_back(w);
-      it = kinds.end() - 1;
-    }
-    ++it->second;
-  }
-  // The list keeps the first 100 warnings; the run counts the frequent kinds in full.
-  const std::pair<const char*, std::size_t> counted[] = {
-      {"time gap of ", r.time_gaps}, {"the clock jumps back by ", r.clock_jumps}, {"wheel odometry jumps by ", r.odometry_jumps}};
-  for (std::size_t k = 0; k < kinds.size(); ++k) {
-    std::size_t n = kinds[k].second;
-    for (const auto& [kind, count] : counted) n = kinds[k].first == kind ? std::max(n, count) : n;
-    err << tool << n << " x, the first: " << first[k] << "\n";
-  }
-  if (r.skipped_count > 0) {
-    err << tool << r.skipped_count << " scans or lines skipped, the first: "
-        << (r.skipped.empty() ? std::string("?") : r.skipped.front()) << " (all in summary.json)\n";
-  }
-  if (!r.log_error.empty()) {
-    err << tool << "the log ends early: " << r.log_error << "; the results cover the " << r.frames
-        << " scans before it\n";
   }
 }
 

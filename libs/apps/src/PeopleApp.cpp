@@ -12,13 +12,14 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
 
 #include "ReportTools.h"
 #include "lidarseg/mrpt/VisionConfig.h"
 #include "lidarseg/mrpt/LidarsegConfig.h"
+#include "lidarseg/vision/FrameSource.h"
 #include "lidarseg/vision/ImageFile.h"
 #include "lidarseg/vision/PeopleDetector.h"
+#include "lidarseg/vision/RegionTable.h"
 #include "lidarseg/vision/RegionsOfInterest.h"
 
 namespace lidarseg::apps {
@@ -26,60 +27,6 @@ namespace lidarseg::apps {
 namespace fs = std::filesystem;
 
 namespace {
-
-// Frames of a video, a directory of images or one image.
-class FrameSource {
- public:
-  explicit FrameSource(const std::string& input) : input_(input) {
-    if (fs::is_directory(input)) {
-      for (const auto& e : fs::directory_iterator(input)) {
-        std::string ext = e.path().extension().string();
-        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-        if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".ppm" || ext == ".pgm") {
-          files_.push_back(e.path().string());
-        }
-      }
-      std::sort(files_.begin(), files_.end());
-      if (files_.empty()) throw std::runtime_error("'" + input + "': no image files (png, jpg, bmp, ppm, pgm)");
-    } else if (!fs::exists(input)) {
-      throw std::runtime_error("'" + input + "': no such file or directory");
-    } else if (vision::readImageHeader(input) || cv::haveImageReader(input)) {
-      files_.push_back(input);  // read (and its size checked) by next()
-    } else {
-      video_.open(input);
-      if (!video_.isOpened()) throw std::runtime_error("'" + input + "': neither an image nor a video OpenCV can read");
-    }
-  }
-
-  // The next frame (BGR) and its file name; false at the end.
-  bool next(cv::Mat& frame, std::string& file) {
-    if (video_.isOpened()) {
-      file.clear();
-      return video_.read(frame) && !frame.empty();
-    }
-    if (next_file_ >= files_.size()) return false;
-    const std::string& path = files_[next_file_++];
-    frame = vision::readImage(path);
-    file = fs::path(path).filename().string();
-    return true;
-  }
-
- private:
-  std::string input_;
-  cv::VideoCapture video_;
-  std::vector<std::string> files_;
-  std::size_t next_file_ = 0;
-};
-
-bool centredIn(const cv::Rect& box, const std::vector<cv::Rect>& regions) {
-  const cv::Point c(box.x + box.width / 2, box.y + box.height / 2);
-  return std::any_of(regions.begin(), regions.end(), [&](const cv::Rect& r) { return r.contains(c); });
-}
-
-bool overlapsAny(const cv::Rect& box, const std::vector<vision::Person>& people, double iou) {
-  return std::any_of(people.begin(), people.end(),
-                     [&](const vision::Person& p) { return vision::intersectionOverUnion(box, p.box) >= iou; });
-}
 
 void writeDetections(std::ostream& os, std::size_t frame, const char* mode, const std::vector<vision::Person>& people) {
   for (const vision::Person& p : people) {
@@ -95,9 +42,9 @@ vision::PeopleDetectorParams loadParams(const std::string& config_path) {
 }
 
 // The regions given on the command line (every frame) and in the regions file.
-RegionTable readRegions(const PeopleOptions& options) {
-  RegionTable regions;
-  for (const std::string& r : options.rois) regions.addEveryFrame(parseRegion(r, "--roi"));
+vision::RegionTable readRegions(const PeopleOptions& options) {
+  vision::RegionTable regions;
+  for (const std::string& r : options.rois) regions.addEveryFrame(vision::parseRegion(r, "--roi"));
   if (!options.rois_path.empty()) regions.read(options.rois_path);
   return regions;
 }
@@ -158,12 +105,12 @@ class FramePass {
     report_.people_full += full.size();
     report_.people_rois += inside.size();
     for (const vision::Person& p : full) {
-      if (!centredIn(p.box, rois)) continue;
+      if (!vision::centredIn(p.box, rois)) continue;
       ++report_.people_in_regions;
-      if (overlapsAny(p.box, inside, options_.match_iou)) ++report_.people_still_found;
+      if (vision::overlapsAny(p.box, inside, options_.match_iou)) ++report_.people_still_found;
     }
     for (const vision::Person& p : inside) {
-      if (overlapsAny(p.box, full, options_.match_iou)) ++report_.people_rois_confirmed;
+      if (vision::overlapsAny(p.box, full, options_.match_iou)) ++report_.people_rois_confirmed;
     }
   }
 
@@ -233,7 +180,7 @@ PeopleApp::PeopleApp(PeopleOptions options) : options_(std::move(options)) {
   if (options_.threads < 1 || options_.threads > 256) throw std::invalid_argument("-j/--jobs must be in [1, 256]");
   if (!(options_.match_iou > 0 && options_.match_iou <= 1)) throw std::invalid_argument("--match-iou must be in (0, 1]");
   if (options_.draw_every == 0) throw std::invalid_argument("--draw-every must be >= 1");
-  for (const std::string& r : options_.rois) parseRegion(r, "--roi");
+  for (const std::string& r : options_.rois) vision::parseRegion(r, "--roi");
 }
 
 PeopleReport PeopleApp::run() {
@@ -243,10 +190,10 @@ PeopleReport PeopleApp::run() {
   outputs.claimOutputs({{o.out_csv, "--out"}}, {{o.report_dir, "--report"}, {o.draw_dir, "--draw"}},
                        {o.input, o.rois_path, o.config_path});
   const vision::PeopleDetector detector(loadParams(options_.config_path));
-  const RegionTable regions = readRegions(options_);
+  const vision::RegionTable regions = readRegions(options_);
   const RestoreThreads restore{cv::getNumThreads()};
   cv::setNumThreads(options_.threads);
-  FrameSource source(options_.input);
+  vision::FrameSource source(options_.input);
   PeopleReport report;
   report.input = options_.input;
   FramePass pass(options_, detector, report, outputs);

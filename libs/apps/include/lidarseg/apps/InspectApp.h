@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "lidarseg/inspect/LogReport.h"
 #include "lidarseg/inspect/Session.h"
 
 namespace lidarseg::apps {
@@ -47,13 +48,7 @@ struct InspectOptions {
 };
 
 /// What `--report` measured (also written into index.html).
-struct InspectReport {
-  std::size_t scans = 0;
-  std::size_t failed_matches = 0;
-  double length_m = 0.0;
-  std::optional<double> final_error_m;  ///< against the ground truth
-  std::vector<std::size_t> gallery;     ///< frames drawn, worst first
-};
+using InspectReport = inspect::ReportSummary;
 
 class InspectApp {
  public:

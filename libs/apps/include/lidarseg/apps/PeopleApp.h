@@ -11,7 +11,6 @@
 
 #include <opencv2/core.hpp>
 
-#include "lidarseg/apps/RegionTable.h"
 #include "lidarseg/core/Statistics.h"
 
 namespace lidarseg::apps {
