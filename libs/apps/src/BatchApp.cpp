@@ -1,29 +1,21 @@
 #include "lidarseg/apps/BatchApp.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <iomanip>
 #include <iostream>
-#include <map>
 #include <sstream>
 #include <stdexcept>
 
-#include <fcntl.h>
-#include <signal.h>
-#include <sys/file.h>
-#include <sys/prctl.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include "lidarseg/pipeline/BatchResults.h"
 #include "lidarseg/pipeline/OutputFiles.h"
+#include "lidarseg/pipeline/ParallelJobs.h"
 #include "Plots.h"
 #include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/apps/SimulateApp.h"
-#include "lidarseg/core/Statistics.h"
 #include "lidarseg/mrpt/SimulationConfig.h"
 #include "lidarseg/sim/Simulation.h"
 #include "lidarseg/eval/Csv.h"
@@ -94,27 +86,6 @@ bool BatchApp::finished(const std::string& out_dir, std::uint64_t seed) {
 
 namespace {
 
-// An exclusive lock on one seed's run, held while it is worked on: a runner started again
-// while a job of an earlier (killed) runner still works on the same seed waits for it
-// instead of writing into the same folder, then finds the run finished.
-class SeedLock {
- public:
-  explicit SeedLock(const fs::path& path) {
-    fs::create_directories(path.parent_path());
-    fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd_ < 0) throw std::runtime_error("cannot create the lock file '" + path.string() + "'");
-    while (::flock(fd_, LOCK_EX) != 0) {
-      if (errno != EINTR) throw std::runtime_error("cannot lock '" + path.string() + "'");
-    }
-  }
-  ~SeedLock() { ::close(fd_); }  // releases the lock
-  SeedLock(const SeedLock&) = delete;
-  SeedLock& operator=(const SeedLock&) = delete;
-
- private:
-  int fd_ = -1;
-};
-
 // The job's simulated run, written as WORK/sim.* without a camera.
 SimulateOptions simulateOptions(const BatchJob& job, const fs::path& work) {
   SimulateOptions sim;
@@ -159,7 +130,7 @@ void removeSimulatedData(const fs::path& work) {
 
 void BatchApp::runOne(const BatchJob& job) {
   if (finished(job.out_dir, job.seed)) return;
-  const SeedLock lock(fs::path(job.out_dir) / ".locks" / ("run_" + std::to_string(job.seed) + ".lock"));
+  const pipeline::FileLock lock((fs::path(job.out_dir) / ".locks" / ("run_" + std::to_string(job.seed) + ".lock")).string());
   if (finished(job.out_dir, job.seed)) return;  // finished by the job that held the lock
   const fs::path final_dir = runDir(job.out_dir, job.seed);
   const fs::path work = final_dir.string() + ".partial";
@@ -196,57 +167,13 @@ std::vector<std::string> jobCommand(const BatchJob& base, std::uint64_t seed,
   return args;
 }
 
-// Starts `args` (args[0] is the program) in a child process with its stderr in `log`.
-pid_t startJob(std::vector<std::string> args, const std::string& log) {
-  const pid_t pid = fork();
-  if (pid < 0) throw std::runtime_error("cannot start a job (fork failed)");
-  if (pid == 0) {
-    // A job dies with its runner (killed or not), so that no orphan keeps writing
-    // while a new runner resumes; the seed lock covers the instant in between.
-    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-    FILE* f = std::freopen(log.c_str(), "w", stderr);
-    (void)f;
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execv(args[0].c_str(), argv.data());
-    _exit(127);
-  }
-  return pid;
-}
-
-// "seed N: exit code C (last line of its log)" or "seed N: killed by signal S (...)".
-std::string failureOf(std::uint64_t seed, int status, const std::string& log) {
-  const std::string why = WIFSIGNALED(status) ? "killed by signal " + std::to_string(WTERMSIG(status))
-                                              : "exit code " + std::to_string(WEXITSTATUS(status));
-  std::ifstream in(log);
-  std::string line, last;
-  while (std::getline(in, line)) {
-    if (!line.empty()) last = line;
-  }
-  return "seed " + std::to_string(seed) + ": " + why + (last.empty() ? "" : " (" + last + ")");
-}
-
-// FNV-1a (64 bit) of a file's bytes, as hex: a stable digest for the experiment record.
-std::string digestOf(const std::string& path) {
-  if (path.empty()) return "-";
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return "unreadable";
-  std::uint64_t h = 14695981039346656037ull;
-  char c = 0;
-  while (in.get(c)) h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
-  std::ostringstream os;
-  os << std::hex << h;
-  return os.str();
-}
-
 // What makes the runs of a folder one experiment: the inputs' contents, the sensor and the
 // baselines. A folder resumed with another experiment would average two into one table.
 std::string experimentOf(const BatchJob& job) {
   std::ostringstream os;
-  os << "world " << digestOf(job.world_path) << "\ntrajectory " << digestOf(job.trajectory_path) << "\nsensor "
-     << job.sensor << "\nsimulation_config " << digestOf(job.sim_config_path) << "\nodometry_config "
-     << digestOf(job.odometry_config_path) << "\nbaseline_icp " << (job.baseline_icp ? 1 : 0) << "\n";
+  os << "world " << pipeline::fileDigest(job.world_path) << "\ntrajectory " << pipeline::fileDigest(job.trajectory_path) << "\nsensor "
+     << job.sensor << "\nsimulation_config " << pipeline::fileDigest(job.sim_config_path) << "\nodometry_config "
+     << pipeline::fileDigest(job.odometry_config_path) << "\nbaseline_icp " << (job.baseline_icp ? 1 : 0) << "\n";
   return os.str();
 }
 
@@ -286,35 +213,27 @@ std::vector<std::string> BatchApp::runMany(const BatchJob& base, const std::vect
               << " to do, " << jobs << " at a time\n";
   }
   fs::create_directories(base.out_dir);
+  std::vector<pipeline::ChildJob> children;
+  for (const std::uint64_t seed : todo) {
+    children.push_back({jobCommand(base, seed, self_exe), jobLogPath(base.out_dir, seed)});
+  }
   std::vector<std::string> failed;
-  std::map<pid_t, std::uint64_t> running;
-  std::size_t next = 0, done = 0;
-  while (next < todo.size() || !running.empty()) {
-    while (next < todo.size() && running.size() < std::max<std::size_t>(jobs, 1)) {
-      const std::uint64_t seed = todo[next++];
-      const pid_t pid = startJob(jobCommand(base, seed, self_exe), jobLogPath(base.out_dir, seed));
-      running[pid] = seed;
-    }
-    int status = 0;
-    const pid_t pid = wait(&status);
-    if (pid < 0) break;
-    const auto it = running.find(pid);
-    if (it == running.end()) continue;
-    const std::uint64_t seed = it->second;
-    running.erase(it);
+  std::size_t done = 0;
+  pipeline::runChildJobs(children, jobs, [&](std::size_t k, int status) {
+    const std::uint64_t seed = todo[k];
     ++done;
     const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 && finished(base.out_dir, seed);
     if (ok) {
       std::error_code ec;
-      fs::remove(jobLogPath(base.out_dir, seed), ec);
+      fs::remove(children[k].log_path, ec);
     } else {
-      failed.push_back(failureOf(seed, status, jobLogPath(base.out_dir, seed)));
+      failed.push_back("seed " + std::to_string(seed) + ": " + pipeline::exitDescription(status, children[k].log_path));
     }
     if (progress) {
       std::cerr << "[lidarseg-batch] " << done << "/" << todo.size() << " done (seed " << seed
                 << (ok ? " ok" : " FAILED") << ")\n";
     }
-  }
+  });
   claimed.commit();  // nothing of its own to publish; the folder is kept
   return failed;
 }

@@ -6,6 +6,7 @@
 #include "Plots.h"
 #include "lidarseg/apps/InspectApp.h"
 #include "lidarseg/inspect/Drawing.h"
+#include "lidarseg/inspect/LayerSwitches.h"
 #include "lidarseg/pipeline/OutputFiles.h"
 #include "lidarseg/vision/ImageFile.h"
 
@@ -79,7 +80,7 @@ InspectReport InspectApp::writeReport(inspect::Session& session) {
   report.gallery = inspect::worstFirst(rows, options_.gallery);
 
   OutputSet outputs;
-  const inspect::Layers layers = parseLayers(options_.layers.empty() ? kGalleryLayers : options_.layers);
+  const inspect::Layers layers = inspect::parseLayers(options_.layers.empty() ? kGalleryLayers : options_.layers);
   for (std::size_t i : report.gallery) {
     outputs.add(dir + "/frames/scan_" + std::to_string(i) + ".png",
                 encodePng(inspect::renderPng(session.draw(i, layers), cv::Size(900, 700))));

@@ -60,8 +60,6 @@ class InspectApp {
   /// @throws std::runtime_error naming the file (and line/scan) for unreadable input.
   int run();
 
-  /// The layers named in a comma list. @throws std::invalid_argument naming an unknown one.
-  static inspect::Layers parseLayers(const std::string& list);
   /// The keyboard shortcuts of the window, one per line.
   static std::vector<std::string> keyHelp();
 
