@@ -48,34 +48,6 @@ std::string finalErrorsPng(const pipeline::MetricRows& rows, bool with_icp, cons
 
 }  // namespace
 
-std::vector<std::uint64_t> parseSeeds(const std::string& text) {
-  std::vector<std::uint64_t> seeds;
-  for (const std::string& part : eval::splitCsvLine(text)) {
-    const auto dash = part.find('-');
-    try {
-      std::size_t used = 0;
-      if (dash == std::string::npos) {
-        const auto v = std::stoull(part, &used);
-        if (used != part.size()) throw std::invalid_argument(part);
-        seeds.push_back(v);
-      } else {
-        const std::string a = part.substr(0, dash), b = part.substr(dash + 1);
-        std::size_t ua = 0, ub = 0;
-        const auto lo = std::stoull(a, &ua), hi = std::stoull(b, &ub);
-        if (ua != a.size() || ub != b.size() || hi < lo || hi - lo > 100000) throw std::invalid_argument(part);
-        for (std::uint64_t k = 0; k <= hi - lo; ++k) seeds.push_back(lo + k);  // no wrap at the top of uint64
-      }
-    } catch (const std::exception&) {
-      throw std::invalid_argument("seeds: '" + part + "' is not a seed or a range like 1-50");
-    }
-  }
-  if (seeds.empty()) throw std::invalid_argument("seeds: none given");
-  if (seeds.size() > 100000) throw std::invalid_argument("seeds: more than 100000 runs asked for");
-  std::sort(seeds.begin(), seeds.end());
-  seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
-  return seeds;
-}
-
 std::string BatchApp::runDir(const std::string& out_dir, std::uint64_t seed) {
   return (fs::path(out_dir) / ("run_" + std::to_string(seed))).string();
 }
@@ -177,42 +149,28 @@ std::string experimentOf(const BatchJob& job) {
   return os.str();
 }
 
-// Records the experiment in a new folder; refuses a folder that holds another one.
-void claimExperiment(const BatchJob& job) {
-  const std::string path = (fs::path(job.out_dir) / "experiment.txt").string();
-  const std::string mine = experimentOf(job);
-  std::ifstream in(path);
-  if (in) {
-    const std::string theirs((std::istreambuf_iterator<char>(in)), {});
-    if (theirs != mine) {
-      throw std::runtime_error("'" + job.out_dir + "' holds the runs of another experiment (" + path +
-                               " differs: world, trajectory, sensor, configurations or baselines); choose another --out");
-    }
-    return;
-  }
-  fs::create_directories(job.out_dir);
-  writeFileAtomically(path, mine);
-}
-
 }  // namespace
 
-std::vector<std::string> BatchApp::runMany(const BatchJob& base, const std::vector<std::uint64_t>& seeds,
-                                           std::size_t jobs, const std::string& self_exe, bool progress) {
-  // Before any work: a second runner on this folder is refused at once (the jobs lock their
-  // own run folders and seeds).
-  OutputSet claimed;
-  claimed.claimOutputs({}, {{base.out_dir, "--out"}},
-                       {base.world_path, base.trajectory_path, base.sim_config_path, base.odometry_config_path});
-  claimExperiment(base);
+namespace {
+
+// The seeds whose run has not finished, said on stderr with `progress`.
+std::vector<std::uint64_t> unfinishedSeeds(const BatchJob& base, const std::vector<std::uint64_t>& seeds,
+                                           std::size_t jobs, bool progress) {
   std::vector<std::uint64_t> todo;
   for (auto s : seeds) {
-    if (!finished(base.out_dir, s)) todo.push_back(s);
+    if (!BatchApp::finished(base.out_dir, s)) todo.push_back(s);
   }
   if (progress) {
     std::cerr << "[lidarseg-batch] " << seeds.size() - todo.size() << " run(s) already finished, " << todo.size()
               << " to do, " << jobs << " at a time\n";
   }
-  fs::create_directories(base.out_dir);
+  return todo;
+}
+
+// One child process per seed (`self_exe one ...`), `jobs` at a time; a run that ends well
+// loses its log, the others are returned as "seed N: why".
+std::vector<std::string> runSeeds(const BatchJob& base, const std::vector<std::uint64_t>& todo, std::size_t jobs,
+                                  const std::string& self_exe, bool progress) {
   std::vector<pipeline::ChildJob> children;
   for (const std::uint64_t seed : todo) {
     children.push_back({jobCommand(base, seed, self_exe), jobLogPath(base.out_dir, seed)});
@@ -222,7 +180,7 @@ std::vector<std::string> BatchApp::runMany(const BatchJob& base, const std::vect
   pipeline::runChildJobs(children, jobs, [&](std::size_t k, int status) {
     const std::uint64_t seed = todo[k];
     ++done;
-    const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 && finished(base.out_dir, seed);
+    const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 && BatchApp::finished(base.out_dir, seed);
     if (ok) {
       std::error_code ec;
       fs::remove(children[k].log_path, ec);
@@ -234,6 +192,22 @@ std::vector<std::string> BatchApp::runMany(const BatchJob& base, const std::vect
                 << (ok ? " ok" : " FAILED") << ")\n";
     }
   });
+  return failed;
+}
+
+}  // namespace
+
+std::vector<std::string> BatchApp::runMany(const BatchJob& base, const std::vector<std::uint64_t>& seeds,
+                                           std::size_t jobs, const std::string& self_exe, bool progress) {
+  // Before any work: a second runner on this folder is refused at once (the jobs lock their
+  // own run folders and seeds).
+  OutputSet claimed;
+  claimed.claimOutputs({}, {{base.out_dir, "--out"}},
+                       {base.world_path, base.trajectory_path, base.sim_config_path, base.odometry_config_path});
+  pipeline::claimExperiment(base.out_dir, experimentOf(base));
+  const std::vector<std::uint64_t> todo = unfinishedSeeds(base, seeds, jobs, progress);
+  fs::create_directories(base.out_dir);
+  const std::vector<std::string> failed = runSeeds(base, todo, jobs, self_exe, progress);
   claimed.commit();  // nothing of its own to publish; the folder is kept
   return failed;
 }

@@ -227,29 +227,42 @@ FeaturesApp::FeaturesApp(FeaturesOptions options) : options_(std::move(options))
   }
 }
 
-FeaturesReport FeaturesApp::run() {
-  // Before any work: an output that is an input is refused, a second writer at once.
-  OutputSet outputs;
-  const FeaturesOptions& o = options_;
+namespace {
+
+// Before any work: an output that is an input is refused, a second writer at once.
+void claimOutputs(const FeaturesOptions& o, OutputSet& outputs) {
   outputs.claimOutputs({{o.out_csv, "--out"}, {o.rois_out, "--rois-out"}, {o.figure_path, "--figure"}},
                        {{o.report_dir, "--report"}, {o.images_out, "--images-out"}},
                        {o.input, o.config_path, o.truth_path});
-  const mrpt_adapter::LidarsegConfig config = loadConfig(options_.config_path);
-  FeaturesReport report;
-  report.input = options_.input;
-  LogPass pass(options_, config, report, outputs);
-  mrpt_adapter::LaserLogReader reader(options_.input, options_.sensor_label);
-  if (!options_.images_out.empty()) std::filesystem::create_directories(options_.images_out);
-  Progress progress("lidarseg-features", options_.progress, options_.max_scans);
+  if (!o.images_out.empty()) std::filesystem::create_directories(o.images_out);
+}
+
+// Every record of the log through the pass (up to max_scans scans), with progress on
+// stderr; what the reader skipped is listed in the report.
+void readLog(const FeaturesOptions& o, LogPass& pass, FeaturesReport& report) {
+  mrpt_adapter::LaserLogReader reader(o.input, o.sensor_label);
+  Progress progress("lidarseg-features", o.progress, o.max_scans);
   while (auto record = reader.next()) {
     pass.addImages(*record);
-    if (options_.max_scans > 0 && report.scans >= options_.max_scans) break;
+    if (o.max_scans > 0 && report.scans >= o.max_scans) break;
     pass.addScan(*record);
     progress.update(report.scans);
   }
   progress.done(report.scans);
-  if (report.scans == 0) throw std::runtime_error(options_.input + ": no laser scan read");
+  if (report.scans == 0) throw std::runtime_error(o.input + ": no laser scan read");
   for (const std::string& issue : reader.issues()) report.skipped.push_back(issue);
+}
+
+}  // namespace
+
+FeaturesReport FeaturesApp::run() {
+  OutputSet outputs;
+  claimOutputs(options_, outputs);
+  const mrpt_adapter::LidarsegConfig config = loadConfig(options_.config_path);
+  FeaturesReport report;
+  report.input = options_.input;
+  LogPass pass(options_, config, report, outputs);
+  readLog(options_, pass, report);
   pass.summarise();
   writeOutputs(options_, report, pass, outputs);
   return report;

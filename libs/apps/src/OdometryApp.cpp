@@ -15,6 +15,7 @@
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/pipeline/OdometryRun.h"
 #include "lidarseg/pipeline/RawlogWriter.h"
+#include "lidarseg/pipeline/RunEvaluation.h"
 #include "lidarseg/pipeline/ReportWriters.h"
 
 namespace lidarseg::apps {
@@ -28,34 +29,6 @@ using pipeline::Progress;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string stemOf(const std::string& path) {
-  for (const char* ext : {".rawlog.gz", ".rawlog", ".clf.gz", ".log.gz", ".clf", ".log"}) {
-    const std::string e(ext);
-    if (path.size() > e.size() && path.compare(path.size() - e.size(), e.size(), e) == 0) {
-      return path.substr(0, path.size() - e.size());
-    }
-  }
-  return path;
-}
-
-}  // namespace
-
-// Ground truth and relations, read before the run so that a bad file fails early.
-struct OdometryApp::References {
-  std::optional<eval::StampedTrajectory> gt;
-  std::optional<std::vector<eval::Relation>> relations;
-  std::optional<std::vector<eval::Relation>> log_relations;
-  double gt_tolerance_s = 0.025;
-};
-
-namespace {
-
-void evaluate(MethodReport& m, const OdometryApp::References& refs, double relations_tolerance_s) {
-  if (refs.gt) m.errors = eval::evaluateTrajectory(m.trajectory, *refs.gt, refs.gt_tolerance_s);
-  if (refs.relations) m.relations = eval::evaluateRelations(m.trajectory, *refs.relations, relations_tolerance_s);
-  if (refs.log_relations) m.log_relations = eval::evaluateRelations(m.trajectory, *refs.log_relations, 1e-9);
-}
 
 std::string inputName(const std::string& path) { return fs::path(path).filename().string(); }
 
@@ -81,7 +54,7 @@ pipeline::RunSettings settingsOf(const OdometryOptions& o) {
 OdometryReport OdometryApp::run() {
   const OdometryOptions& o = options_;
   const pipeline::RunSettings settings = settingsOf(o);
-  References refs = readReferences();
+  pipeline::RunReferences refs = readReferences();
   OutputSet outputs;
   claimOutputs(outputs);
   mrpt_adapter::LaserLogReader reader(o.input, o.sensor);
@@ -89,7 +62,7 @@ OdometryReport OdometryApp::run() {
   processLog(reader, odometry, settings, outputs);
   OdometryReport report = odometry.finish(o.max_lost_ratio);
   collectReaderCounts(reader, report);
-  evaluateAll(odometry, refs, report);
+  pipeline::evaluateRun(odometry, refs, o.log_reference, o.relations_tolerance_s, report);
   writeOutputs(report, refs, odometry.logPoses(), odometry.wheelOdometry(), outputs);
   return report;
 }
@@ -110,18 +83,22 @@ void OdometryApp::claimOutputs(OutputSet& outputs) const {
 }
 
 // Ground truth (PREFIX.gt.tum beside the input unless given) and relations files.
-OdometryApp::References OdometryApp::readReferences() {
-  const OdometryOptions& o = options_;
-  References refs;
-  gt_path_ = o.gt_path;
-  if (gt_path_.empty() && o.auto_gt) {
-    const std::string candidate = stemOf(o.input) + ".gt.tum";
-    if (fs::exists(candidate)) gt_path_ = candidate;
-  }
-  if (!gt_path_.empty()) refs.gt = eval::readTum(gt_path_);
-  if (!o.relations_path.empty()) refs.relations = eval::readRelations(o.relations_path);
-  return refs;
+pipeline::RunReferences OdometryApp::readReferences() {
+  gt_path_ = options_.gt_path.empty() && options_.auto_gt ? pipeline::groundTruthBeside(options_.input) : options_.gt_path;
+  return pipeline::readRunReferences(gt_path_, options_.relations_path);
 }
+
+namespace {
+// A log with no usable scan, and why: the first lines or scans the reader skipped, with
+// their place.
+std::runtime_error noUsableScan(const OdometryOptions& o, const mrpt_adapter::LaserLogReader& reader) {
+  std::string why;
+  for (std::size_t k = 0; k < std::min<std::size_t>(reader.issues().size(), 3); ++k) why += "; " + reader.issues()[k];
+  if (reader.issues().size() > 3) why += "; ... (" + std::to_string(reader.issues().size()) + " skipped in all)";
+  return std::runtime_error("'" + o.input + "' holds no usable laser scan" +
+                            (o.sensor.empty() ? std::string() : " with sensor '" + o.sensor + "'") + why);
+}
+}  // namespace
 
 // Every scan through the run; doors and corners and the rawlog output beside it.
 void OdometryApp::processLog(mrpt_adapter::LaserLogReader& reader, pipeline::OdometryRun& odometry,
@@ -149,24 +126,16 @@ void OdometryApp::processLog(mrpt_adapter::LaserLogReader& reader, pipeline::Odo
     if (!step.processed) continue;
     if (want_features) {
       detector.detect(odometry.lidarseg().core().lastSegmentation(), features);
-      const Pose2D& sp = record->sensor_on_robot;
       if (!o.features_out.empty()) {
-        pipeline::writeFeatureCsvRows(features_csv, step.time.output_stamp_s, record->index, sp,
-                            features);
+        pipeline::writeFeatureCsvRows(features_csv, step.time.output_stamp_s, record->index, record->sensor_on_robot,
+                                      features);
       }
     }
     if (rawlog) rawlog->write(*record, odometry.lidarseg().lastStep(), step.time.output_stamp_s, features);
     progress.update(odometry.counts().frames);
   }
   progress.done(odometry.counts().frames);
-  if (odometry.counts().frames == 0) {
-    // Say why: the first lines or scans the reader skipped, with their place.
-    std::string why;
-    for (std::size_t k = 0; k < std::min<std::size_t>(reader.issues().size(), 3); ++k) why += "; " + reader.issues()[k];
-    if (reader.issues().size() > 3) why += "; ... (" + std::to_string(reader.issues().size()) + " skipped in all)";
-    throw std::runtime_error("'" + o.input + "' holds no usable laser scan" +
-                             (o.sensor.empty() ? std::string() : " with sensor '" + o.sensor + "'") + why);
-  }
+  if (odometry.counts().frames == 0) throw noUsableScan(o, reader);
   if (rawlog) rawlog->close();
   if (!o.features_out.empty()) outputs.add(o.features_out, features_csv.str());
 }
@@ -187,23 +156,9 @@ void OdometryApp::collectReaderCounts(const mrpt_adapter::LaserLogReader& reader
   for (const auto& s : reader.warnings()) report.warnings.push_back(s);
 }
 
-// Every method against ground truth, relations and the log's own poses.
-void OdometryApp::evaluateAll(const pipeline::OdometryRun& odometry, References& refs, OdometryReport& report) const {
-  refs.gt_tolerance_s = std::max(1e-6, 0.25 * odometry.medianStep());
-  if (options_.log_reference) {
-    if (odometry.logPoses().size() < 2) {
-      report.warnings.push_back("--log-reference: the log has no poses beside its scans");
-    } else {
-      refs.log_relations = eval::relationsFrom(odometry.logPoses(), 0.0, 0.0, 1);
-    }
-  }
-  evaluate(report.lidarseg, refs, options_.relations_tolerance_s);
-  if (report.icp) evaluate(*report.icp, refs, options_.relations_tolerance_s);
-  if (report.icp_s2s) evaluate(*report.icp_s2s, refs, options_.relations_tolerance_s);
-}
 
 // Trajectories, timings, summary, table and pictures, all put in place together.
-void OdometryApp::writeOutputs(OdometryReport& report, const References& refs, const eval::StampedTrajectory& log_poses,
+void OdometryApp::writeOutputs(OdometryReport& report, const pipeline::RunReferences& refs, const eval::StampedTrajectory& log_poses,
                                const eval::StampedTrajectory& wheel_odometry, OutputSet& outputs) const {
   const OdometryOptions& o = options_;
   if (!o.out_dir.empty()) {
@@ -217,7 +172,7 @@ void OdometryApp::writeOutputs(OdometryReport& report, const References& refs, c
 }
 
 // trajectories.png (every method from where the reference starts) and timing.png.
-void OdometryApp::addPlots(const OdometryReport& report, const References& refs, const eval::StampedTrajectory& log_poses,
+void OdometryApp::addPlots(const OdometryReport& report, const pipeline::RunReferences& refs, const eval::StampedTrajectory& log_poses,
                            const eval::StampedTrajectory& wheel_odometry, OutputSet& outputs) const {
   const auto path = [&](const char* name) { return (fs::path(options_.out_dir) / name).string(); };
   std::vector<PlotSeries> series;

@@ -183,32 +183,45 @@ PeopleApp::PeopleApp(PeopleOptions options) : options_(std::move(options)) {
   for (const std::string& r : options_.rois) vision::parseRegion(r, "--roi");
 }
 
-PeopleReport PeopleApp::run() {
-  // Before any work: an output that is an input is refused, a second writer at once.
-  OutputSet outputs;
-  const PeopleOptions& o = options_;
+namespace {
+
+// Before any work: an output that is an input is refused, a second writer at once.
+void claimOutputs(const PeopleOptions& o, OutputSet& outputs) {
   outputs.claimOutputs({{o.out_csv, "--out"}}, {{o.report_dir, "--report"}, {o.draw_dir, "--draw"}},
                        {o.input, o.rois_path, o.config_path});
-  const vision::PeopleDetector detector(loadParams(options_.config_path));
-  const vision::RegionTable regions = readRegions(options_);
-  const RestoreThreads restore{cv::getNumThreads()};
-  cv::setNumThreads(options_.threads);
-  vision::FrameSource source(options_.input);
-  PeopleReport report;
-  report.input = options_.input;
-  FramePass pass(options_, detector, report, outputs);
-  if (!options_.draw_dir.empty()) fs::create_directories(options_.draw_dir);
+  if (!o.draw_dir.empty()) fs::create_directories(o.draw_dir);
+}
+
+// Every `every`-th frame of the input (up to max_frames) through the pass with its
+// regions, with progress on stderr.
+void readFrames(const PeopleOptions& o, const vision::RegionTable& regions, FramePass& pass, PeopleReport& report) {
+  vision::FrameSource source(o.input);
   cv::Mat frame;
   std::string file;
-  Progress progress("lidarseg-people", options_.progress, options_.max_frames);
+  Progress progress("lidarseg-people", o.progress, o.max_frames);
   for (std::size_t index = 0; source.next(frame, file); ++index) {
-    if (index % options_.every != 0) continue;
-    if (options_.max_frames > 0 && report.frames >= options_.max_frames) break;
+    if (index % o.every != 0) continue;
+    if (o.max_frames > 0 && report.frames >= o.max_frames) break;
     pass.addFrame(index, frame, regions.of(index, file));
     progress.update(report.frames);
   }
   progress.done(report.frames);
-  if (report.frames == 0) throw std::runtime_error("'" + options_.input + "': no frame read");
+  if (report.frames == 0) throw std::runtime_error("'" + o.input + "': no frame read");
+}
+
+}  // namespace
+
+PeopleReport PeopleApp::run() {
+  OutputSet outputs;
+  claimOutputs(options_, outputs);
+  const vision::PeopleDetector detector(loadParams(options_.config_path));
+  const vision::RegionTable regions = readRegions(options_);
+  const RestoreThreads restore{cv::getNumThreads()};
+  cv::setNumThreads(options_.threads);
+  PeopleReport report;
+  report.input = options_.input;
+  FramePass pass(options_, detector, report, outputs);
+  readFrames(options_, regions, pass, report);
   pass.summarise();
   writeOutputs(options_, report, pass, outputs);
   return report;

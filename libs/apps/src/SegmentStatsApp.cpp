@@ -87,17 +87,15 @@ class ScanPass {
 
 SegmentStatsApp::SegmentStatsApp(SegmentStatsOptions options) : options_(std::move(options)) {}
 
-SegmentStatsReport SegmentStatsApp::run() {
-  // Before any work: an output that is an input is refused, a second writer at once.
-  OutputSet outputs;
-  outputs.claimOutputs({{options_.csv_path, "--csv"}}, {}, {options_.input, options_.config_path});
-  SegmentStatsReport report;
-  report.input = options_.input;
-  ScanPass pass(loadParams(options_), report);
-  mrpt_adapter::LaserLogReader reader(options_.input, options_.sensor_label);
-  Progress progress("lidarseg-segment", options_.progress, options_.max_scans);
+namespace {
+
+// Every scan of the log through the pass (up to max_scans, skipped ones counted), with
+// progress on stderr; the sensor and what the reader skipped go into the report.
+void readLog(const SegmentStatsOptions& o, ScanPass& pass, SegmentStatsReport& report) {
+  mrpt_adapter::LaserLogReader reader(o.input, o.sensor_label);
+  Progress progress("lidarseg-segment", o.progress, o.max_scans);
   while (auto record = reader.next()) {
-    if (options_.max_scans > 0 && report.scans + report.skipped.size() >= options_.max_scans) break;
+    if (o.max_scans > 0 && report.scans + report.skipped.size() >= o.max_scans) break;
     pass.addScan(*record);
     progress.update(report.scans);
   }
@@ -105,11 +103,21 @@ SegmentStatsReport SegmentStatsApp::run() {
   report.sensor_label = reader.sensor();
   for (const auto& issue : reader.issues()) report.skipped.push_back(issue);
   if (report.scans == 0 && report.skipped.empty()) {
-    throw std::runtime_error("'" + options_.input + "' holds no 2D laser scan" +
-                             (options_.sensor_label.empty()
-                                  ? std::string()
-                                  : " with sensor label '" + options_.sensor_label + "'"));
+    throw std::runtime_error("'" + o.input + "' holds no 2D laser scan" +
+                             (o.sensor_label.empty() ? std::string() : " with sensor label '" + o.sensor_label + "'"));
   }
+}
+
+}  // namespace
+
+SegmentStatsReport SegmentStatsApp::run() {
+  // Before any work: an output that is an input is refused, a second writer at once.
+  OutputSet outputs;
+  outputs.claimOutputs({{options_.csv_path, "--csv"}}, {}, {options_.input, options_.config_path});
+  SegmentStatsReport report;
+  report.input = options_.input;
+  ScanPass pass(loadParams(options_), report);
+  readLog(options_, pass, report);
   pass.summarise();
   if (!options_.csv_path.empty()) outputs.add(options_.csv_path, pass.csv());
   outputs.commit();

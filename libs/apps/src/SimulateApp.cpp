@@ -65,51 +65,82 @@ SimulateReport SimulateApp::run() {
   }
 }
 
-SimulateReport SimulateApp::runOrThrow() {
-  if (options_.out_prefix.empty()) throw std::invalid_argument("no output prefix given (--out)");
+namespace {
+
+// The world and trajectory: a generated building's, or read from -w/-t.
+struct Scene {
   std::optional<sim::Building> building;
-  if (options_.building_seed) {
-    if (!options_.world_path.empty() || !options_.trajectory_path.empty()) {
+  sim::World world;
+  sim::Trajectory trajectory;
+};
+
+Scene loadScene(const SimulateOptions& o) {
+  std::optional<sim::Building> building;
+  if (o.building_seed) {
+    if (!o.world_path.empty() || !o.trajectory_path.empty()) {
       throw std::invalid_argument("--building replaces --world and --trajectory: give one or the other");
     }
-    building = sim::generateBuilding(*options_.building_seed);
-  } else if (options_.world_path.empty() || options_.trajectory_path.empty()) {
+    building = sim::generateBuilding(*o.building_seed);
+  } else if (o.world_path.empty() || o.trajectory_path.empty()) {
     throw std::invalid_argument("give --world and --trajectory, or --building SEED");
   }
-  const sim::World world = building ? building->world() : sim::loadWorldFile(options_.world_path);
-  const sim::Trajectory trajectory =
-      building ? building->trajectory() : sim::loadTrajectoryFile(options_.trajectory_path);
-  const sim::SimulationParams params = simulationParams(options_);
-  sim::Simulation simulation(world, trajectory, params);
-  pipeline::prepareSimulationFolders(options_.out_prefix, params.camera_every_scans > 0);
-  // The generated building as files: the same run again with -w/-t, and its doors.
-  std::vector<std::unique_ptr<pipeline::PendingFile>> building_files;
-  if (building) {
-    for (const char* ext : {".world", ".traj", ".doors.csv"}) {
-      building_files.push_back(std::make_unique<pipeline::PendingFile>(options_.out_prefix + ext));
-    }
-    sim::writeWorldFile(building_files[0]->out(), *building);
-    sim::writeTrajectoryFile(building_files[1]->out(), *building);
-    sim::writeDoorTable(building_files[2]->out(), *building);
+  sim::World world = building ? building->world() : sim::loadWorldFile(o.world_path);
+  sim::Trajectory trajectory = building ? building->trajectory() : sim::loadTrajectoryFile(o.trajectory_path);
+  return Scene{std::move(building), std::move(world), std::move(trajectory)};
+}
+
+// The generated building as files: the same run again with -w/-t, and its doors (none
+// without a building). Committed with the run's other outputs.
+std::vector<std::unique_ptr<pipeline::PendingFile>> writeBuildingFiles(const std::string& prefix,
+                                                                       const std::optional<sim::Building>& building) {
+  std::vector<std::unique_ptr<pipeline::PendingFile>> files;
+  if (!building) return files;
+  for (const char* ext : {".world", ".traj", ".doors.csv"}) {
+    files.push_back(std::make_unique<pipeline::PendingFile>(prefix + ext));
   }
-  pipeline::SimulationFiles outputs(options_.out_prefix, params, world, options_.world_path, options_.write_carmen);
-  SimulateReport report;
-  report.rawlog_path = options_.out_prefix + ".rawlog";
-  report.length_m = trajectory.length();
-  report.duration_s = trajectory.duration();
-  pipeline::Progress progress("lidarseg-simulate", options_.progress, simulation.numScans());
+  sim::writeWorldFile(files[0]->out(), *building);
+  sim::writeTrajectoryFile(files[1]->out(), *building);
+  sim::writeDoorTable(files[2]->out(), *building);
+  return files;
+}
+
+// Every scan of the simulation into the files, with progress on stderr.
+void simulateScans(sim::Simulation& simulation, pipeline::SimulationFiles& files, bool show_progress) {
+  pipeline::Progress progress("lidarseg-simulate", show_progress, simulation.numScans());
   for (std::size_t i = 0; i < simulation.numScans(); ++i) {
-    outputs.write(i, simulation.next());
+    files.write(i, simulation.next());
     progress.update(i + 1);
   }
   progress.done(simulation.numScans());
-  outputs.commit();
-  for (auto& f : building_files) f->commit();
-  report.scans = outputs.counts().scans;
-  report.images = outputs.counts().images;
-  report.door_sightings = outputs.counts().door_sightings;
-  report.corner_sightings = outputs.counts().corner_sightings;
+}
+
+// What the run wrote, with the trajectory's length and duration.
+SimulateReport reportOf(const std::string& prefix, const sim::Trajectory& trajectory,
+                        const pipeline::SimulationCounts& counts) {
+  SimulateReport report;
+  report.rawlog_path = prefix + ".rawlog";
+  report.length_m = trajectory.length();
+  report.duration_s = trajectory.duration();
+  report.scans = counts.scans;
+  report.images = counts.images;
+  report.door_sightings = counts.door_sightings;
+  report.corner_sightings = counts.corner_sightings;
   return report;
+}
+
+}  // namespace
+
+SimulateReport SimulateApp::runOrThrow() {
+  const Scene scene = loadScene(options_);
+  const sim::SimulationParams params = simulationParams(options_);
+  sim::Simulation simulation(scene.world, scene.trajectory, params);
+  pipeline::prepareSimulationFolders(options_.out_prefix, params.camera_every_scans > 0);
+  auto building_files = writeBuildingFiles(options_.out_prefix, scene.building);
+  pipeline::SimulationFiles files(options_.out_prefix, params, scene.world, options_.world_path, options_.write_carmen);
+  simulateScans(simulation, files, options_.progress);
+  files.commit();
+  for (auto& f : building_files) f->commit();
+  return reportOf(options_.out_prefix, scene.trajectory, files.counts());
 }
 
 std::string simulationPrefix(const std::string& out, const std::string& world_path) {

@@ -17,7 +17,8 @@ LevelStats summariseLevel(const Accumulator& a, double valid_beams) {
   out.segments_per_scan = summarize(a.counts);
   out.segment_length_m = summarize(a.lengths);
   out.point_coverage = valid_beams > 0.0 ? a.points / valid_beams : 0.0;
-  out.mean_rms_residual_m = a.lengths.empty() ? 0.0 : a.residual_sum / static_cast<double>(a.lengths.size());
+  out.mean_rms_residual_m =
+      a.lengths.empty() ? 0.0 : a.residual_sum / static_cast<double>(a.lengths.size());
   out.median_theta_sigma_rad = summarize(a.theta_sigmas).median;
   return out;
 }
@@ -45,7 +46,8 @@ void SegmentationStats::add(const Segmentation& seg, double wall_danielsson_us, 
 }
 
 void SegmentationStats::summarise(SegmentStatsReport& report) const {
-  for (std::size_t l = 0; l < kNumCascadeLevels; ++l) report.levels[l] = summariseLevel(acc_[l], total_valid_);
+  for (std::size_t l = 0; l < kNumCascadeLevels; ++l)
+    report.levels[l] = summariseLevel(acc_[l], total_valid_);
   report.valid_beams_per_scan = summarize(valid_beams_);
   report.wall_danielsson_us = summarize(t_wd_);
   report.cascade_us = summarize(t_cascade_);
@@ -59,10 +61,9 @@ void printSegmentStats(const SegmentStatsReport& r, std::ostream& os) {
   os << "lidarseg-segment: " << r.input << "\n";
   os << "  scans: " << r.scans << " (sensor "
      << (r.sensor_label.empty() ? std::string("without a label") : "'" + r.sensor_label + "'")
-     << ", " << r.beams_per_scan
-     << " beams over " << std::setprecision(1) << r.field_of_view_deg << " deg, max range "
-     << r.max_range_m << " m; " << std::setprecision(0) << r.valid_beams_per_scan.mean
-     << " valid beams per scan on average)\n";
+     << ", " << r.beams_per_scan << " beams over " << std::setprecision(1) << r.field_of_view_deg
+     << " deg, max range " << r.max_range_m << " m; " << std::setprecision(0)
+     << r.valid_beams_per_scan.mean << " valid beams per scan on average)\n";
   if (!r.skipped.empty()) {
     os << "  skipped scans: " << r.skipped.size() << "\n";
     for (const auto& s : r.skipped) os << "    " << s << "\n";
@@ -76,12 +77,11 @@ void printSegmentStats(const SegmentStatsReport& r, std::ostream& os) {
     os << "  " << l << " " << std::left << std::setw(16) << toString(static_cast<CascadeLevel>(l))
        << std::right << std::setprecision(1) << std::setw(6) << s.segments_per_scan.mean
        << std::setw(8) << s.segments_per_scan.median << std::setprecision(0) << std::setw(6)
-       << s.segments_per_scan.min << std::setw(6) << s.segments_per_scan.max
-       << std::setprecision(2) << std::setw(9) << s.segment_length_m.mean << std::setw(8)
-       << s.segment_length_m.median << std::setw(7) << s.segment_length_m.max
-       << std::setprecision(1) << std::setw(10) << 100.0 * s.point_coverage << " %"
-       << std::setw(9) << 1000.0 * s.mean_rms_residual_m << std::setprecision(3)
-       << std::setw(13) << s.median_theta_sigma_rad * kRadToDeg << "\n";
+       << s.segments_per_scan.min << std::setw(6) << s.segments_per_scan.max << std::setprecision(2)
+       << std::setw(9) << s.segment_length_m.mean << std::setw(8) << s.segment_length_m.median
+       << std::setw(7) << s.segment_length_m.max << std::setprecision(1) << std::setw(10)
+       << 100.0 * s.point_coverage << " %" << std::setw(9) << 1000.0 * s.mean_rms_residual_m
+       << std::setprecision(3) << std::setw(13) << s.median_theta_sigma_rad * kRadToDeg << "\n";
   }
   os << "\n  time per scan (us, this run)      median     p99      max\n";
   const auto timeRow = [&](const char* name, const Summary& t) {
@@ -91,8 +91,7 @@ void printSegmentStats(const SegmentStatsReport& r, std::ostream& os) {
   timeRow("Wall-Danielsson", r.wall_danielsson_us);
   timeRow("cascade filter", r.cascade_us);
   timeRow("segmentation total", r.total_us);
-  os << "\n  levels never gain segments: " << (r.levels_never_gain_segments ? "yes" : "NO")
-     << "\n";
+  os << "\n  levels never gain segments: " << (r.levels_never_gain_segments ? "yes" : "NO") << "\n";
   os.flags(flags);
 }
 

@@ -51,7 +51,8 @@ Layers parseLayers(const std::string& list) {
                                 [&](const LayerSwitch& x) { return name == x.name; });
     if (s == std::end(kLayerSwitches)) {
       throw std::invalid_argument("--layers: unknown layer '" + name +
-                                  "' (raw, l0, l1, l2, l3, indices, predicted, matches, features, trajectory, camera, all)");
+                                  "' (raw, l0, l1, l2, l3, indices, predicted, matches, features, "
+                                  "trajectory, camera, all)");
     }
     s->flag(l) = true;
   }

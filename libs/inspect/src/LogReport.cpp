@@ -30,7 +30,8 @@ ScanRow scanRow(const Frame& f, const Pose2D& pose) {
   }
   row.failed = !f.step.first && f.step.status != TrackStatus::kOk;
   row.matches = f.step.match.matches.size();
-  row.sd_xy_m = std::sqrt(std::max(0.0, f.step.increment_covariance(0, 0) + f.step.increment_covariance(1, 1)));
+  row.sd_xy_m = std::sqrt(
+      std::max(0.0, f.step.increment_covariance(0, 0) + f.step.increment_covariance(1, 1)));
   row.total_us = f.step.wall_danielsson_us + f.step.cascade_us + f.step.matching_us;
   row.features = f.features.size();
   row.pose = pose;
@@ -40,7 +41,8 @@ ScanRow scanRow(const Frame& f, const Pose2D& pose) {
 // Fills drift_m and error_m. The truth (robot poses) moved to the laser by its mounting,
 // anchored at the first scan's time, is compared with lidarseg's laser poses (which start
 // at the first scan).
-void compareWithTruth(std::vector<ScanRow>& rows, const eval::StampedTrajectory& truth, const Pose2D& mount) {
+void compareWithTruth(std::vector<ScanRow>& rows, const eval::StampedTrajectory& truth,
+                      const Pose2D& mount) {
   const auto first = eval::nearestIndex(truth, rows.front().t, 1.0);
   if (!first) return;
   const Pose2D truth_origin = compose(truth[*first].pose, mount);
@@ -68,27 +70,35 @@ void compareWithTruth(std::vector<ScanRow>& rows, const eval::StampedTrajectory&
 // The page's head, title and the log's name.
 std::string htmlHeader(const std::string& input) {
   std::ostringstream html;
-  html << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>lidarseg-inspect: "
+  html << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta "
+          "charset=\"utf-8\"><title>lidarseg-inspect: "
        << escapeXml(fs::path(input).filename().string()) << "</title>\n"
-       << "<style>body{font-family:sans-serif;margin:2em;max-width:1200px}table{border-collapse:collapse}"
+       << "<style>body{font-family:sans-serif;margin:2em;max-width:1200px}table{border-collapse:"
+          "collapse}"
           "td,th{border:1px solid #ccc;padding:4px 8px;text-align:right}th{background:#eee}"
-          "figure{display:inline-block;margin:6px}img{max-width:100%}figcaption{font-size:90%}</style>\n"
-       << "</head><body>\n<h1>lidarseg-inspect report</h1>\n<p>Log: <code>" << escapeXml(input) << "</code></p>\n";
+          "figure{display:inline-block;margin:6px}img{max-width:100%}figcaption{font-size:90%}</"
+          "style>\n"
+       << "</head><body>\n<h1>lidarseg-inspect report</h1>\n<p>Log: <code>" << escapeXml(input)
+       << "</code></p>\n";
   return html.str();
 }
 
 // The results table and the three plots.
-std::string htmlResults(const ReportSummary& report, const std::vector<ScanRow>& rows, bool with_truth) {
+std::string htmlResults(const ReportSummary& report, const std::vector<ScanRow>& rows,
+                        bool with_truth) {
   std::vector<double> us;
   for (const ScanRow& r : rows) us.push_back(r.total_us);
   const Summary t = summarize(us);
   std::ostringstream html;
   html << "<h2>Results</h2>\n<table id=\"results\">\n<tr><th>scans</th><th>path length (m)</th>"
-       << "<th>failed matches</th><th>final error vs ground truth (m)</th><th>time per scan, median (&micro;s)</th>"
-       << "<th>p99 (&micro;s)</th><th>max (&micro;s)</th></tr>\n<tr><td>" << report.scans << "</td><td>"
-       << fixed(report.length_m, 2) << "</td><td>" << report.failed_matches << "</td><td>"
-       << (report.final_error_m ? fixed(*report.final_error_m, 3) : std::string("no ground truth")) << "</td><td>"
-       << fixed(t.median, 1) << "</td><td>" << fixed(t.p99, 1) << "</td><td>" << fixed(t.max, 1) << "</td></tr>\n</table>\n"
+       << "<th>failed matches</th><th>final error vs ground truth (m)</th><th>time per scan, "
+          "median (&micro;s)</th>"
+       << "<th>p99 (&micro;s)</th><th>max (&micro;s)</th></tr>\n<tr><td>" << report.scans
+       << "</td><td>" << fixed(report.length_m, 2) << "</td><td>" << report.failed_matches
+       << "</td><td>"
+       << (report.final_error_m ? fixed(*report.final_error_m, 3) : std::string("no ground truth"))
+       << "</td><td>" << fixed(t.median, 1) << "</td><td>" << fixed(t.p99, 1) << "</td><td>"
+       << fixed(t.max, 1) << "</td></tr>\n</table>\n"
        << "<h2>Trajectory</h2>\n<img src=\"trajectory.png\" alt=\"trajectories\">\n"
        << "<h2>" << (with_truth ? "Error over time" : "Match uncertainty over time") << "</h2>\n"
        << "<img src=\"error_over_time.png\" alt=\"error over time\">\n"
@@ -99,19 +109,24 @@ std::string htmlResults(const ReportSummary& report, const std::vector<ScanRow>&
 // The table of the gallery's scans, worst first, then their pictures.
 std::string htmlGallery(const std::vector<ScanRow>& rows, const std::vector<std::size_t>& gallery) {
   std::ostringstream html;
-  html << "<h2>Worst-matched scans first</h2>\n<table id=\"worst\">\n<tr><th>scan</th><th>t (s)</th><th>status</th>"
+  html << "<h2>Worst-matched scans first</h2>\n<table id=\"worst\">\n<tr><th>scan</th><th>t "
+          "(s)</th><th>status</th>"
        << "<th>pairs</th><th>sd (m)</th><th>increment error (m)</th><th>features</th></tr>\n";
   for (std::size_t i : gallery) {
     const ScanRow& r = rows[i];
-    html << "<tr><td><a href=\"#scan" << i << "\">" << i << "</a></td><td>" << fixed(r.t - rows.front().t, 2)
-         << "</td><td>" << r.status << "</td><td>" << r.matches << "</td><td>" << fixed(r.sd_xy_m, 4) << "</td><td>"
-         << fixed(r.error_m, 4) << "</td><td>" << r.features << "</td></tr>\n";
+    html << "<tr><td><a href=\"#scan" << i << "\">" << i << "</a></td><td>"
+         << fixed(r.t - rows.front().t, 2) << "</td><td>" << r.status << "</td><td>" << r.matches
+         << "</td><td>" << fixed(r.sd_xy_m, 4) << "</td><td>" << fixed(r.error_m, 4) << "</td><td>"
+         << r.features << "</td></tr>\n";
   }
   html << "</table>\n<h2>Gallery</h2>\n";
   for (std::size_t i : gallery) {
-    html << "<figure id=\"scan" << i << "\"><img src=\"frames/scan_" << i << ".png\" alt=\"scan " << i
-         << "\"><figcaption>scan " << i << ": " << rows[i].status << ", " << rows[i].matches << " pairs"
-         << (std::isfinite(rows[i].error_m) ? ", increment error " + fixed(rows[i].error_m, 3) + " m" : std::string())
+    html << "<figure id=\"scan" << i << "\"><img src=\"frames/scan_" << i << ".png\" alt=\"scan "
+         << i << "\"><figcaption>scan " << i << ": " << rows[i].status << ", " << rows[i].matches
+         << " pairs"
+         << (std::isfinite(rows[i].error_m)
+                 ? ", increment error " + fixed(rows[i].error_m, 3) + " m"
+                 : std::string())
          << "</figcaption></figure>\n";
   }
   return html.str();
@@ -122,8 +137,10 @@ std::string htmlGallery(const std::vector<ScanRow>& rows, const std::vector<std:
 const char* const kHtmlFooter =
     "<p id=\"image-check\" hidden>images not checked</p>\n"
     "<script>window.addEventListener('load',function(){var ok=0,bad=0;"
-    "document.querySelectorAll('img').forEach(function(i){if(i.complete&&i.naturalWidth>0)ok++;else bad++;});"
-    "document.getElementById('image-check').textContent='images loaded='+ok+' broken='+bad;});</script>\n"
+    "document.querySelectorAll('img').forEach(function(i){if(i.complete&&i.naturalWidth>0)ok++;"
+    "else bad++;});"
+    "document.getElementById('image-check').textContent='images loaded='+ok+' "
+    "broken='+bad;});</script>\n"
     "</body></html>\n";
 
 }  // namespace
@@ -136,7 +153,8 @@ const eval::StampedTrajectory* groundTruth(const Session& session) {
   return truth;
 }
 
-std::vector<ScanRow> scanRows(Session& session, const eval::StampedTrajectory* truth, bool show_progress) {
+std::vector<ScanRow> scanRows(Session& session, const eval::StampedTrajectory* truth,
+                              bool show_progress) {
   const std::size_t n = session.countAll();
   const auto traj = session.trajectory(n - 1);
   std::vector<ScanRow> rows;
@@ -156,7 +174,9 @@ ReportSummary summarizeRows(const std::vector<ScanRow>& rows) {
   report.scans = rows.size();
   for (std::size_t i = 0; i < rows.size(); ++i) {
     report.failed_matches += rows[i].failed;
-    if (i > 0) report.length_m += std::hypot(rows[i].pose.x - rows[i - 1].pose.x, rows[i].pose.y - rows[i - 1].pose.y);
+    if (i > 0)
+      report.length_m +=
+          std::hypot(rows[i].pose.x - rows[i - 1].pose.x, rows[i].pose.y - rows[i - 1].pose.y);
   }
   if (std::isfinite(rows.back().drift_m)) report.final_error_m = rows.back().drift_m;
   return report;
@@ -170,14 +190,16 @@ std::vector<std::size_t> worstFirst(const std::vector<ScanRow>& rows, std::size_
     const double score = std::isfinite(r.error_m) ? r.error_m : r.sd_xy_m;
     return std::make_pair(r.failed ? 1 : 0, score);
   };
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return badness(a) > badness(b); });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return badness(a) > badness(b); });
   order.resize(std::min(order.size(), count));
   return order;
 }
 
-std::string reportHtml(const std::string& input, const ReportSummary& summary, const std::vector<ScanRow>& rows,
-                       bool with_truth) {
-  return htmlHeader(input) + htmlResults(summary, rows, with_truth) + htmlGallery(rows, summary.gallery) + kHtmlFooter;
+std::string reportHtml(const std::string& input, const ReportSummary& summary,
+                       const std::vector<ScanRow>& rows, bool with_truth) {
+  return htmlHeader(input) + htmlResults(summary, rows, with_truth) +
+         htmlGallery(rows, summary.gallery) + kHtmlFooter;
 }
 
 }  // namespace lidarseg::inspect

@@ -6,11 +6,13 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <iterator>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
 
 #include "lidarseg/eval/Csv.h"
+#include "lidarseg/pipeline/OutputFiles.h"
 
 namespace lidarseg::pipeline {
 
@@ -42,13 +44,14 @@ std::vector<double> readMetricsRow(const fs::path& f) {
   for (const std::string& cell : eval::splitCsvLine(line)) {
     char* end = nullptr;
     const double v = std::strtod(cell.c_str(), &end);
-    if (end == cell.c_str()) throw std::runtime_error(f.string() + ":2: '" + cell + "' is not a number");
+    if (end == cell.c_str())
+      throw std::runtime_error(f.string() + ":2: '" + cell + "' is not a number");
     row.push_back(v);
   }
   const std::size_t columns = batchMetricNames().size() + 1;
   if (row.size() != columns) {
-    throw std::runtime_error(f.string() + ":2: " + std::to_string(row.size()) + " values, expected " +
-                             std::to_string(columns));
+    throw std::runtime_error(f.string() + ":2: " + std::to_string(row.size()) +
+                             " values, expected " + std::to_string(columns));
   }
   return row;
 }
@@ -57,6 +60,7 @@ std::vector<double> readMetricsRow(const fs::path& f) {
 
 // The per-run figures aggregated over runs, in metrics.csv's column order.
 const std::vector<std::string>& batchMetricNames() {
+  // clang-format off
   static const std::vector<std::string> names = {
       "frames",
       "lidarseg_final_error_m", "lidarseg_ate_rmse_m", "lidarseg_t_ms", "lidarseg_sigma_t_ms",
@@ -65,6 +69,7 @@ const std::vector<std::string>& batchMetricNames() {
       "icp_final_error_m", "icp_ate_rmse_m", "icp_t_ms", "icp_sigma_t_ms", "icp_median_ms", "icp_p99_ms",
       "icp_edx_m", "icp_sigma_edx_m", "icp_edy_m", "icp_sigma_edy_m", "icp_edtheta_rad",
       "icp_sigma_edtheta_rad", "speedup_median", "path_length_m"};
+  // clang-format on
   return names;
 }
 
@@ -83,9 +88,10 @@ std::vector<double> runMetrics(const OdometryReport& r) {
     }
     const auto& e = *m->errors;
     const auto& t = m->time_summary_us;
-    out.insert(out.end(), {e.final_position_error_m, e.ate_rmse_m, t.mean * 1e-3, t.stddev * 1e-3, t.median * 1e-3,
-                           t.p99 * 1e-3, e.motion.dx_m.mean, e.motion.dx_m.stddev, e.motion.dy_m.mean,
-                           e.motion.dy_m.stddev, e.motion.dtheta_rad.mean, e.motion.dtheta_rad.stddev});
+    out.insert(out.end(), {e.final_position_error_m, e.ate_rmse_m, t.mean * 1e-3, t.stddev * 1e-3,
+                           t.median * 1e-3, t.p99 * 1e-3, e.motion.dx_m.mean, e.motion.dx_m.stddev,
+                           e.motion.dy_m.mean, e.motion.dy_m.stddev, e.motion.dtheta_rad.mean,
+                           e.motion.dtheta_rad.stddev});
   };
   std::vector<double> out = {static_cast<double>(r.frames)};
   method(std::optional<MethodReport>(r.lidarseg), out);
@@ -115,7 +121,8 @@ std::string metricsLine(std::uint64_t seed, const std::vector<double>& values) {
 MetricRows readFinishedRuns(const std::string& out_dir) {
   MetricRows rows;
   for (const auto& f : finishedMetricsFiles(out_dir)) rows.push_back(readMetricsRow(f));
-  if (rows.empty()) throw std::runtime_error("no finished run (run_*/metrics.csv) in '" + out_dir + "'");
+  if (rows.empty())
+    throw std::runtime_error("no finished run (run_*/metrics.csv) in '" + out_dir + "'");
   std::sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return a[0] < b[0]; });
   return rows;
 }
@@ -138,25 +145,29 @@ std::string table1Markdown(const std::string& title, const std::vector<std::uint
                            const MetricStats& stats) {
   std::ostringstream md;
   md << std::fixed;
-  md << "## " << title << "\n\n" << seeds.size() << " runs (seeds " << seeds.front() << "–" << seeds.back()
+  md << "## " << title << "\n\n"
+     << seeds.size() << " runs (seeds " << seeds.front() << "–" << seeds.back()
      << "), mean over runs of each run's figures (paper Table I).\n\n";
-  md << "| method | t (ms) | σt (ms) | edx (mm) | σedx (mm) | edy (mm) | σedy (mm) | edθ (mrad) | σedθ (mrad) | final error (m): mean | median | max | ATE RMSE (m) |\n";
+  md << "| method | t (ms) | σt (ms) | edx (mm) | σedx (mm) | edy (mm) | σedy (mm) | edθ (mrad) | "
+        "σedθ (mrad) | final error (m): mean | median | max | ATE RMSE (m) |\n";
   md << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const std::string m : {"lidarseg", "icp"}) {
     const auto g = [&](const std::string& k) { return stats.at(m + "_" + k); };
     if (g("final_error_m").count == 0) continue;
-    md << "| " << (m == "icp" ? "MRPT ICP" : m) << std::setprecision(4) << " | " << g("t_ms").mean << " | "
-       << g("sigma_t_ms").mean << std::setprecision(2) << " | " << g("edx_m").mean * 1e3 << " | "
-       << g("sigma_edx_m").mean * 1e3 << " | " << g("edy_m").mean * 1e3 << " | " << g("sigma_edy_m").mean * 1e3
-       << " | " << g("edtheta_rad").mean * 1e3 << " | " << g("sigma_edtheta_rad").mean * 1e3
-       << std::setprecision(3) << " | " << g("final_error_m").mean << " | " << g("final_error_m").median << " | "
+    md << "| " << (m == "icp" ? "MRPT ICP" : m) << std::setprecision(4) << " | " << g("t_ms").mean
+       << " | " << g("sigma_t_ms").mean << std::setprecision(2) << " | " << g("edx_m").mean * 1e3
+       << " | " << g("sigma_edx_m").mean * 1e3 << " | " << g("edy_m").mean * 1e3 << " | "
+       << g("sigma_edy_m").mean * 1e3 << " | " << g("edtheta_rad").mean * 1e3 << " | "
+       << g("sigma_edtheta_rad").mean * 1e3 << std::setprecision(3) << " | "
+       << g("final_error_m").mean << " | " << g("final_error_m").median << " | "
        << g("final_error_m").max << " | " << g("ate_rmse_m").mean << " |\n";
   }
   if (stats.at("speedup_median").count > 0) {
-    md << "\nMedian time per scan: lidarseg " << std::setprecision(4) << stats.at("lidarseg_median_ms").median * 1e3
-       << " µs, MRPT ICP " << stats.at("icp_median_ms").median * 1e3 << " µs; speed-up (median over runs of each "
-       << "run's median ratio) " << std::setprecision(1) << stats.at("speedup_median").median << "x. Path length "
-       << std::setprecision(1) << stats.at("path_length_m").mean << " m.\n";
+    md << "\nMedian time per scan: lidarseg " << std::setprecision(4)
+       << stats.at("lidarseg_median_ms").median * 1e3 << " µs, MRPT ICP "
+       << stats.at("icp_median_ms").median * 1e3 << " µs; speed-up (median over runs of each "
+       << "run's median ratio) " << std::setprecision(1) << stats.at("speedup_median").median
+       << "x. Path length " << std::setprecision(1) << stats.at("path_length_m").mean << " m.\n";
   }
   return md.str();
 }
@@ -168,6 +179,52 @@ std::string aggregateCsv(const MetricRows& rows) {
     csv += metricsLine(static_cast<std::uint64_t>(r[0]), {r.begin() + 1, r.end()});
   }
   return csv;
+}
+
+std::vector<std::uint64_t> parseSeeds(const std::string& text) {
+  std::vector<std::uint64_t> seeds;
+  for (const std::string& part : eval::splitCsvLine(text)) {
+    const auto dash = part.find('-');
+    try {
+      std::size_t used = 0;
+      if (dash == std::string::npos) {
+        const auto v = std::stoull(part, &used);
+        if (used != part.size()) throw std::invalid_argument(part);
+        seeds.push_back(v);
+      } else {
+        const std::string a = part.substr(0, dash), b = part.substr(dash + 1);
+        std::size_t ua = 0, ub = 0;
+        const auto lo = std::stoull(a, &ua), hi = std::stoull(b, &ub);
+        if (ua != a.size() || ub != b.size() || hi < lo || hi - lo > 100000)
+          throw std::invalid_argument(part);
+        for (std::uint64_t k = 0; k <= hi - lo; ++k)
+          seeds.push_back(lo + k);  // no wrap at the top of uint64
+      }
+    } catch (const std::exception&) {
+      throw std::invalid_argument("seeds: '" + part + "' is not a seed or a range like 1-50");
+    }
+  }
+  if (seeds.empty()) throw std::invalid_argument("seeds: none given");
+  if (seeds.size() > 100000) throw std::invalid_argument("seeds: more than 100000 runs asked for");
+  std::sort(seeds.begin(), seeds.end());
+  seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+  return seeds;
+}
+
+void claimExperiment(const std::string& out_dir, const std::string& mine) {
+  const std::string path = (fs::path(out_dir) / "experiment.txt").string();
+  std::ifstream in(path);
+  if (in) {
+    const std::string theirs((std::istreambuf_iterator<char>(in)), {});
+    if (theirs != mine) {
+      throw std::runtime_error("'" + out_dir + "' holds the runs of another experiment (" + path +
+                               " differs: world, trajectory, sensor, configurations or baselines); "
+                               "choose another --out");
+    }
+    return;
+  }
+  fs::create_directories(out_dir);
+  writeFileAtomically(path, mine);
 }
 
 }  // namespace lidarseg::pipeline

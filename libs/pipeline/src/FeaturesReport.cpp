@@ -14,10 +14,14 @@ const char* typeName(std::size_t k) { return toString(static_cast<FeatureType>(k
 
 // Truths found and detections right of one kind of feature, for features.json.
 Json countsJson(const eval::DetectionCounts& c) {
-  return Json{{"truths", c.truths},           {"found", c.truths_found},
-              {"recall", finiteOrNull(c.recall())}, {"detections", c.detections},
-              {"right", c.detections_right},  {"precision", finiteOrNull(c.precision())},
-              {"visible", c.visible},         {"visible_recall", finiteOrNull(c.visibleRecall())}};
+  return Json{{"truths", c.truths},
+              {"found", c.truths_found},
+              {"recall", finiteOrNull(c.recall())},
+              {"detections", c.detections},
+              {"right", c.detections_right},
+              {"precision", finiteOrNull(c.precision())},
+              {"visible", c.visible},
+              {"visible_recall", finiteOrNull(c.visibleRecall())}};
 }
 
 // features.json: counts and median times, and the scores when a ground truth was given.
@@ -47,36 +51,43 @@ std::string featuresMarkdown(const FeaturesReport& r) {
   std::ostringstream os;
   os << "# Doors and corners: " << r.input << "\n\n";
   os << r.scans << " scans (" << r.beams_per_scan << " beams). Per scan, median: segmentation "
-     << fixed(r.segment_us.median, 2) << " us, detection " << fixed(r.detect_us.median, 2) << " us (p99 "
-     << fixed(r.detect_us.p99, 2) << " us).\n\n";
+     << fixed(r.segment_us.median, 2) << " us, detection " << fixed(r.detect_us.median, 2)
+     << " us (p99 " << fixed(r.detect_us.p99, 2) << " us).\n\n";
   os << "| type | detections |\n|---|---:|\n";
   for (std::size_t k = 0; k < kNumFeatureTypes; ++k) {
     os << "| " << typeName(k) << " | " << r.detections[k] << " |\n";
   }
   if (r.images > 0) {
-    os << "\nCamera: " << r.images << " images, " << r.images_with_rois << " with regions of interest, " << r.rois
-       << " regions; share of the image they cover: median " << fixed(r.roi_coverage.median, 3) << ", mean "
-       << fixed(r.roi_coverage.mean, 3) << ", max " << fixed(r.roi_coverage.max, 3) << ".\n";
+    os << "\nCamera: " << r.images << " images, " << r.images_with_rois
+       << " with regions of interest, " << r.rois
+       << " regions; share of the image they cover: median " << fixed(r.roi_coverage.median, 3)
+       << ", mean " << fixed(r.roi_coverage.mean, 3) << ", max " << fixed(r.roi_coverage.max, 3)
+       << ".\n";
   }
   if (!r.evaluation) return os.str();
   const auto& ev = *r.evaluation;
   os << "\n## Against the ground truth (match within " << fixed(ev.gate(), 2) << " m)\n\n";
-  os << "Recall counts the resolvable true features (both walls of a corner, the walls beside a door and "
-        "the doorway seen with enough beams); precision counts a detection right when it matches any true "
-        "feature in view of its type. \"Recall, all in view\" also counts the unresolvable ones.\n\n";
-  os << "| kind | true (resolvable) | found | recall | detections | right | precision | in view | recall, all in view |\n";
+  os << "Recall counts the resolvable true features (both walls of a corner, the walls beside a "
+        "door and "
+        "the doorway seen with enough beams); precision counts a detection right when it matches "
+        "any true "
+        "feature in view of its type. \"Recall, all in view\" also counts the unresolvable "
+        "ones.\n\n";
+  os << "| kind | true (resolvable) | found | recall | detections | right | precision | in view | "
+        "recall, all in view |\n";
   os << "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   auto row = [&](const std::string& name, const eval::DetectionCounts& c) {
-    os << "| " << name << " | " << c.truths << " | " << c.truths_found << " | " << fixed(c.recall(), 3) << " | "
-       << c.detections << " | " << c.detections_right << " | " << fixed(c.precision(), 3) << " | " << c.visible
-       << " | " << fixed(c.visibleRecall(), 3) << " |\n";
+    os << "| " << name << " | " << c.truths << " | " << c.truths_found << " | "
+       << fixed(c.recall(), 3) << " | " << c.detections << " | " << c.detections_right << " | "
+       << fixed(c.precision(), 3) << " | " << c.visible << " | " << fixed(c.visibleRecall(), 3)
+       << " |\n";
   };
   row("**doors (any type)**", ev.doors());
   for (std::size_t k = 0; k < 3; ++k) row(typeName(k), ev.byType()[k]);
   row("**corners (either)**", ev.corners());
   for (std::size_t k = 3; k < kNumFeatureTypes; ++k) row(typeName(k), ev.byType()[k]);
-  os << "\nPosition error of matched features: median " << fixed(r.position_error_m.median, 3) << " m, p99 "
-     << fixed(r.position_error_m.p99, 3) << " m.\n\n";
+  os << "\nPosition error of matched features: median " << fixed(r.position_error_m.median, 3)
+     << " m, p99 " << fixed(r.position_error_m.p99, 3) << " m.\n\n";
   os << "Confusion (rows: true type as the scan can show it; columns: detected type):\n\n| |";
   for (std::size_t k = 0; k < kNumFeatureTypes; ++k) os << ' ' << typeName(k) << " |";
   os << "\n|---|";

@@ -43,8 +43,9 @@ pid_t startJob(std::vector<std::string> args, const std::string& log) {
 }  // namespace
 
 std::string exitDescription(int status, const std::string& log) {
-  const std::string why = WIFSIGNALED(status) ? "killed by signal " + std::to_string(WTERMSIG(status))
-                                              : "exit code " + std::to_string(WEXITSTATUS(status));
+  const std::string why = WIFSIGNALED(status)
+                              ? "killed by signal " + std::to_string(WTERMSIG(status))
+                              : "exit code " + std::to_string(WEXITSTATUS(status));
   std::ifstream in(log);
   std::string line, last;
   while (std::getline(in, line)) {

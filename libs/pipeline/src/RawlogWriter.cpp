@@ -16,13 +16,15 @@ namespace lidarseg::pipeline {
 
 using mrpt_adapter::toMrpt;
 
-RawlogWriter::RawlogWriter(const std::string& path, OutputSet& outputs, bool landmarks) : landmarks_(landmarks) {
+RawlogWriter::RawlogWriter(const std::string& path, OutputSet& outputs, bool landmarks)
+    : landmarks_(landmarks) {
   const std::string tmp = outputs.addWritten(path);
   if (!out_.open(tmp, 1)) throw std::runtime_error("cannot write '" + tmp + "'");
 }
 
-void RawlogWriter::write(const mrpt_adapter::LaserRecord& record, const mrpt_adapter::LaserOdometryStep& step,
-                         double stamp_s, const std::vector<Feature>& features) {
+void RawlogWriter::write(const mrpt_adapter::LaserRecord& record,
+                         const mrpt_adapter::LaserOdometryStep& step, double stamp_s,
+                         const std::vector<Feature>& features) {
   const auto& obs = *record.observation;
   auto archive = mrpt::serialization::archiveFrom(out_);
   const Pose2D pose = mrpt_adapter::toPose2D(step.robot_pose.mean);
@@ -43,7 +45,8 @@ void RawlogWriter::write(const mrpt_adapter::LaserRecord& record, const mrpt_ada
   }
   frame.insert(record.observation);
   if (landmarks_) {
-    auto landmarks = mrpt_adapter::makeBearingRangeObservation(features, obs.sensorPose, obs.maxRange, obs.aperture);
+    auto landmarks = mrpt_adapter::makeBearingRangeObservation(features, obs.sensorPose,
+                                                               obs.maxRange, obs.aperture);
     landmarks->timestamp = obs.timestamp;
     frame.insert(landmarks);
   }

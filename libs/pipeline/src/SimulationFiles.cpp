@@ -91,8 +91,9 @@ void prepareSimulationFolders(const std::string& prefix, bool camera) {
   }
 }
 
-SimulationFiles::SimulationFiles(const std::string& prefix, const sim::SimulationParams& params, const sim::World& world,
-                                 const std::string& world_path, bool write_carmen)
+SimulationFiles::SimulationFiles(const std::string& prefix, const sim::SimulationParams& params,
+                                 const sim::World& world, const std::string& world_path,
+                                 bool write_carmen)
     : prefix_(prefix),
       params_(params),
       world_(world),

@@ -17,20 +17,24 @@ FrameSource::FrameSource(const std::string& input) : input_(input) {
   if (fs::is_directory(input)) {
     for (const auto& e : fs::directory_iterator(input)) {
       std::string ext = e.path().extension().string();
-      std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-      if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".ppm" || ext == ".pgm") {
+      std::transform(ext.begin(), ext.end(), ext.begin(),
+                     [](unsigned char c) { return std::tolower(c); });
+      if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".ppm" ||
+          ext == ".pgm") {
         files_.push_back(e.path().string());
       }
     }
     std::sort(files_.begin(), files_.end());
-    if (files_.empty()) throw std::runtime_error("'" + input + "': no image files (png, jpg, bmp, ppm, pgm)");
+    if (files_.empty())
+      throw std::runtime_error("'" + input + "': no image files (png, jpg, bmp, ppm, pgm)");
   } else if (!fs::exists(input)) {
     throw std::runtime_error("'" + input + "': no such file or directory");
   } else if (readImageHeader(input) || cv::haveImageReader(input)) {
     files_.push_back(input);  // read (and its size checked) by next()
   } else {
     video_.open(input);
-    if (!video_.isOpened()) throw std::runtime_error("'" + input + "': neither an image nor a video OpenCV can read");
+    if (!video_.isOpened())
+      throw std::runtime_error("'" + input + "': neither an image nor a video OpenCV can read");
   }
 }
 

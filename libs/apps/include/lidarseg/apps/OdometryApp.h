@@ -19,6 +19,7 @@ class LaserLogReader;
 namespace lidarseg::pipeline {
 class OutputSet;
 class OdometryRun;
+struct RunReferences;
 struct RunSettings;
 }  // namespace lidarseg::pipeline
 
@@ -94,19 +95,15 @@ class OdometryApp {
   /// then no output is written. Scans that cannot be processed are skipped and counted.
   OdometryReport run();
 
-  /// Ground truth, relations and the log's own poses, for the evaluation.
-  struct References;
-
  private:
-  References readReferences();
+  pipeline::RunReferences readReferences();
   void claimOutputs(OutputSet& outputs) const;
   void processLog(mrpt_adapter::LaserLogReader& reader, pipeline::OdometryRun& odometry, const pipeline::RunSettings& settings,
                   OutputSet& outputs);
   void collectReaderCounts(const mrpt_adapter::LaserLogReader& reader, OdometryReport& report) const;
-  void evaluateAll(const pipeline::OdometryRun& odometry, References& refs, OdometryReport& report) const;
-  void writeOutputs(OdometryReport& report, const References& refs, const eval::StampedTrajectory& log_poses,
+  void writeOutputs(OdometryReport& report, const pipeline::RunReferences& refs, const eval::StampedTrajectory& log_poses,
                     const eval::StampedTrajectory& wheel_odometry, OutputSet& outputs) const;
-  void addPlots(const OdometryReport& report, const References& refs, const eval::StampedTrajectory& log_poses,
+  void addPlots(const OdometryReport& report, const pipeline::RunReferences& refs, const eval::StampedTrajectory& log_poses,
                 const eval::StampedTrajectory& wheel_odometry, OutputSet& outputs) const;
 
   OdometryOptions options_;

@@ -29,16 +29,17 @@ struct ReportSummary {
 /// One scan's row of the report's tables.
 struct ScanRow {
   std::size_t index = 0;
-  double t = 0.0;            ///< the scan's stamp (s)
-  std::string status;        ///< the tracking status, and why the segment match failed
-  bool failed = false;       ///< a scan after the first whose status is not ok
-  std::size_t matches = 0;   ///< segment pairs of the match
-  double sd_xy_m = 0.0;      ///< sqrt of the increment's position variances' sum
-  double total_us = 0.0;     ///< W-D + cascade + matching (microseconds)
-  std::size_t features = 0;  ///< doors and corners
-  Pose2D pose;               ///< lidarseg's laser pose (odometry frame)
+  double t = 0.0;                 ///< the scan's stamp (s)
+  std::string status;             ///< the tracking status, and why the segment match failed
+  bool failed = false;            ///< a scan after the first whose status is not ok
+  std::size_t matches = 0;        ///< segment pairs of the match
+  double sd_xy_m = 0.0;           ///< sqrt of the increment's position variances' sum
+  double total_us = 0.0;          ///< W-D + cascade + matching (microseconds)
+  std::size_t features = 0;       ///< doors and corners
+  Pose2D pose;                    ///< lidarseg's laser pose (odometry frame)
   double error_m = std::nan("");  ///< |increment error| against the truth (m)
-  double drift_m = std::nan("");  ///< position error against the truth, aligned at the first scan (m)
+  double drift_m =
+      std::nan("");  ///< position error against the truth, aligned at the first scan (m)
 };
 
 /// The ground truth among the session's references (named "ground truth"), nullptr without one.
@@ -46,7 +47,8 @@ const eval::StampedTrajectory* groundTruth(const Session& session);
 
 /// Every scan's row, compared with `truth` (robot poses, moved to the laser by the first
 /// scan's mounting) when given. Progress with rate and ETA on stderr when `show_progress`.
-std::vector<ScanRow> scanRows(Session& session, const eval::StampedTrajectory* truth, bool show_progress);
+std::vector<ScanRow> scanRows(Session& session, const eval::StampedTrajectory* truth,
+                              bool show_progress);
 
 /// Scans, failed matches, path length and the final error against the truth; no gallery.
 ReportSummary summarizeRows(const std::vector<ScanRow>& rows);
@@ -58,7 +60,7 @@ std::vector<std::size_t> worstFirst(const std::vector<ScanRow>& rows, std::size_
 /// index.html for the log `input`: the results table, trajectory.png, error_over_time.png,
 /// timing.png, the gallery's table and its pictures frames/scan_N.png (the caller writes
 /// the pictures beside it).
-std::string reportHtml(const std::string& input, const ReportSummary& summary, const std::vector<ScanRow>& rows,
-                       bool with_truth);
+std::string reportHtml(const std::string& input, const ReportSummary& summary,
+                       const std::vector<ScanRow>& rows, bool with_truth);
 
 }  // namespace lidarseg::inspect

@@ -1,7 +1,8 @@
 #pragma once
 /// @file BatchResults.h
 /// lidarseg-batch's results: one run's figures (metrics.csv in OUT/run_<seed>/), every
-/// finished run read back, and their aggregation into the paper's Table I (§IV.B).
+/// finished run read back, and their aggregation into the paper's Table I (§IV.B); the
+/// seeds and the experiment a results folder holds.
 
 #include <cstdint>
 #include <map>
@@ -48,9 +49,20 @@ MetricStats metricStats(const MetricRows& rows);
 
 /// table1.md: the paper's Table I, one row per method that ran (times in ms, errors in mm,
 /// mrad and m), then the median times per scan.
-std::string table1Markdown(const std::string& title, const std::vector<std::uint64_t>& seeds, const MetricStats& stats);
+std::string table1Markdown(const std::string& title, const std::vector<std::uint64_t>& seeds,
+                           const MetricStats& stats);
 
 /// aggregate.csv: every run's metrics.csv line under one header.
 std::string aggregateCsv(const MetricRows& rows);
+
+/// Parses seeds as "1-50", "3", "1,4,9-12" (sorted, without repeats; at most 100000).
+/// @throws std::invalid_argument naming the bad part.
+std::vector<std::uint64_t> parseSeeds(const std::string& text);
+
+/// Records an experiment (`record`: what makes its runs one experiment, e.g. digests of its
+/// inputs) in OUT/experiment.txt when OUT holds none; refuses a folder that holds another
+/// one, whose runs would be averaged with these into one table.
+/// @throws std::runtime_error naming the folder.
+void claimExperiment(const std::string& out_dir, const std::string& record);
 
 }  // namespace lidarseg::pipeline

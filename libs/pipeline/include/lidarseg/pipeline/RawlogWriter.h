@@ -30,8 +30,8 @@ class RawlogWriter {
 
   /// One scan. `stamp_s`: the scan's repaired stamp (the TUM files'), strictly increasing;
   /// `features`: the scan's doors and corners (sensor frame), used with landmarks only.
-  void write(const mrpt_adapter::LaserRecord& record, const mrpt_adapter::LaserOdometryStep& step, double stamp_s,
-             const std::vector<Feature>& features);
+  void write(const mrpt_adapter::LaserRecord& record, const mrpt_adapter::LaserOdometryStep& step,
+             double stamp_s, const std::vector<Feature>& features);
 
   /// Flushes and closes the file (before `outputs` commits).
   void close() { out_.close(); }

@@ -39,8 +39,8 @@ class SimulationFiles {
   /// Opens every output (PREFIX.rawlog last) and writes the text files' headers.
   /// `world_path` and params.seed are named in the CARMEN log's comment.
   /// @throws std::runtime_error naming a file that cannot be written.
-  SimulationFiles(const std::string& prefix, const sim::SimulationParams& params, const sim::World& world,
-                  const std::string& world_path, bool write_carmen);
+  SimulationFiles(const std::string& prefix, const sim::SimulationParams& params,
+                  const sim::World& world, const std::string& world_path, bool write_carmen);
   /// Scan `i` with its truth, odometry, sightings and image, in every output.
   void write(std::size_t i, const sim::SimulatedFrame& f);
   /// Renames every output to its final name.
