@@ -90,19 +90,26 @@ std::unique_ptr<Session> InspectApp::open() {
   return session;
 }
 
-int InspectApp::run() {
-  // Before any work: an output that is an input is refused, a second writer at once. The
-  // report's own output set shares this lock.
-  OutputSet claimed;
-  const InspectOptions& o = options_;
+namespace {
+
+// Before any work: an output that is an input is refused, a second writer at once. The
+// report's own output set shares this lock. A picture is one file written atomically; the
+// report is a set of files.
+void claimOutputs(const InspectOptions& o, OutputSet& claimed) {
   std::vector<std::string> inputs = {o.input, o.config_path, o.truth_path};
   for (const std::string& r : o.references) inputs.push_back(r.substr(r.find('=') + 1));
   for (const std::string& input : inputs) {
     refuseOverwritingInput(o.render_out, input, "--out");
     refuseOverwritingInput(o.screenshot_out, input, "--screenshot");
   }
-  // A picture is one file written atomically; the report is a set of files.
   claimed.claimOutputs({}, {{o.report_dir, "--report"}}, inputs);
+}
+
+}  // namespace
+
+int InspectApp::run() {
+  OutputSet claimed;
+  claimOutputs(options_, claimed);
   auto session = open();
   if (options_.time_s) options_.frame = session->indexAtTime(session->frame(0).stamp_s + *options_.time_s);
   if (!options_.report_dir.empty()) {

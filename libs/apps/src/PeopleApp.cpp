@@ -62,58 +62,27 @@ class FramePass {
   // Writes the CSV header.
   FramePass(const PeopleOptions& options, const vision::PeopleDetector& detector, PeopleReport& report,
             OutputSet& outputs)
-      : options_(options), detector_(detector), report_(report), outputs_(outputs) {
+      : options_(options), comparison_(detector, options.match_iou, report), report_(report), outputs_(outputs) {
     csv_ << "frame,mode,u_min,v_min,u_max,v_max,score\n";
   }
 
   // Frame `index` (BGR) with its regions (pixels).
   void addFrame(std::size_t index, const cv::Mat& frame, const std::vector<cv::Rect>& rois) {
-    report_.frame_size = frame.size();
-    auto t0 = Clock::now();
-    const vision::PeopleDetection full = detector_.detectFullFrame(frame);
-    full_ms_.push_back(microsecondsSince(t0) * 1e-3);
-    t0 = Clock::now();
-    const vision::PeopleDetection inside = detector_.detectInRegions(frame, rois);
-    rois_ms_.push_back(microsecondsSince(t0) * 1e-3);
-    fraction_.push_back(inside.analysed_fraction);
-    if (full_ms_.back() > 0) ratio_.push_back(rois_ms_.back() / full_ms_.back());
-    ++report_.frames;
-    countPeople(full.people, inside.people, rois);
-    writeDetections(csv_, index, "full", full.people);
-    writeDetections(csv_, index, "rois", inside.people);
+    const auto d = comparison_.add(frame, rois);
+    writeDetections(csv_, index, "full", d.full.people);
+    writeDetections(csv_, index, "rois", d.inside.people);
     if (!options_.draw_dir.empty() && (report_.frames - 1) % options_.draw_every == 0) {
-      draw(index, frame, rois, full, inside);
+      draw(index, frame, rois, d.full, d.inside);
     }
   }
 
   // The per-frame samples summarised into the report.
-  void summarise() {
-    report_.full_ms = summarize(full_ms_);
-    report_.rois_ms = summarize(rois_ms_);
-    report_.analysed_fraction = summarize(fraction_);
-    report_.time_ratio = summarize(ratio_);
-  }
+  void summarise() const { comparison_.summarise(); }
 
   // The detections CSV, header included.
   std::string csv() const { return csv_.str(); }
 
  private:
-  // Whole-frame people centred in a region and found again inside the regions; detections
-  // inside the regions that the whole frame also has.
-  void countPeople(const std::vector<vision::Person>& full, const std::vector<vision::Person>& inside,
-                   const std::vector<cv::Rect>& rois) {
-    report_.people_full += full.size();
-    report_.people_rois += inside.size();
-    for (const vision::Person& p : full) {
-      if (!vision::centredIn(p.box, rois)) continue;
-      ++report_.people_in_regions;
-      if (vision::overlapsAny(p.box, inside, options_.match_iou)) ++report_.people_still_found;
-    }
-    for (const vision::Person& p : inside) {
-      if (vision::overlapsAny(p.box, full, options_.match_iou)) ++report_.people_rois_confirmed;
-    }
-  }
-
   // The frame with the analysed crops (grey), regions (yellow), whole-frame detections (blue)
   // and detections inside the regions (red), as people_NNNNNN.png.
   void draw(std::size_t index, const cv::Mat& frame, const std::vector<cv::Rect>& rois,
@@ -129,11 +98,10 @@ class FramePass {
   }
 
   const PeopleOptions& options_;
-  const vision::PeopleDetector& detector_;
-  PeopleReport& report_;
+  vision::PeopleComparison comparison_;
+  const PeopleReport& report_;
   OutputSet& outputs_;
   std::ostringstream csv_;
-  std::vector<double> full_ms_, rois_ms_, fraction_, ratio_;
 };
 
 // people.json: the report's counts and median times and shares.
@@ -165,11 +133,6 @@ void writeOutputs(const PeopleOptions& options, const PeopleReport& report, cons
 }
 
 }  // namespace
-
-double PeopleReport::recallInRegions() const {
-  return people_in_regions == 0 ? std::nan("")
-                                : static_cast<double>(people_still_found) / static_cast<double>(people_in_regions);
-}
 
 PeopleApp::PeopleApp(PeopleOptions options) : options_(std::move(options)) {
   if (options_.input.empty()) throw std::invalid_argument("no input video or images given");
