@@ -9,6 +9,7 @@
 #include "lidarseg/apps/CommandLine.h"
 #include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/eval/Csv.h"
+#include "lidarseg/pipeline/ReportWriters.h"
 
 namespace {
 
@@ -123,8 +124,8 @@ int main(int argc, char** argv) {
     const std::optional<OdometryOptions> options = optionsOf(command_line);
     if (!options) return 2;
     const auto report = lidarseg::apps::OdometryApp(*options).run();
-    lidarseg::apps::OdometryApp::print(report, std::cout);
-    lidarseg::apps::OdometryApp::printWarnings(report, std::cerr);
+    lidarseg::pipeline::printRunSummary(report, std::cout);
+    lidarseg::pipeline::printRunWarnings(report, "lidarseg-odometry", std::cerr);
     warnIfLost(report, options->max_lost_ratio);
     return report.log_error.empty() ? 0 : 3;
   } catch (const std::exception& e) {

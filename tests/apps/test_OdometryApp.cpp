@@ -16,6 +16,7 @@
 #include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/apps/SimulateApp.h"
 #include "lidarseg/mrpt/RawlogScanReader.h"
+#include "lidarseg/pipeline/ReportWriters.h"
 
 namespace lidarseg::apps {
 namespace {
@@ -321,8 +322,8 @@ TEST(OdometryApp, WarningsAreSummarisedApartFromTheResults) {
   r.skipped_count = 3;
   r.skipped = {"log.clf:12: bad FLASER line"};
   std::ostringstream out, err;
-  OdometryApp::print(r, out);
-  OdometryApp::printWarnings(r, err);
+  pipeline::printRunSummary(r, out);
+  pipeline::printRunWarnings(r, "lidarseg-odometry", err);
   EXPECT_EQ(out.str().find("warning"), std::string::npos) << out.str();
   const std::string e = err.str();
   EXPECT_NE(e.find("449 x, the first: log.clf:1130: time gap"), std::string::npos) << e;

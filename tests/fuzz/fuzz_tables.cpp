@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "FuzzInput.h"
-#include "lidarseg/apps/RegionTable.h"
+#include "lidarseg/vision/RegionTable.h"
 #include "lidarseg/eval/FeatureEvaluation.h"
 #include "lidarseg/eval/Relations.h"
 #include "lidarseg/eval/StampedTrajectory.h"
@@ -42,7 +42,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         eval::readTrueFeatures(path);
         break;
       default: {
-        apps::RegionTable table;
+        vision::RegionTable table;
         table.read(path);
         for (const auto& r : table.of(0, "a.png")) fuzz::require(r.width > 0 && r.height > 0, "regions are not empty");
         break;

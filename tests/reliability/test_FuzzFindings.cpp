@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "ErrorOf.h"
-#include "lidarseg/apps/RegionTable.h"
+#include "lidarseg/vision/RegionTable.h"
 #include "lidarseg/core/ScanSegmenter.h"
 #include "lidarseg/eval/FeatureEvaluation.h"
 #include "lidarseg/mrpt/SegmentationConfig.h"
@@ -95,14 +95,14 @@ TEST(FuzzFindings, F4_DenormalRangesAreInvalidBeamsAndSegmentsStayFinite) {
 // F5 (read while writing fuzz_tables): region coordinates near LONG_MAX overflowed
 // `u_max - u_min + 1` (undefined behaviour) and negative ones were accepted from files.
 TEST(FuzzFindings, F5_RegionCoordinatesAreBounded) {
-  apps::RegionTable table;
+  vision::RegionTable table;
   std::istringstream in("frame,u_min,v_min,u_max,v_max\n0,-9223372036854775807,0,9223372036854775807,5\n");
   const std::string e = errorOf([&] { table.read(in, "r.csv"); });
   EXPECT_NE(e.find("r.csv:2: need 0 <= u_min <= u_max <= 1000000"), std::string::npos) << e;
-  EXPECT_NE(errorOf([] { apps::parseRegion("0,0,2000000,5", "--roi"); }).find("--roi '0,0,2000000,5'"),
+  EXPECT_NE(errorOf([] { vision::parseRegion("0,0,2000000,5", "--roi"); }).find("--roi '0,0,2000000,5'"),
             std::string::npos);
   std::istringstream good("frame,u_min,v_min,u_max,v_max\n3,10,20,30,40\n*,0,0,1,1\n");
-  apps::RegionTable ok;
+  vision::RegionTable ok;
   ok.read(good, "g.csv");
   ASSERT_EQ(ok.of(3, "").size(), 2u);
   EXPECT_EQ(ok.of(3, "")[1], cv::Rect(10, 20, 21, 21));

@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "lidarseg/mrpt/CameraRois.h"
-#include "FeatureCsv.h"
+#include "lidarseg/pipeline/FeatureCsv.h"
 #include "Plots.h"
 #include "ReportTools.h"
 #include "lidarseg/core/FeatureDetector.h"
@@ -26,9 +26,6 @@ using mrpt_adapter::writeRoiCsvRows;
 using pipeline::writeFileAtomically;
 
 namespace {
-
-// The name of feature type number k.
-const char* typeName(std::size_t k) { return toString(static_cast<FeatureType>(k)); }
 
 // One configuration, every section optional; the defaults without a file.
 mrpt_adapter::LidarsegConfig loadConfig(const std::string& path) {
@@ -89,8 +86,8 @@ class LogPass {
     if (!options.matches_out.empty() && options.truth_path.empty()) {
       throw std::invalid_argument("--matches-out needs --truth");
     }
-    writeFeatureCsvHeader(csv_);
-    if (!options.matches_out.empty()) matches_csv_ << "scan,role,type,seen_as,x,y,theta,width,id,resolvable,match\n";
+    pipeline::writeFeatureCsvHeader(csv_);
+    if (!options.matches_out.empty()) eval::writeMatchesCsvHeader(matches_csv_);
     writeRoiCsvHeader(rois_csv_);
   }
 
@@ -120,7 +117,7 @@ class LogPass {
     const auto& sp = record.observation->sensorPose;
     last_ = LastScan{record.index, sp, features_};
     for (const Feature& f : features_) ++report_.detections[static_cast<std::size_t>(f.type)];
-    writeFeatureCsvRows(csv_, record.stamp_s, record.index, {sp.x(), sp.y(), sp.yaw()}, features_);
+    pipeline::writeFeatureCsvRows(csv_, record.stamp_s, record.index, {sp.x(), sp.y(), sp.yaw()}, features_);
     if (report_.evaluation) score(record.index);
     if (options_.figure_scan && *options_.figure_scan == record.index) drawFigure(record.index);
   }
@@ -183,29 +180,7 @@ class LogPass {
     const auto& truth = it == truth_.end() ? kNone : it->second;
     const auto e = report_.evaluation->add(truth, features_);
     errors_.insert(errors_.end(), e.begin(), e.end());
-    if (!options_.matches_out.empty()) writeMatches(scan, truth);
-  }
-
-  // The scan's true features and detections with what each was matched to.
-  void writeMatches(std::size_t scan, const std::vector<eval::TrueFeature>& truth) {
-    const auto& tm = report_.evaluation->lastTruthMatches();
-    const auto& dm = report_.evaluation->lastDetectionMatches();
-    char line[256];
-    for (std::size_t k = 0; k < truth.size(); ++k) {
-      const eval::TrueFeature& t = truth[k];
-      std::snprintf(line, sizeof(line), "%zu,truth,%s,%s,%.4f,%.4f,%.4f,%.4f,%zu,%d,%s\n", scan, toString(t.type),
-                    toString(t.seen_as), t.position.x(), t.position.y(), t.theta_rad, t.width_m, t.id,
-                    t.resolvable ? 1 : 0, tm[k] < 0 ? "none" : toString(features_[static_cast<std::size_t>(tm[k])].type));
-      matches_csv_ << line;
-    }
-    for (std::size_t k = 0; k < features_.size(); ++k) {
-      const Feature& f = features_[k];
-      const eval::TrueFeature* t = dm[k] < 0 ? nullptr : &truth[static_cast<std::size_t>(dm[k])];
-      std::snprintf(line, sizeof(line), "%zu,detection,%s,,%.4f,%.4f,%.4f,%.4f,%lld,,%s\n", scan, toString(f.type),
-                    f.position.x(), f.position.y(), f.theta_rad, f.width_m, t ? static_cast<long long>(t->id) : -1LL,
-                    t ? toString(t->seen_as) : "none");
-      matches_csv_ << line;
-    }
+    if (!options_.matches_out.empty()) eval::writeMatchesCsvRows(matches_csv_, scan, truth, features_, *report_.evaluation);
   }
 
   // Paper Fig. 6 of this scan, written at once; without gnuplot a warning and no file
@@ -240,35 +215,6 @@ class LogPass {
   bool figure_met_ = false;
 };
 
-// Truths found and detections right of one kind of feature, for features.json.
-Json countsJson(const eval::DetectionCounts& c) {
-  return Json{{"truths", c.truths},           {"found", c.truths_found},
-              {"recall", finiteOrNull(c.recall())}, {"detections", c.detections},
-              {"right", c.detections_right},  {"precision", finiteOrNull(c.precision())},
-              {"visible", c.visible},         {"visible_recall", finiteOrNull(c.visibleRecall())}};
-}
-
-// features.json: counts and median times, and the scores when a ground truth was given.
-Json reportJson(const FeaturesReport& report) {
-  Json json{{"input", report.input},
-            {"scans", report.scans},
-            {"detect_us_median", finiteOrNull(report.detect_us.median)},
-            {"segment_us_median", finiteOrNull(report.segment_us.median)},
-            {"images", report.images},
-            {"images_with_rois", report.images_with_rois},
-            {"rois", report.rois},
-            {"roi_coverage_median", finiteOrNull(report.roi_coverage.median)},
-            {"roi_coverage_mean", finiteOrNull(report.roi_coverage.mean)}};
-  if (!report.evaluation) return json;
-  const auto& ev = *report.evaluation;
-  json["gate_m"] = finiteOrNull(ev.gate());
-  json["doors"] = countsJson(ev.doors());
-  json["corners"] = countsJson(ev.corners());
-  for (std::size_t k = 0; k < kNumFeatureTypes; ++k) json[typeName(k)] = countsJson(ev.byType()[k]);
-  json["position_error_median_m"] = finiteOrNull(report.position_error_m.median);
-  return json;
-}
-
 // The CSV files and the report put in place, together with the images drawn during the pass.
 void writeOutputs(const FeaturesOptions& options, const FeaturesReport& report, const LogPass& pass,
                   OutputSet& outputs) {
@@ -277,8 +223,8 @@ void writeOutputs(const FeaturesOptions& options, const FeaturesReport& report, 
   if (!options.matches_out.empty()) outputs.add(options.matches_out, pass.matchesCsv());
   if (!options.report_dir.empty()) {
     std::filesystem::create_directories(options.report_dir);
-    outputs.add(options.report_dir + "/features.md", FeaturesApp::markdown(report));
-    outputs.add(options.report_dir + "/features.json", jsonText(reportJson(report)));
+    outputs.add(options.report_dir + "/features.md", pipeline::featuresMarkdown(report));
+    outputs.add(options.report_dir + "/features.json", pipeline::featuresJson(report));
   }
   outputs.commit();
 }
@@ -292,87 +238,52 @@ FeaturesApp::FeaturesApp(FeaturesOptions options) : options_(std::move(options))
   }
 }
 
-FeaturesReport FeaturesApp::run() {
-  // Before any work: an output that is an input is refused, a second writer at once.
-  OutputSet outputs;
-  const FeaturesOptions& o = options_;
+namespace {
+
+// Before any work: an output that is an input is refused, a second writer at once.
+void claimOutputs(const FeaturesOptions& o, OutputSet& outputs) {
   outputs.claimOutputs({{o.out_csv, "--out"}, {o.rois_out, "--rois-out"}, {o.figure_path, "--figure"}},
                        {{o.report_dir, "--report"}, {o.images_out, "--images-out"}},
                        {o.input, o.config_path, o.truth_path});
-  const mrpt_adapter::LidarsegConfig config = loadConfig(options_.config_path);
-  FeaturesReport report;
-  report.input = options_.input;
-  LogPass pass(options_, config, report, outputs);
-  mrpt_adapter::LaserLogReader reader(options_.input, options_.sensor_label);
-  if (!options_.images_out.empty()) std::filesystem::create_directories(options_.images_out);
-  Progress progress("lidarseg-features", options_.progress, options_.max_scans);
+  if (!o.images_out.empty()) std::filesystem::create_directories(o.images_out);
+}
+
+// Every record of the log through the pass (up to max_scans scans), with progress on
+// stderr; what the reader skipped is listed in the report.
+void readLog(const FeaturesOptions& o, LogPass& pass, FeaturesReport& report) {
+  mrpt_adapter::LaserLogReader reader(o.input, o.sensor_label);
+  Progress progress("lidarseg-features", o.progress, o.max_scans);
   while (auto record = reader.next()) {
     pass.addImages(*record);
-    if (options_.max_scans > 0 && report.scans >= options_.max_scans) break;
+    if (o.max_scans > 0 && report.scans >= o.max_scans) break;
     pass.addScan(*record);
     progress.update(report.scans, reader.fractionRead());
   }
   progress.done(report.scans);
-  if (report.scans == 0) throw std::runtime_error(options_.input + ": no laser scan read");
+  if (report.scans == 0) throw std::runtime_error(o.input + ": no laser scan read");
   for (const std::string& issue : reader.issues()) report.skipped.push_back(issue);
-  if (options_.figure_scan && !pass.figureMet()) {
-    report.warnings.push_back("no figure " + options_.figure_path + ": no scan " +
-                              std::to_string(*options_.figure_scan) + " among the " + std::to_string(report.scans) +
-                              " scans read");
+  if (o.figure_scan && !pass.figureMet()) {
+    report.warnings.push_back("no figure " + o.figure_path + ": no scan " + std::to_string(*o.figure_scan) +
+                              " among the " + std::to_string(report.scans) + " scans read");
   }
+}
+
+}  // namespace
+
+FeaturesReport FeaturesApp::run() {
+  OutputSet outputs;
+  claimOutputs(options_, outputs);
+  const mrpt_adapter::LidarsegConfig config = loadConfig(options_.config_path);
+  FeaturesReport report;
+  report.input = options_.input;
+  LogPass pass(options_, config, report, outputs);
+  readLog(options_, pass, report);
   pass.summarise();
   writeOutputs(options_, report, pass, outputs);
   return report;
 }
 
-std::string FeaturesApp::markdown(const FeaturesReport& r) {
-  std::ostringstream os;
-  os << "# Doors and corners: " << r.input << "\n\n";
-  os << r.scans << " scans (" << r.beams_per_scan << " beams). Per scan, median: segmentation "
-     << fixed(r.segment_us.median, 2) << " us, detection " << fixed(r.detect_us.median, 2) << " us (p99 "
-     << fixed(r.detect_us.p99, 2) << " us).\n\n";
-  os << "| type | detections |\n|---|---:|\n";
-  for (std::size_t k = 0; k < kNumFeatureTypes; ++k) {
-    os << "| " << typeName(k) << " | " << r.detections[k] << " |\n";
-  }
-  if (r.images > 0) {
-    os << "\nCamera: " << r.images << " images, " << r.images_with_rois << " with regions of interest, " << r.rois
-       << " regions; share of the image they cover: median " << fixed(r.roi_coverage.median, 3) << ", mean "
-       << fixed(r.roi_coverage.mean, 3) << ", max " << fixed(r.roi_coverage.max, 3) << ".\n";
-  }
-  if (!r.evaluation) return os.str();
-  const auto& ev = *r.evaluation;
-  os << "\n## Against the ground truth (match within " << fixed(ev.gate(), 2) << " m)\n\n";
-  os << "Recall counts the resolvable true features (both walls of a corner, the walls beside a door and "
-        "the doorway seen with enough beams); precision counts a detection right when it matches any true "
-        "feature in view of its type. \"Recall, all in view\" also counts the unresolvable ones.\n\n";
-  os << "| kind | true (resolvable) | found | recall | detections | right | precision | in view | recall, all in view |\n";
-  os << "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-  auto row = [&](const std::string& name, const eval::DetectionCounts& c) {
-    os << "| " << name << " | " << c.truths << " | " << c.truths_found << " | " << fixed(c.recall(), 3) << " | "
-       << c.detections << " | " << c.detections_right << " | " << fixed(c.precision(), 3) << " | " << c.visible
-       << " | " << fixed(c.visibleRecall(), 3) << " |\n";
-  };
-  row("**doors (any type)**", ev.doors());
-  for (std::size_t k = 0; k < 3; ++k) row(typeName(k), ev.byType()[k]);
-  row("**corners (either)**", ev.corners());
-  for (std::size_t k = 3; k < kNumFeatureTypes; ++k) row(typeName(k), ev.byType()[k]);
-  os << "\nPosition error of matched features: median " << fixed(r.position_error_m.median, 3) << " m, p99 "
-     << fixed(r.position_error_m.p99, 3) << " m.\n\n";
-  os << "Confusion (rows: true type as the scan can show it; columns: detected type):\n\n| |";
-  for (std::size_t k = 0; k < kNumFeatureTypes; ++k) os << ' ' << typeName(k) << " |";
-  os << "\n|---|";
-  for (std::size_t k = 0; k < kNumFeatureTypes; ++k) os << "---:|";
-  os << '\n';
-  for (std::size_t t = 0; t < kNumFeatureTypes; ++t) {
-    os << "| " << typeName(t) << " |";
-    for (std::size_t d = 0; d < kNumFeatureTypes; ++d) os << ' ' << ev.confusion()[t][d] << " |";
-    os << '\n';
-  }
-  return os.str();
-}
-
-void FeaturesApp::print(const FeaturesReport& report, std::ostream& os) { os << markdown(report); }
+void FeaturesApp::print(const FeaturesReport& report, std::ostream& os) { os << pipeline::featuresMarkdown(report); }
 
 void FeaturesApp::printWarnings(const FeaturesReport& report, std::ostream& err) {
   const std::string tool = "lidarseg-features: warning: ";

@@ -20,8 +20,8 @@
 
 #include "lidarseg/pipeline/OutputFiles.h"
 #include "lidarseg/inspect/Drawing.h"
+#include "lidarseg/inspect/LayerSwitches.h"
 #include "lidarseg/eval/StampedTrajectory.h"
-#include "lidarseg/eval/Csv.h"
 
 namespace lidarseg::apps {
 
@@ -41,33 +41,6 @@ bool endsWith(const std::string& s, const std::string& e) {
   return s.size() >= e.size() && s.compare(s.size() - e.size(), e.size(), e) == 0;
 }
 
-// A layer: its name in --layers, the window key that shows or hides it, and its flag.
-struct LayerSwitch {
-  const char* name;
-  int key;
-  bool& (*flag)(Layers&);
-};
-const LayerSwitch kLayerSwitches[] = {
-    {"raw", 'R', [](Layers& l) -> bool& { return l.raw_points; }},
-    {"l0", 'Z', [](Layers& l) -> bool& { return l.levels[0]; }},
-    {"l1", 'X', [](Layers& l) -> bool& { return l.levels[1]; }},
-    {"l2", 'C', [](Layers& l) -> bool& { return l.levels[2]; }},
-    {"l3", 'V', [](Layers& l) -> bool& { return l.levels[3]; }},
-    {"indices", 'I', [](Layers& l) -> bool& { return l.indices; }},
-    {"predicted", 'K', [](Layers& l) -> bool& { return l.predicted; }},
-    {"matches", 'M', [](Layers& l) -> bool& { return l.matches; }},
-    {"features", 'F', [](Layers& l) -> bool& { return l.features; }},
-    {"trajectory", 'O', [](Layers& l) -> bool& { return l.trajectory; }},
-    {"camera", 'A', [](Layers& l) -> bool& { return l.camera; }},
-};
-
-// Every layer on, or every layer off.
-Layers allLayers(bool on) {
-  Layers l;
-  for (const LayerSwitch& s : kLayerSwitches) s.flag(l) = on;
-  return l;
-}
-
 }  // namespace
 
 InspectApp::InspectApp(InspectOptions options) : options_(std::move(options)) {
@@ -82,31 +55,12 @@ InspectApp::InspectApp(InspectOptions options) : options_(std::move(options)) {
   if (!options_.screenshot_out.empty() && !endsWith(options_.screenshot_out, ".png")) {
     throw std::invalid_argument("--screenshot '" + options_.screenshot_out + "': the name must end in .png");
   }
-  parseLayers(options_.layers);
+  inspect::parseLayers(options_.layers);
   for (const std::string& r : options_.references) {
     if (r.find('=') == std::string::npos || r.front() == '=' || r.back() == '=') {
       throw std::invalid_argument("--trajectory '" + r + "': expected NAME=FILE.tum");
     }
   }
-}
-
-Layers InspectApp::parseLayers(const std::string& list) {
-  if (list.empty()) return Layers{};
-  Layers l = allLayers(false);
-  for (const std::string& name : eval::splitCsvLine(list)) {
-    if (name == "all") {
-      l = allLayers(true);
-      continue;
-    }
-    const auto s = std::find_if(std::begin(kLayerSwitches), std::end(kLayerSwitches),
-                                [&](const LayerSwitch& x) { return name == x.name; });
-    if (s == std::end(kLayerSwitches)) {
-      throw std::invalid_argument("--layers: unknown layer '" + name +
-                                  "' (raw, l0, l1, l2, l3, indices, predicted, matches, features, trajectory, camera, all)");
-    }
-    s->flag(l) = true;
-  }
-  return l;
 }
 
 std::vector<std::string> InspectApp::keyHelp() {
@@ -136,19 +90,26 @@ std::unique_ptr<Session> InspectApp::open() {
   return session;
 }
 
-int InspectApp::run() {
-  // Before any work: an output that is an input is refused, a second writer at once. The
-  // report's own output set shares this lock.
-  OutputSet claimed;
-  const InspectOptions& o = options_;
+namespace {
+
+// Before any work: an output that is an input is refused, a second writer at once. The
+// report's own output set shares this lock. A picture is one file written atomically; the
+// report is a set of files.
+void claimOutputs(const InspectOptions& o, OutputSet& claimed) {
   std::vector<std::string> inputs = {o.input, o.config_path, o.truth_path};
   for (const std::string& r : o.references) inputs.push_back(r.substr(r.find('=') + 1));
   for (const std::string& input : inputs) {
     refuseOverwritingInput(o.render_out, input, "--out");
     refuseOverwritingInput(o.screenshot_out, input, "--screenshot");
   }
-  // A picture is one file written atomically; the report is a set of files.
   claimed.claimOutputs({}, {{o.report_dir, "--report"}}, inputs);
+}
+
+}  // namespace
+
+int InspectApp::run() {
+  OutputSet claimed;
+  claimOutputs(options_, claimed);
   auto session = open();
   if (options_.time_s) options_.frame = session->indexAtTime(session->frame(0).stamp_s + *options_.time_s);
   if (!options_.report_dir.empty()) {
@@ -165,7 +126,7 @@ int InspectApp::run() {
 }
 
 void InspectApp::render(Session& session) {
-  const inspect::Drawing d = session.draw(options_.frame, parseLayers(options_.layers));
+  const inspect::Drawing d = session.draw(options_.frame, inspect::parseLayers(options_.layers));
   const cv::Size size(options_.width, options_.height);
   writeFileAtomically(options_.render_out, endsWith(options_.render_out, ".svg") ? inspect::renderSvg(d, size)
                                                                                  : encodePng(inspect::renderPng(d, size)));
@@ -230,7 +191,7 @@ class InspectorWindow {
 InspectorWindow::InspectorWindow(Session& session, const InspectOptions& options)
     : session_(session),
       options_(options),
-      layers_(InspectApp::parseLayers(options.layers)),
+      layers_(inspect::parseLayers(options.layers)),
       win_("lidarseg-inspect: " + fs::path(options.input).filename().string(), static_cast<unsigned>(options.width),
            static_cast<unsigned>(options.height)),
       index_(options.frame) {
@@ -314,13 +275,9 @@ bool InspectorWindow::onKey() {
 }
 
 bool InspectorWindow::toggleLayer(int k) {
-  for (const LayerSwitch& s : kLayerSwitches) {
-    if (s.key != k) continue;
-    s.flag(layers_) = !s.flag(layers_);
-    dirty_ = true;
-    return true;
-  }
-  return false;
+  if (!inspect::toggleLayer(layers_, k)) return false;
+  dirty_ = true;
+  return true;
 }
 
 bool InspectorWindow::navigate(int k, long long step) {

@@ -7,23 +7,15 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <mrpt/io/CFileGZOutputStream.h>
-#include <mrpt/obs/CActionCollection.h>
-#include <mrpt/obs/CActionRobotMovement2D.h>
-#include <mrpt/obs/CObservationOdometry.h>
-#include <mrpt/obs/CSensoryFrame.h>
-#include <mrpt/poses/CPosePDFGaussian.h>
-#include <mrpt/serialization/CArchive.h>
-
-#include "FeatureCsv.h"
+#include "lidarseg/pipeline/FeatureCsv.h"
 #include "lidarseg/pipeline/OutputFiles.h"
 #include "Plots.h"
 #include "lidarseg/pipeline/Progress.h"
 #include "lidarseg/core/FeatureDetector.h"
-#include "lidarseg/mrpt/FeatureObservation.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
-#include "lidarseg/mrpt/PoseConversion.h"
 #include "lidarseg/pipeline/OdometryRun.h"
+#include "lidarseg/pipeline/RawlogWriter.h"
+#include "lidarseg/pipeline/RunEvaluation.h"
 #include "lidarseg/pipeline/ReportWriters.h"
 
 namespace lidarseg::apps {
@@ -37,83 +29,6 @@ using pipeline::Progress;
 namespace fs = std::filesystem;
 
 namespace {
-
-using mrpt_adapter::toMrpt;
-
-std::string stemOf(const std::string& path) {
-  for (const char* ext : {".rawlog.gz", ".rawlog", ".clf.gz", ".log.gz", ".clf", ".log"}) {
-    const std::string e(ext);
-    if (path.size() > e.size() && path.compare(path.size() - e.size(), e.size(), e) == 0) {
-      return path.substr(0, path.size() - e.size());
-    }
-  }
-  return path;
-}
-
-}  // namespace
-
-// Ground truth and relations, read before the run so that a bad file fails early.
-struct OdometryApp::References {
-  std::optional<eval::StampedTrajectory> gt;
-  std::optional<std::vector<eval::Relation>> relations;
-  std::optional<std::vector<eval::Relation>> log_relations;
-  double gt_tolerance_s = 0.025;
-};
-
-namespace {
-
-// The input written back with lidarseg's motion as the robot's odometry action, then the
-// scan, the observations that came with it and its doors and corners as landmarks. Written
-// under a temporary name, put in place with the other outputs.
-class RawlogOutput {
- public:
-  // gzip level 1, as MRPT's own tools write rawlogs.
-  RawlogOutput(const std::string& path, OutputSet& outputs, bool landmarks) : landmarks_(landmarks) {
-    const std::string tmp = outputs.addWritten(path);
-    if (!out_.open(tmp, 1)) throw std::runtime_error("cannot write '" + tmp + "'");
-  }
-  // `stamp_s`: the scan's repaired stamp (the TUM files'), strictly increasing.
-  void write(const mrpt_adapter::LaserRecord& record, const mrpt_adapter::LaserOdometryStep& step, double stamp_s,
-             const std::vector<Feature>& features) {
-    const auto& obs = *record.observation;
-    auto archive = mrpt::serialization::archiveFrom(out_);
-    const Pose2D pose = mrpt_adapter::toPose2D(step.robot_pose.mean);
-    const Pose2D inc = step.core.first ? Pose2D{} : relative(pose, last_pose_);
-    last_pose_ = pose;
-    mrpt::obs::CActionCollection actions;
-    mrpt::obs::CActionRobotMovement2D move;
-    move.rawOdometryIncrementReading = toMrpt(inc);
-    move.estimationMethod = mrpt::obs::CActionRobotMovement2D::emScan2DMatching;
-    move.poseChange = mrpt::poses::CPosePDFGaussian::Create(toMrpt(inc), step.increment.cov);
-    move.timestamp = mrpt::Clock::fromDouble(stamp_s);
-    actions.insert(move);
-    archive << actions;
-    mrpt::obs::CSensoryFrame frame;
-    // The log's own odometry observations are replaced by lidarseg's action.
-    for (const auto& other : record.companions) {
-      if (!std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(other)) frame.insert(other);
-    }
-    frame.insert(record.observation);
-    if (landmarks_) {
-      auto landmarks = mrpt_adapter::makeBearingRangeObservation(features, obs.sensorPose, obs.maxRange, obs.aperture);
-      landmarks->timestamp = obs.timestamp;
-      frame.insert(landmarks);
-    }
-    archive << frame;
-  }
-  void close() { out_.close(); }
-
- private:
-  bool landmarks_;
-  mrpt::io::CFileGZOutputStream out_;
-  Pose2D last_pose_;
-};
-
-void evaluate(MethodReport& m, const OdometryApp::References& refs, double relations_tolerance_s) {
-  if (refs.gt) m.errors = eval::evaluateTrajectory(m.trajectory, *refs.gt, refs.gt_tolerance_s);
-  if (refs.relations) m.relations = eval::evaluateRelations(m.trajectory, *refs.relations, relations_tolerance_s);
-  if (refs.log_relations) m.log_relations = eval::evaluateRelations(m.trajectory, *refs.log_relations, 1e-9);
-}
 
 std::string inputName(const std::string& path) { return fs::path(path).filename().string(); }
 
@@ -139,7 +54,7 @@ pipeline::RunSettings settingsOf(const OdometryOptions& o) {
 OdometryReport OdometryApp::run() {
   const OdometryOptions& o = options_;
   const pipeline::RunSettings settings = settingsOf(o);
-  References refs = readReferences();
+  pipeline::RunReferences refs = readReferences();
   OutputSet outputs;
   claimOutputs(outputs);
   mrpt_adapter::LaserLogReader reader(o.input, o.sensor);
@@ -147,7 +62,7 @@ OdometryReport OdometryApp::run() {
   processLog(reader, odometry, settings, outputs);
   OdometryReport report = odometry.finish(o.max_lost_ratio);
   collectReaderCounts(reader, report);
-  evaluateAll(odometry, refs, report);
+  pipeline::evaluateRun(odometry, refs, o.log_reference, o.relations_tolerance_s, report);
   writeOutputs(report, refs, odometry.logPoses(), odometry.wheelOdometry(), outputs);
   return report;
 }
@@ -168,18 +83,22 @@ void OdometryApp::claimOutputs(OutputSet& outputs) const {
 }
 
 // Ground truth (PREFIX.gt.tum beside the input unless given) and relations files.
-OdometryApp::References OdometryApp::readReferences() {
-  const OdometryOptions& o = options_;
-  References refs;
-  gt_path_ = o.gt_path;
-  if (gt_path_.empty() && o.auto_gt) {
-    const std::string candidate = stemOf(o.input) + ".gt.tum";
-    if (fs::exists(candidate)) gt_path_ = candidate;
-  }
-  if (!gt_path_.empty()) refs.gt = eval::readTum(gt_path_);
-  if (!o.relations_path.empty()) refs.relations = eval::readRelations(o.relations_path);
-  return refs;
+pipeline::RunReferences OdometryApp::readReferences() {
+  gt_path_ = options_.gt_path.empty() && options_.auto_gt ? pipeline::groundTruthBeside(options_.input) : options_.gt_path;
+  return pipeline::readRunReferences(gt_path_, options_.relations_path);
 }
+
+namespace {
+// A log with no usable scan, and why: the first lines or scans the reader skipped, with
+// their place.
+std::runtime_error noUsableScan(const OdometryOptions& o, const mrpt_adapter::LaserLogReader& reader) {
+  std::string why;
+  for (std::size_t k = 0; k < std::min<std::size_t>(reader.issues().size(), 3); ++k) why += "; " + reader.issues()[k];
+  if (reader.issues().size() > 3) why += "; ... (" + std::to_string(reader.issues().size()) + " skipped in all)";
+  return std::runtime_error("'" + o.input + "' holds no usable laser scan" +
+                            (o.sensor.empty() ? std::string() : " with sensor '" + o.sensor + "'") + why);
+}
+}  // namespace
 
 // Every scan through the run; doors and corners and the rawlog output beside it.
 void OdometryApp::processLog(mrpt_adapter::LaserLogReader& reader, pipeline::OdometryRun& odometry,
@@ -189,8 +108,8 @@ void OdometryApp::processLog(mrpt_adapter::LaserLogReader& reader, pipeline::Odo
   const FeatureDetector detector(settings.config.features);
   std::vector<Feature> features;
   std::ostringstream features_csv;
-  writeFeatureCsvHeader(features_csv);
-  std::optional<RawlogOutput> rawlog;
+  pipeline::writeFeatureCsvHeader(features_csv);
+  std::optional<pipeline::RawlogWriter> rawlog;
   if (!o.write_rawlog.empty()) rawlog.emplace(o.write_rawlog, outputs, o.write_landmarks);
   Progress progress("lidarseg-odometry", o.progress, o.max_scans);
   while (o.max_scans == 0 || odometry.counts().frames < o.max_scans) {
@@ -207,24 +126,16 @@ void OdometryApp::processLog(mrpt_adapter::LaserLogReader& reader, pipeline::Odo
     if (!step.processed) continue;
     if (want_features) {
       detector.detect(odometry.lidarseg().core().lastSegmentation(), features);
-      const Pose2D& sp = record->sensor_on_robot;
       if (!o.features_out.empty()) {
-        writeFeatureCsvRows(features_csv, step.time.output_stamp_s, record->index, sp,
-                            features);
+        pipeline::writeFeatureCsvRows(features_csv, step.time.output_stamp_s, record->index, record->sensor_on_robot,
+                                      features);
       }
     }
     if (rawlog) rawlog->write(*record, odometry.lidarseg().lastStep(), step.time.output_stamp_s, features);
     progress.update(odometry.counts().frames, reader.fractionRead());
   }
   progress.done(odometry.counts().frames);
-  if (odometry.counts().frames == 0) {
-    // Say why: the first lines or scans the reader skipped, with their place.
-    std::string why;
-    for (std::size_t k = 0; k < std::min<std::size_t>(reader.issues().size(), 3); ++k) why += "; " + reader.issues()[k];
-    if (reader.issues().size() > 3) why += "; ... (" + std::to_string(reader.issues().size()) + " skipped in all)";
-    throw std::runtime_error("'" + o.input + "' holds no usable laser scan" +
-                             (o.sensor.empty() ? std::string() : " with sensor '" + o.sensor + "'") + why);
-  }
+  if (odometry.counts().frames == 0) throw noUsableScan(o, reader);
   if (rawlog) rawlog->close();
   if (!o.features_out.empty()) outputs.add(o.features_out, features_csv.str());
 }
@@ -245,60 +156,15 @@ void OdometryApp::collectReaderCounts(const mrpt_adapter::LaserLogReader& reader
   for (const auto& s : reader.warnings()) report.warnings.push_back(s);
 }
 
-// Every method against ground truth, relations and the log's own poses.
-void OdometryApp::evaluateAll(const pipeline::OdometryRun& odometry, References& refs, OdometryReport& report) const {
-  refs.gt_tolerance_s = std::max(1e-6, 0.25 * odometry.medianStep());
-  if (options_.log_reference) {
-    if (odometry.logPoses().size() < 2) {
-      report.warnings.push_back("--log-reference: the log has no poses beside its scans");
-    } else {
-      refs.log_relations = eval::relationsFrom(odometry.logPoses(), 0.0, 0.0, 1);
-    }
-  }
-  evaluate(report.lidarseg, refs, options_.relations_tolerance_s);
-  if (report.icp) evaluate(*report.icp, refs, options_.relations_tolerance_s);
-  if (report.icp_s2s) evaluate(*report.icp_s2s, refs, options_.relations_tolerance_s);
-}
 
 // Trajectories, timings, summary, table and pictures, all put in place together.
-void OdometryApp::writeOutputs(OdometryReport& report, const References& refs, const eval::StampedTrajectory& log_poses,
+void OdometryApp::writeOutputs(OdometryReport& report, const pipeline::RunReferences& refs, const eval::StampedTrajectory& log_poses,
                                const eval::StampedTrajectory& wheel_odometry, OutputSet& outputs) const {
   const OdometryOptions& o = options_;
   if (!o.out_dir.empty()) {
-    fs::create_directories(o.out_dir);
-    const auto path = [&](const char* name) { return (fs::path(o.out_dir) / name).string(); };
-    outputs.add(path("lidarseg.tum"), pipeline::tumText(report.lidarseg.trajectory, "lidarseg robot poses, odometry frame"));
-    if (report.icp) {
-      outputs.add(path("icp.tum"), pipeline::tumText(report.icp->trajectory, "MRPT ICP (keyframed) robot poses, odometry frame"));
-    }
-    if (report.icp_s2s) {
-      outputs.add(path("icp-s2s.tum"),
-                  pipeline::tumText(report.icp_s2s->trajectory, "MRPT ICP (scan to scan) robot poses, odometry frame"));
-    }
-    // The log's own wheel odometry and poses, for tools such as evo to compare with.
-    const auto from_first = [](eval::StampedTrajectory t) {
-      if (t.empty()) return t;
-      const Pose2D first = t.front().pose;
-      for (auto& p : t) p.pose = relative(p.pose, first);
-      return t;
-    };
-    if (!wheel_odometry.empty()) {
-      outputs.add(path("wheel-odometry.tum"),
-                  pipeline::tumText(from_first(wheel_odometry), "the log's wheel odometry, from the first scan's pose"));
-    }
-    if (!log_poses.empty()) {
-      outputs.add(path("log-poses.tum"),
-                  pipeline::tumText(from_first(log_poses), "the log's own poses (CARMEN: corrected), from the first scan's pose"));
-    }
-    outputs.add(path("timing.csv"), pipeline::timingCsv(report));
-    outputs.add(path("summary.json"), pipeline::summaryJson(report));
-    outputs.add(path("results.md"), pipeline::markdownTable(report));
+    const std::vector<std::string> written = pipeline::addRunOutputs(outputs, o.out_dir, report, log_poses, wheel_odometry);
     if (o.plots) addPlots(report, refs, log_poses, wheel_odometry, outputs);
-    report.outputs = {path("lidarseg.tum"), path("timing.csv"), path("summary.json"), path("results.md")};
-    if (report.icp) report.outputs.push_back(path("icp.tum"));
-    if (report.icp_s2s) report.outputs.push_back(path("icp-s2s.tum"));
-    if (!wheel_odometry.empty()) report.outputs.push_back(path("wheel-odometry.tum"));
-    if (!log_poses.empty()) report.outputs.push_back(path("log-poses.tum"));
+    report.outputs = written;
   }
   outputs.commit();
   if (!o.features_out.empty()) report.outputs.push_back(o.features_out);
@@ -306,7 +172,7 @@ void OdometryApp::writeOutputs(OdometryReport& report, const References& refs, c
 }
 
 // trajectories.png (every method from where the reference starts) and timing.png.
-void OdometryApp::addPlots(const OdometryReport& report, const References& refs, const eval::StampedTrajectory& log_poses,
+void OdometryApp::addPlots(const OdometryReport& report, const pipeline::RunReferences& refs, const eval::StampedTrajectory& log_poses,
                            const eval::StampedTrajectory& wheel_odometry, OutputSet& outputs) const {
   const auto path = [&](const char* name) { return (fs::path(options_.out_dir) / name).string(); };
   std::vector<PlotSeries> series;
@@ -347,64 +213,6 @@ void OdometryApp::addPlots(const OdometryReport& report, const References& refs,
     outputs.add(path("timing.png"), plotHistogramsPng(hist, "Time per scan", "microseconds"));
   } catch (const std::runtime_error& e) {
     std::cerr << "lidarseg-odometry: warning: no pictures: " << e.what() << "\n";
-  }
-}
-
-std::string OdometryApp::markdownTable(const OdometryReport& report) { return pipeline::markdownTable(report); }
-
-std::string OdometryApp::summaryJson(const OdometryReport& report) { return pipeline::summaryJson(report); }
-
-void OdometryApp::print(const OdometryReport& r, std::ostream& os) {
-  os << markdownTable(r);
-  os << "\nskipped: " << r.skipped_count << ", non-increasing stamps: " << r.non_increasing_stamps
-     << ", time gaps: " << r.time_gaps << ", clock jumps: " << r.clock_jumps << ", odometry jumps: " << r.odometry_jumps << "\n";
-  os << "lidarseg status:";
-  for (const auto& [k, v] : r.lidarseg.status_counts) os << " " << k << "=" << v;
-  os << "\n";
-  for (const auto& s : r.outputs) os << "wrote " << s << "\n";
-}
-
-namespace {
-// A warning's kind: its text after the place ("FILE:LINE: " or "FILE, entry N: ") up to
-// the first digit, e.g. "time gap of ".
-std::string warningKind(const std::string& w) {
-  std::size_t start = w.find(": ");
-  start = start == std::string::npos ? 0 : start + 2;
-  const std::size_t digit = w.find_first_of("0123456789", start);
-  return w.substr(start, (digit == std::string::npos ? w.size() : digit) - start);
-}
-}  // namespace
-
-void OdometryApp::printWarnings(const OdometryReport& r, std::ostream& err) {
-  const std::string tool = "lidarseg-odometry: warning: ";
-  // One line per kind: how many, and the first in full (its place in the log).
-  std::vector<std::pair<std::string, std::size_t>> kinds;
-  std::vector<std::string> first;
-  for (const auto& w : r.warnings) {
-    const std::string kind = warningKind(w);
-    auto it = std::find_if(kinds.begin(), kinds.end(), [&](const auto& k) { return k.first == kind; });
-    if (it == kinds.end()) {
-      kinds.emplace_back(kind, 0);
-      first.push_back(w);
-      it = kinds.end() - 1;
-    }
-    ++it->second;
-  }
-  // The list keeps the first 100 warnings; the run counts the frequent kinds in full.
-  const std::pair<const char*, std::size_t> counted[] = {
-      {"time gap of ", r.time_gaps}, {"the clock jumps back by ", r.clock_jumps}, {"wheel odometry jumps by ", r.odometry_jumps}};
-  for (std::size_t k = 0; k < kinds.size(); ++k) {
-    std::size_t n = kinds[k].second;
-    for (const auto& [kind, count] : counted) n = kinds[k].first == kind ? std::max(n, count) : n;
-    err << tool << n << " x, the first: " << first[k] << "\n";
-  }
-  if (r.skipped_count > 0) {
-    err << tool << r.skipped_count << " scans or lines skipped, the first: "
-        << (r.skipped.empty() ? std::string("?") : r.skipped.front()) << " (all in summary.json)\n";
-  }
-  if (!r.log_error.empty()) {
-    err << tool << "the log ends early: " << r.log_error << "; the results cover the " << r.frames
-        << " scans before it\n";
   }
 }
 

@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <limits>
+#include <ostream>
 #include <sstream>
 #include <stdexcept>
 #include <tuple>
@@ -138,6 +140,30 @@ std::vector<double> FeatureEvaluation::add(const std::vector<TrueFeature>& truth
   }
   errors_.insert(errors_.end(), errors.begin(), errors.end());
   return errors;
+}
+
+void writeMatchesCsvHeader(std::ostream& os) { os << "scan,role,type,seen_as,x,y,theta,width,id,resolvable,match\n"; }
+
+void writeMatchesCsvRows(std::ostream& os, std::size_t scan, const std::vector<TrueFeature>& truth,
+                         const std::vector<Feature>& detected, const FeatureEvaluation& evaluation) {
+  const auto& tm = evaluation.lastTruthMatches();
+  const auto& dm = evaluation.lastDetectionMatches();
+  char line[256];
+  for (std::size_t k = 0; k < truth.size(); ++k) {
+    const TrueFeature& t = truth[k];
+    std::snprintf(line, sizeof(line), "%zu,truth,%s,%s,%.4f,%.4f,%.4f,%.4f,%zu,%d,%s\n", scan, toString(t.type),
+                  toString(t.seen_as), t.position.x(), t.position.y(), t.theta_rad, t.width_m, t.id,
+                  t.resolvable ? 1 : 0, tm[k] < 0 ? "none" : toString(detected[static_cast<std::size_t>(tm[k])].type));
+    os << line;
+  }
+  for (std::size_t k = 0; k < detected.size(); ++k) {
+    const Feature& f = detected[k];
+    const TrueFeature* t = dm[k] < 0 ? nullptr : &truth[static_cast<std::size_t>(dm[k])];
+    std::snprintf(line, sizeof(line), "%zu,detection,%s,,%.4f,%.4f,%.4f,%.4f,%lld,,%s\n", scan, toString(f.type),
+                  f.position.x(), f.position.y(), f.theta_rad, f.width_m, t ? static_cast<long long>(t->id) : -1LL,
+                  t ? toString(t->seen_as) : "none");
+    os << line;
+  }
 }
 
 }  // namespace lidarseg::eval

@@ -12,6 +12,7 @@
 #include <map>
 #include <mutex>
 #include <stdexcept>
+#include <utility>
 
 #include <dirent.h>
 #include <fcntl.h>
@@ -304,6 +305,30 @@ OutputSet::~OutputSet() {
     if (held == g_locks.end()) continue;
     ::close(held->second.fd);  // closing releases the flock
     g_locks.erase(held);
+  }
+}
+
+PendingFile::PendingFile(std::string path) : path_(std::move(path)), tmp_(uniqueTemporary(path_)), out_(tmp_) {
+  if (!out_) {
+    releaseTemporary(tmp_);
+    throw std::runtime_error("cannot write '" + tmp_ + "'");
+  }
+  out_ << std::fixed;
+}
+
+void PendingFile::commit() {
+  out_.close();
+  if (!out_) throw std::runtime_error("error while writing '" + tmp_ + "' (disk full?)");
+  std::filesystem::rename(tmp_, path_);
+  releaseTemporary(tmp_);
+}
+
+PendingFile::~PendingFile() {
+  if (out_.is_open()) {
+    out_.close();
+    std::error_code ec;
+    std::filesystem::remove(tmp_, ec);
+    releaseTemporary(tmp_);
   }
 }
 

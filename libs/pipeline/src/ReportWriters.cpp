@@ -1,11 +1,16 @@
 #include "lidarseg/pipeline/ReportWriters.h"
 #include "lidarseg/core/Angles.h"
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <iomanip>
+#include <ostream>
 #include <sstream>
+#include <utility>
 
 #include "lidarseg/pipeline/JsonText.h"
+#include "lidarseg/pipeline/OutputFiles.h"
 
 namespace lidarseg::pipeline {
 
@@ -201,6 +206,106 @@ std::string markdownTable(const OdometryReport& r) {
   relationTable(r, "Per-scan relative motion against the log's poses:",
                 [](const MethodReport& m) { return m.log_relations ? &*m.log_relations : nullptr; }, os);
   return os.str();
+}
+
+namespace {
+
+// A trajectory moved so that it starts at the identity (the log's wheel odometry and poses
+// are compared from the first scan's pose).
+eval::StampedTrajectory fromFirst(eval::StampedTrajectory t) {
+  if (t.empty()) return t;
+  const Pose2D first = t.front().pose;
+  for (auto& p : t) p.pose = relative(p.pose, first);
+  return t;
+}
+
+}  // namespace
+
+std::vector<std::string> addRunOutputs(OutputSet& outputs, const std::string& out_dir, const OdometryReport& report,
+                                       const eval::StampedTrajectory& log_poses,
+                                       const eval::StampedTrajectory& wheel_odometry) {
+  namespace fs = std::filesystem;
+  fs::create_directories(out_dir);
+  const auto path = [&](const char* name) { return (fs::path(out_dir) / name).string(); };
+  outputs.add(path("lidarseg.tum"), tumText(report.lidarseg.trajectory, "lidarseg robot poses, odometry frame"));
+  if (report.icp) {
+    outputs.add(path("icp.tum"), tumText(report.icp->trajectory, "MRPT ICP (keyframed) robot poses, odometry frame"));
+  }
+  if (report.icp_s2s) {
+    outputs.add(path("icp-s2s.tum"), tumText(report.icp_s2s->trajectory, "MRPT ICP (scan to scan) robot poses, odometry frame"));
+  }
+  // The log's own wheel odometry and poses, for tools such as evo to compare with.
+  if (!wheel_odometry.empty()) {
+    outputs.add(path("wheel-odometry.tum"),
+                tumText(fromFirst(wheel_odometry), "the log's wheel odometry, from the first scan's pose"));
+  }
+  if (!log_poses.empty()) {
+    outputs.add(path("log-poses.tum"),
+                tumText(fromFirst(log_poses), "the log's own poses (CARMEN: corrected), from the first scan's pose"));
+  }
+  outputs.add(path("timing.csv"), timingCsv(report));
+  outputs.add(path("summary.json"), summaryJson(report));
+  outputs.add(path("results.md"), markdownTable(report));
+  std::vector<std::string> written = {path("lidarseg.tum"), path("timing.csv"), path("summary.json"), path("results.md")};
+  if (report.icp) written.push_back(path("icp.tum"));
+  if (report.icp_s2s) written.push_back(path("icp-s2s.tum"));
+  if (!wheel_odometry.empty()) written.push_back(path("wheel-odometry.tum"));
+  if (!log_poses.empty()) written.push_back(path("log-poses.tum"));
+  return written;
+}
+
+void printRunSummary(const OdometryReport& r, std::ostream& os) {
+  os << markdownTable(r);
+  os << "\nskipped: " << r.skipped_count << ", non-increasing stamps: " << r.non_increasing_stamps
+     << ", time gaps: " << r.time_gaps << ", clock jumps: " << r.clock_jumps << ", odometry jumps: " << r.odometry_jumps << "\n";
+  os << "lidarseg status:";
+  for (const auto& [k, v] : r.lidarseg.status_counts) os << " " << k << "=" << v;
+  os << "\n";
+  for (const auto& s : r.outputs) os << "wrote " << s << "\n";
+}
+
+namespace {
+// A warning's kind: its text after the place ("FILE:LINE: " or "FILE, entry N: ") up to
+// the first digit, e.g. "time gap of ".
+std::string warningKind(const std::string& w) {
+  std::size_t start = w.find(": ");
+  start = start == std::string::npos ? 0 : start + 2;
+  const std::size_t digit = w.find_first_of("0123456789", start);
+  return w.substr(start, (digit == std::string::npos ? w.size() : digit) - start);
+}
+}  // namespace
+
+void printRunWarnings(const OdometryReport& r, const std::string& tool_name, std::ostream& err) {
+  const std::string tool = tool_name + ": warning: ";
+  // One line per kind: how many, and the first in full (its place in the log).
+  std::vector<std::pair<std::string, std::size_t>> kinds;
+  std::vector<std::string> first;
+  for (const auto& w : r.warnings) {
+    const std::string kind = warningKind(w);
+    auto it = std::find_if(kinds.begin(), kinds.end(), [&](const auto& k) { return k.first == kind; });
+    if (it == kinds.end()) {
+      kinds.emplace_back(kind, 0);
+      first.push_back(w);
+      it = kinds.end() - 1;
+    }
+    ++it->second;
+  }
+  // The list keeps the first 100 warnings; the run counts the frequent kinds in full.
+  const std::pair<const char*, std::size_t> counted[] = {
+      {"time gap of ", r.time_gaps}, {"the clock jumps back by ", r.clock_jumps}, {"wheel odometry jumps by ", r.odometry_jumps}};
+  for (std::size_t k = 0; k < kinds.size(); ++k) {
+    std::size_t n = kinds[k].second;
+    for (const auto& [kind, count] : counted) n = kinds[k].first == kind ? std::max(n, count) : n;
+    err << tool << n << " x, the first: " << first[k] << "\n";
+  }
+  if (r.skipped_count > 0) {
+    err << tool << r.skipped_count << " scans or lines skipped, the first: "
+        << (r.skipped.empty() ? std::string("?") : r.skipped.front()) << " (all in summary.json)\n";
+  }
+  if (!r.log_error.empty()) {
+    err << tool << "the log ends early: " << r.log_error << "; the results cover the " << r.frames
+        << " scans before it\n";
+  }
 }
 
 }  // namespace lidarseg::pipeline

@@ -124,4 +124,14 @@ std::vector<cv::Rect> mergeOverlapping(std::vector<cv::Rect> boxes) {
   return boxes;
 }
 
+bool centredIn(const cv::Rect& box, const std::vector<cv::Rect>& regions) {
+  const cv::Point c(box.x + box.width / 2, box.y + box.height / 2);
+  return std::any_of(regions.begin(), regions.end(), [&](const cv::Rect& r) { return r.contains(c); });
+}
+
+bool overlapsAny(const cv::Rect& box, const std::vector<Person>& people, double iou) {
+  return std::any_of(people.begin(), people.end(),
+                     [&](const Person& p) { return intersectionOverUnion(box, p.box) >= iou; });
+}
+
 }  // namespace lidarseg::vision

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "lidarseg/pipeline/BatchResults.h"
+
 namespace lidarseg::apps {
 
 /// What one run is made of (a job).
@@ -64,8 +66,7 @@ class BatchApp {
   static BatchSummary aggregate(const std::string& out_dir, const std::string& title);
 };
 
-/// Parses "1-50", "3", "1,4,9-12".
-/// @throws std::invalid_argument naming the bad part.
-std::vector<std::uint64_t> parseSeeds(const std::string& text);
+/// Parses "1-50", "3", "1,4,9-12" (lidarseg::pipeline's).
+using pipeline::parseSeeds;
 
 }  // namespace lidarseg::apps

@@ -3,16 +3,12 @@
 /// The logic of `lidarseg-features`: doors and corners in every scan of a laser log
 /// (paper §III.B), written to a CSV file and, against a simulator's ground truth, scored.
 
-#include <array>
 #include <cstddef>
 #include <iosfwd>
 #include <optional>
 #include <string>
-#include <vector>
 
-#include "lidarseg/core/Feature.h"
-#include "lidarseg/core/Statistics.h"
-#include "lidarseg/eval/FeatureEvaluation.h"
+#include "lidarseg/pipeline/FeaturesReport.h"
 
 namespace lidarseg::apps {
 
@@ -55,31 +51,8 @@ struct FeaturesOptions {
   bool progress = true;
 };
 
-/// Everything `lidarseg-features` measured.
-struct FeaturesReport {
-  std::string input;
-  std::size_t scans = 0;
-  std::size_t beams_per_scan = 0;
-  std::array<std::size_t, kNumFeatureTypes> detections{};
-  /// Time of FeatureDetector::detect() per scan (microseconds, wall clock).
-  Summary detect_us;
-  /// Time of segmentation (Wall-Danielsson + cascade) per scan (microseconds).
-  Summary segment_us;
-  /// Present when a ground truth was given.
-  std::optional<eval::FeatureEvaluation> evaluation;
-  Summary position_error_m;
-  /// Camera images met, images given regions, regions in all, and the share of each
-  /// image the regions cover (0..1, per image).
-  std::size_t images = 0;
-  std::size_t images_with_rois = 0;
-  std::size_t rois = 0;
-  Summary roi_coverage;
-  /// Scans skipped (unreadable), with the reason.
-  std::vector<std::string> skipped;
-  /// What the run could not do but did not fail for, one line each (no figure without
-  /// gnuplot, a --figure-scan beyond the log): printed by printWarnings().
-  std::vector<std::string> warnings;
-};
+/// Everything `lidarseg-features` measured (lidarseg::pipeline's, with its writers).
+using FeaturesReport = pipeline::FeaturesReport;
 
 /// Runs the door and corner detector over a whole log.
 class FeaturesApp {
@@ -90,9 +63,7 @@ class FeaturesApp {
   /// for an unreadable log, configuration or ground truth.
   FeaturesReport run();
 
-  /// The report as Markdown (tables of recall and precision per type).
-  static std::string markdown(const FeaturesReport& report);
-  /// The report's Markdown on `os` (the results: stdout).
+  /// The report as Markdown (pipeline::featuresMarkdown) on `os` (the results: stdout).
   static void print(const FeaturesReport& report, std::ostream& os);
   /// The run's warnings on `err` (stderr), after the results: each warning, then the
   /// skipped scans and images counted with the first in full. Nothing when there is none.

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "lidarseg/inspect/LogReport.h"
 #include "lidarseg/inspect/Session.h"
 
 namespace lidarseg::apps {
@@ -47,13 +48,7 @@ struct InspectOptions {
 };
 
 /// What `--report` measured (also written into index.html).
-struct InspectReport {
-  std::size_t scans = 0;
-  std::size_t failed_matches = 0;
-  double length_m = 0.0;
-  std::optional<double> final_error_m;  ///< against the ground truth
-  std::vector<std::size_t> gallery;     ///< frames drawn, worst first
-};
+using InspectReport = inspect::ReportSummary;
 
 class InspectApp {
  public:
@@ -65,8 +60,6 @@ class InspectApp {
   /// @throws std::runtime_error naming the file (and line/scan) for unreadable input.
   int run();
 
-  /// The layers named in a comma list. @throws std::invalid_argument naming an unknown one.
-  static inspect::Layers parseLayers(const std::string& list);
   /// The keyboard shortcuts of the window, one per line.
   static std::vector<std::string> keyHelp();
 

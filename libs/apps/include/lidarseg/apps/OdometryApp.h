@@ -19,6 +19,7 @@ class LaserLogReader;
 namespace lidarseg::pipeline {
 class OutputSet;
 class OdometryRun;
+struct RunReferences;
 struct RunSettings;
 }  // namespace lidarseg::pipeline
 
@@ -93,30 +94,16 @@ class OdometryApp {
   /// or key when the input cannot be read to the end or the configuration is invalid;
   /// then no output is written. Scans that cannot be processed are skipped and counted.
   OdometryReport run();
-  /// A readable summary (the Markdown table and counts); no warnings.
-  static void print(const OdometryReport& report, std::ostream& os);
-  /// The run's warnings, one line per kind with its count and first occurrence ("449 x, the
-  /// first: FILE:1130: time gap of 1.6 s; ..."), skipped scans and an early end of the log:
-  /// for stderr, apart from the results on stdout.
-  static void printWarnings(const OdometryReport& report, std::ostream& err);
-  /// The results as a Markdown table (paper Table I columns plus final error and ATE).
-  static std::string markdownTable(const OdometryReport& report);
-  /// summary.json.
-  static std::string summaryJson(const OdometryReport& report);
-
- /// Ground truth, relations and the log's own poses, for the evaluation.
-  struct References;
 
  private:
-  References readReferences();
+  pipeline::RunReferences readReferences();
   void claimOutputs(OutputSet& outputs) const;
   void processLog(mrpt_adapter::LaserLogReader& reader, pipeline::OdometryRun& odometry, const pipeline::RunSettings& settings,
                   OutputSet& outputs);
   void collectReaderCounts(const mrpt_adapter::LaserLogReader& reader, OdometryReport& report) const;
-  void evaluateAll(const pipeline::OdometryRun& odometry, References& refs, OdometryReport& report) const;
-  void writeOutputs(OdometryReport& report, const References& refs, const eval::StampedTrajectory& log_poses,
+  void writeOutputs(OdometryReport& report, const pipeline::RunReferences& refs, const eval::StampedTrajectory& log_poses,
                     const eval::StampedTrajectory& wheel_odometry, OutputSet& outputs) const;
-  void addPlots(const OdometryReport& report, const References& refs, const eval::StampedTrajectory& log_poses,
+  void addPlots(const OdometryReport& report, const pipeline::RunReferences& refs, const eval::StampedTrajectory& log_poses,
                 const eval::StampedTrajectory& wheel_odometry, OutputSet& outputs) const;
 
   OdometryOptions options_;

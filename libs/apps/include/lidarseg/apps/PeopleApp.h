@@ -11,8 +11,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "lidarseg/apps/RegionTable.h"
-#include "lidarseg/core/Statistics.h"
+#include "lidarseg/vision/PeopleComparison.h"
 
 namespace lidarseg::apps {
 
@@ -49,26 +48,8 @@ struct PeopleOptions {
   bool progress = true;
 };
 
-/// Everything `lidarseg-people` measured.
-struct PeopleReport {
-  std::string input;
-  std::size_t frames = 0;       ///< analysed
-  cv::Size frame_size;
-  /// Time per frame of the detector (ms): whole frame and inside the regions.
-  Summary full_ms;
-  Summary rois_ms;
-  /// Per frame: share of the image analysed inside the regions (0..1), and time inside the
-  /// regions over time on the whole frame.
-  Summary analysed_fraction;
-  Summary time_ratio;
-  std::size_t people_full = 0;         ///< detections on the whole frames
-  std::size_t people_in_regions = 0;   ///< of those, centred inside a region
-  std::size_t people_still_found = 0;  ///< of those, found by the detection inside the regions
-  std::size_t people_rois = 0;         ///< detections inside the regions
-  std::size_t people_rois_confirmed = 0;  ///< of those, overlapping a whole-frame detection
-
-  double recallInRegions() const;
-};
+/// Everything `lidarseg-people` measured (lidarseg::vision's).
+using PeopleReport = vision::PeopleReport;
 
 class PeopleApp {
  public:

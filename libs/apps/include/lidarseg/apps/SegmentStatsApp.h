@@ -2,14 +2,11 @@
 /// @file SegmentStatsApp.h
 /// The logic of `lidarseg-segment`: segment every scan of a log and summarise each level.
 
-#include <array>
 #include <cstddef>
 #include <iosfwd>
 #include <string>
-#include <vector>
 
-#include "lidarseg/core/ScanSegmenter.h"
-#include "lidarseg/core/Statistics.h"
+#include "lidarseg/eval/SegmentationStats.h"
 
 namespace lidarseg::apps {
 
@@ -30,37 +27,8 @@ struct SegmentStatsOptions {
   bool progress = true;
 };
 
-/// Statistics of one cascade level over a whole log.
-struct LevelStats {
-  Summary segments_per_scan;
-  Summary segment_length_m;
-  /// Share of the valid beams that belong to a segment of this level (0..1).
-  double point_coverage = 0.0;
-  /// Mean RMS orthogonal residual of the segments (m).
-  double mean_rms_residual_m = 0.0;
-  /// Median standard deviation of theta from the noise model (rad).
-  double median_theta_sigma_rad = 0.0;
-};
-
-/// Everything `lidarseg-segment` measured.
-struct SegmentStatsReport {
-  std::string input;
-  std::string sensor_label;
-  std::size_t scans = 0;
-  /// Scans that could not be processed, with the reason (scan index and message).
-  std::vector<std::string> skipped;
-  std::size_t beams_per_scan = 0;
-  double field_of_view_deg = 0.0;
-  double max_range_m = 0.0;
-  Summary valid_beams_per_scan;
-  std::array<LevelStats, kNumCascadeLevels> levels;
-  /// Per-scan wall-clock times (microseconds).
-  Summary wall_danielsson_us;
-  Summary cascade_us;
-  Summary total_us;
-  /// Whether every level had no more segments than the previous one on every scan.
-  bool levels_never_gain_segments = true;
-};
+/// Everything `lidarseg-segment` measured (lidarseg::eval's, with its printer).
+using SegmentStatsReport = eval::SegmentStatsReport;
 
 /// Segments every scan of a laser log at all cascade levels and summarises the result.
 class SegmentStatsApp {
@@ -73,8 +41,8 @@ class SegmentStatsApp {
   /// listed in the report instead.
   SegmentStatsReport run();
 
-  /// Writes the report as a readable table.
-  static void print(const SegmentStatsReport& report, std::ostream& os);
+  /// Writes the report as a readable table (eval::printSegmentStats).
+  static void print(const SegmentStatsReport& report, std::ostream& os) { eval::printSegmentStats(report, os); }
   /// The run's warnings on `err` (stderr), after the results: the skipped scans counted,
   /// with the first in full. Nothing when none was skipped.
   static void printWarnings(const SegmentStatsReport& report, std::ostream& err);

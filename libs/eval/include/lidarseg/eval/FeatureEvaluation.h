@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstddef>
+#include <iosfwd>
 #include <map>
 #include <string>
 #include <vector>
@@ -88,5 +89,16 @@ class FeatureEvaluation {
   std::vector<int> truth_match_, det_match_;
   std::size_t scans_ = 0;
 };
+
+/// The header of the matches CSV (lidarseg-features --matches-out, scored by bins in
+/// tests/benchmarks/buildings.py): `scan,role,type,seen_as,x,y,theta,width,id,resolvable,match`.
+void writeMatchesCsvHeader(std::ostream& os);
+
+/// The matches CSV rows of the scan last added to `evaluation`: each true feature (role
+/// truth, match = the detected type or none) and each detection (role detection, id = the
+/// matched truth's id or -1, match = its seen_as or none); sensor frame, m and rad.
+/// `truth` and `detected` are what was passed to FeatureEvaluation::add().
+void writeMatchesCsvRows(std::ostream& os, std::size_t scan, const std::vector<TrueFeature>& truth,
+                         const std::vector<Feature>& detected, const FeatureEvaluation& evaluation);
 
 }  // namespace lidarseg::eval

@@ -3,6 +3,7 @@
 /// lidarseg::pipeline: writing outputs without ever leaving a partial file, a file
 /// another run is writing, or a temporary file after an interruption.
 
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,27 @@ void writeFileAtomically(const std::string& path, const std::string& content);
 /// @throws std::invalid_argument when `output` is the same file as `input` (an output must
 /// never overwrite its input), naming both and the option.
 void refuseOverwritingInput(const std::string& output, const std::string& input, const std::string& option);
+
+/// A text output written as it goes under a unique temporary name (removed by the
+/// SIGINT/SIGTERM handler, decision 47) and renamed to its path by commit(); destroyed
+/// without commit(), it removes its temporary file. The stream is set to std::fixed.
+class PendingFile {
+ public:
+  /// @throws std::runtime_error naming the temporary file when it cannot be written.
+  explicit PendingFile(std::string path);
+  /// The stream to write to.
+  std::ofstream& out() { return out_; }
+  /// Closes the file and renames it to its path.
+  /// @throws std::runtime_error naming the file when writing failed (disk full).
+  void commit();
+  ~PendingFile();
+  PendingFile(const PendingFile&) = delete;
+  PendingFile& operator=(const PendingFile&) = delete;
+
+ private:
+  std::string path_, tmp_;
+  std::ofstream out_;
+};
 
 /// An output named on the command line: its path (empty: not asked for) and its option.
 struct NamedOutput {

@@ -3,11 +3,15 @@
 /// lidarseg::pipeline: the run report's text outputs, shared by every tool that
 /// runs an OdometryRun (summary.json through nlohmann-json, timing.csv, results.md, TUM).
 
+#include <iosfwd>
 #include <string>
+#include <vector>
 
 #include "lidarseg/pipeline/RunReport.h"
 
 namespace lidarseg::pipeline {
+
+class OutputSet;
 
 /// A trajectory as a TUM file with a comment header.
 std::string tumText(const eval::StampedTrajectory& trajectory, const std::string& header);
@@ -18,5 +22,23 @@ std::string timingCsv(const OdometryReport& report);
 std::string summaryJson(const OdometryReport& report);
 /// results.md: the paper's Table I columns plus final error and ATE, then the counts.
 std::string markdownTable(const OdometryReport& report);
+
+/// Adds a run's text outputs to `outputs`, in OUT_DIR (created): lidarseg.tum, icp.tum and
+/// icp-s2s.tum for the baselines that ran, wheel-odometry.tum and log-poses.tum (the log's
+/// own, from the first scan's pose) when the log has them, timing.csv, summary.json and
+/// results.md. Returns the paths in the order a run lists them (the report's first, then
+/// the trajectories of the baselines and of the log).
+std::vector<std::string> addRunOutputs(OutputSet& outputs, const std::string& out_dir, const OdometryReport& report,
+                                       const eval::StampedTrajectory& log_poses,
+                                       const eval::StampedTrajectory& wheel_odometry);
+
+/// A readable summary for stdout: the Markdown table, the stamp and odometry counts, the
+/// lidarseg statuses and the files written; no warnings.
+void printRunSummary(const OdometryReport& report, std::ostream& os);
+
+/// The run's warnings for stderr, each line starting "TOOL: warning: ": one line per kind
+/// with its count and first occurrence ("449 x, the first: FILE:1130: time gap of 1.6 s;
+/// ..."), the skipped scans and an early end of the log.
+void printRunWarnings(const OdometryReport& report, const std::string& tool, std::ostream& err);
 
 }  // namespace lidarseg::pipeline

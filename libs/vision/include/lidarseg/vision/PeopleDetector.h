@@ -76,4 +76,11 @@ class PeopleDetector {
 /// Merges overlapping rectangles into their bounding boxes until no two overlap.
 std::vector<cv::Rect> mergeOverlapping(std::vector<cv::Rect> boxes);
 
+/// Whether the centre of `box` (pixels, integer division) lies inside one of `regions`.
+bool centredIn(const cv::Rect& box, const std::vector<cv::Rect>& regions);
+
+/// Whether `box` overlaps one of `people`'s boxes with an intersection over union of at
+/// least `iou` (0..1).
+bool overlapsAny(const cv::Rect& box, const std::vector<Person>& people, double iou);
+
 }  // namespace lidarseg::vision

@@ -11,7 +11,7 @@
 
 #include <opencv2/core/types.hpp>
 
-namespace lidarseg::apps {
+namespace lidarseg::vision {
 
 /// Largest pixel coordinate accepted in a region (larger than any camera image; keeps the
 /// box arithmetic far from integer overflow).
@@ -49,4 +49,4 @@ class RegionTable {
   std::map<std::string, std::vector<cv::Rect>> by_file_;
 };
 
-}  // namespace lidarseg::apps
+}  // namespace lidarseg::vision

@@ -1,9 +1,9 @@
-#include "FeatureCsv.h"
+#include "lidarseg/pipeline/FeatureCsv.h"
 
 #include <cmath>
 #include <iomanip>
 
-namespace lidarseg::apps {
+namespace lidarseg::pipeline {
 
 void writeFeatureCsvHeader(std::ostream& os) {
   os << "t,type,x,y,theta,width,confidence,scan,var_x,var_y,cov_xy,var_theta,var_width\n";
@@ -23,4 +23,4 @@ void writeFeatureCsvRows(std::ostream& os, double stamp_s, std::size_t scan, con
   }
 }
 
-}  // namespace lidarseg::apps
+}  // namespace lidarseg::pipeline

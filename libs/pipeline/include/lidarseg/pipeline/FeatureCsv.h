@@ -1,6 +1,7 @@
 #pragma once
-// Private to lidarseg::apps: the features CSV that lidarseg-features and
-// lidarseg-odometry --features-out write (docs/decisions.md 22).
+/// @file FeatureCsv.h
+/// The features CSV that lidarseg-features and lidarseg-odometry --features-out write
+/// (docs/decisions.md 22): doors and corners per scan in the robot frame (m, rad).
 
 #include <cstddef>
 #include <ostream>
@@ -9,7 +10,7 @@
 #include "lidarseg/core/Feature.h"
 #include "lidarseg/core/Pose2D.h"
 
-namespace lidarseg::apps {
+namespace lidarseg::pipeline {
 
 /// The header line: t,type,x,y,theta,width,confidence,scan,var_x,var_y,cov_xy,var_theta,var_width
 void writeFeatureCsvHeader(std::ostream& os);
@@ -19,4 +20,4 @@ void writeFeatureCsvHeader(std::ostream& os);
 void writeFeatureCsvRows(std::ostream& os, double stamp_s, std::size_t scan, const Pose2D& T_robot_sensor,
                          const std::vector<Feature>& features);
 
-}  // namespace lidarseg::apps
+}  // namespace lidarseg::pipeline

@@ -1,4 +1,4 @@
-#include "lidarseg/apps/RegionTable.h"
+#include "lidarseg/vision/RegionTable.h"
 #include "lidarseg/eval/Csv.h"
 
 #include <algorithm>
@@ -8,7 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace lidarseg::apps {
+namespace lidarseg::vision {
 
 namespace {
 
@@ -122,4 +122,4 @@ std::size_t RegionTable::size() const {
   return n;
 }
 
-}  // namespace lidarseg::apps
+}  // namespace lidarseg::vision

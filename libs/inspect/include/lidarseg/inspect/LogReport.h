@@ -1,0 +1,67 @@
+#pragma once
+/// @file LogReport.h
+/// The figures and the page of `lidarseg-inspect --report`: every scan of a log read
+/// through the Session, compared with the ground truth when there is one, the worst scans
+/// found for the gallery, and the static HTML page (no server, no script needed to read it;
+/// one small script only checks that every image loaded). The pictures are the tool's.
+
+#include <cmath>
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lidarseg/core/Pose2D.h"
+#include "lidarseg/eval/StampedTrajectory.h"
+#include "lidarseg/inspect/Session.h"
+
+namespace lidarseg::inspect {
+
+/// What the report measured over the whole log (also written into index.html).
+struct ReportSummary {
+  std::size_t scans = 0;
+  std::size_t failed_matches = 0;
+  double length_m = 0.0;                ///< lidarseg's path length
+  std::optional<double> final_error_m;  ///< against the ground truth (m)
+  std::vector<std::size_t> gallery;     ///< frames drawn, worst first
+};
+
+/// One scan's row of the report's tables.
+struct ScanRow {
+  std::size_t index = 0;
+  double t = 0.0;                 ///< the scan's stamp (s)
+  std::string status;             ///< the tracking status, and why the segment match failed
+  bool failed = false;            ///< a scan after the first whose status is not ok
+  std::size_t matches = 0;        ///< segment pairs of the match
+  double sd_xy_m = 0.0;           ///< sqrt of the increment's position variances' sum
+  double total_us = 0.0;          ///< W-D + cascade + matching (microseconds)
+  std::size_t features = 0;       ///< doors and corners
+  Pose2D pose;                    ///< lidarseg's laser pose (odometry frame)
+  double error_m = std::nan("");  ///< |increment error| against the truth (m)
+  double drift_m =
+      std::nan("");  ///< position error against the truth, aligned at the first scan (m)
+};
+
+/// The ground truth among the session's references (named "ground truth"), nullptr without one.
+const eval::StampedTrajectory* groundTruth(const Session& session);
+
+/// Every scan's row, compared with `truth` (robot poses, moved to the laser by the first
+/// scan's mounting) when given. Progress with rate and ETA on stderr when `show_progress`.
+std::vector<ScanRow> scanRows(Session& session, const eval::StampedTrajectory* truth,
+                              bool show_progress);
+
+/// Scans, failed matches, path length and the final error against the truth; no gallery.
+ReportSummary summarizeRows(const std::vector<ScanRow>& rows);
+
+/// The `count` worst scans, worst first: failed matches, then the largest error against the
+/// truth (or, without a truth, the largest uncertainty).
+std::vector<std::size_t> worstFirst(const std::vector<ScanRow>& rows, std::size_t count);
+
+/// index.html for the log `input`: the results table, trajectory.png, error_over_time.png,
+/// timing.png, the gallery's table and its pictures frames/scan_N.png (the caller writes
+/// the pictures beside it). `no_plots`: when not empty, why the three plots could not be
+/// drawn (no gnuplot): the page says so instead of showing broken images.
+std::string reportHtml(const std::string& input, const ReportSummary& summary,
+                       const std::vector<ScanRow>& rows, bool with_truth, const std::string& no_plots = {});
+
+}  // namespace lidarseg::inspect

@@ -1,0 +1,209 @@
+#include "lidarseg/inspect/LogReport.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <numeric>
+#include <sstream>
+#include <utility>
+
+#include "lidarseg/core/Statistics.h"
+#include "lidarseg/pipeline/Format.h"
+#include "lidarseg/pipeline/Progress.h"
+
+namespace lidarseg::inspect {
+
+using pipeline::escapeXml;
+using pipeline::fixed;
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// One scan's row of the table, without the columns against the truth.
+ScanRow scanRow(const Frame& f, const Pose2D& pose) {
+  ScanRow row;
+  row.index = f.index;
+  row.t = f.stamp_s;
+  row.status = toString(f.step.status);
+  if (f.step.match.status == MatchStatus::kTooFewMatches && !f.step.first) {
+    row.status += std::string(" (segment match: ") + f.step.match.rejections.dominant() + ")";
+  }
+  row.failed = !f.step.first && f.step.status != TrackStatus::kOk;
+  row.matches = f.step.match.matches.size();
+  row.sd_xy_m = std::sqrt(
+      std::max(0.0, f.step.increment_covariance(0, 0) + f.step.increment_covariance(1, 1)));
+  row.total_us = f.step.wall_danielsson_us + f.step.cascade_us + f.step.matching_us;
+  row.features = f.features.size();
+  row.pose = pose;
+  return row;
+}
+
+// Fills drift_m and error_m. The truth (robot poses) moved to the laser by its mounting,
+// anchored at the first scan's time, is compared with lidarseg's laser poses (which start
+// at the first scan).
+void compareWithTruth(std::vector<ScanRow>& rows, const eval::StampedTrajectory& truth,
+                      const Pose2D& mount) {
+  const auto first = eval::nearestIndex(truth, rows.front().t, 1.0);
+  if (!first) return;
+  const Pose2D truth_origin = compose(truth[*first].pose, mount);
+  Pose2D prev_truth;
+  bool has_prev = false;  // whether prev_truth is the previous scan's
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto k = eval::nearestIndex(truth, rows[i].t, 0.02);
+    if (!k) {
+      has_prev = false;
+      continue;
+    }
+    const Pose2D g = compose(truth[*k].pose, mount);
+    const Pose2D aligned = relative(g, truth_origin);  // truth in lidarseg's odometry frame
+    rows[i].drift_m = std::hypot(aligned.x - rows[i].pose.x, aligned.y - rows[i].pose.y);
+    if (has_prev && i > 0) {
+      const Pose2D true_inc = relative(g, prev_truth);
+      const Pose2D inc = relative(rows[i].pose, rows[i - 1].pose);
+      rows[i].error_m = std::hypot(true_inc.x - inc.x, true_inc.y - inc.y);
+    }
+    prev_truth = g;
+    has_prev = true;
+  }
+}
+
+// The page's head, title and the log's name.
+std::string htmlHeader(const std::string& input) {
+  std::ostringstream html;
+  html << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta "
+          "charset=\"utf-8\"><title>lidarseg-inspect: "
+       << escapeXml(fs::path(input).filename().string()) << "</title>\n"
+       << "<style>body{font-family:sans-serif;margin:2em;max-width:1200px}table{border-collapse:"
+          "collapse}"
+          "td,th{border:1px solid #ccc;padding:4px 8px;text-align:right}th{background:#eee}"
+          "figure{display:inline-block;margin:6px}img{max-width:100%}figcaption{font-size:90%}</"
+          "style>\n"
+       << "</head><body>\n<h1>lidarseg-inspect report</h1>\n<p>Log: <code>" << escapeXml(input)
+       << "</code></p>\n";
+  return html.str();
+}
+
+// The results table and the three plots (or, when they could not be drawn, why).
+std::string htmlResults(const ReportSummary& report, const std::vector<ScanRow>& rows,
+                        bool with_truth, const std::string& no_plots) {
+  std::vector<double> us;
+  for (const ScanRow& r : rows) us.push_back(r.total_us);
+  const Summary t = summarize(us);
+  std::ostringstream html;
+  html << "<h2>Results</h2>\n<table id=\"results\">\n<tr><th>scans</th><th>path length (m)</th>"
+       << "<th>failed matches</th><th>final error vs ground truth (m)</th><th>time per scan, "
+          "median (&micro;s)</th>"
+       << "<th>p99 (&micro;s)</th><th>max (&micro;s)</th></tr>\n<tr><td>" << report.scans
+       << "</td><td>" << fixed(report.length_m, 2) << "</td><td>" << report.failed_matches
+       << "</td><td>"
+       << (report.final_error_m ? fixed(*report.final_error_m, 3) : std::string("no ground truth"))
+       << "</td><td>" << fixed(t.median, 1) << "</td><td>" << fixed(t.p99, 1) << "</td><td>"
+       << fixed(t.max, 1) << "</td></tr>\n</table>\n";
+  if (!no_plots.empty()) {
+    html << "<p>No plots: " << escapeXml(no_plots) << "</p>\n";
+    return html.str();
+  }
+  html << "<h2>Trajectory</h2>\n<img src=\"trajectory.png\" alt=\"trajectories\">\n"
+       << "<h2>" << (with_truth ? "Error over time" : "Match uncertainty over time") << "</h2>\n"
+       << "<img src=\"error_over_time.png\" alt=\"error over time\">\n"
+       << "<h2>Timing</h2>\n<img src=\"timing.png\" alt=\"timing histogram\">\n";
+  return html.str();
+}
+
+// The table of the gallery's scans, worst first, then their pictures.
+std::string htmlGallery(const std::vector<ScanRow>& rows, const std::vector<std::size_t>& gallery) {
+  std::ostringstream html;
+  html << "<h2>Worst-matched scans first</h2>\n<table id=\"worst\">\n<tr><th>scan</th><th>t "
+          "(s)</th><th>status</th>"
+       << "<th>pairs</th><th>sd (m)</th><th>increment error (m)</th><th>features</th></tr>\n";
+  for (std::size_t i : gallery) {
+    const ScanRow& r = rows[i];
+    html << "<tr><td><a href=\"#scan" << i << "\">" << i << "</a></td><td>"
+         << fixed(r.t - rows.front().t, 2) << "</td><td>" << r.status << "</td><td>" << r.matches
+         << "</td><td>" << fixed(r.sd_xy_m, 4) << "</td><td>" << fixed(r.error_m, 4) << "</td><td>"
+         << r.features << "</td></tr>\n";
+  }
+  html << "</table>\n<h2>Gallery</h2>\n";
+  for (std::size_t i : gallery) {
+    html << "<figure id=\"scan" << i << "\"><img src=\"frames/scan_" << i << ".png\" alt=\"scan "
+         << i << "\"><figcaption>scan " << i << ": " << rows[i].status << ", " << rows[i].matches
+         << " pairs"
+         << (std::isfinite(rows[i].error_m)
+                 ? ", increment error " + fixed(rows[i].error_m, 3) + " m"
+                 : std::string())
+         << "</figcaption></figure>\n";
+  }
+  return html.str();
+}
+
+// The end of the page: a script that counts the images loaded, into a hidden element that
+// the tests read (the reader never sees it).
+const char* const kHtmlFooter =
+    "<p id=\"image-check\" hidden>images not checked</p>\n"
+    "<script>window.addEventListener('load',function(){var ok=0,bad=0;"
+    "document.querySelectorAll('img').forEach(function(i){if(i.complete&&i.naturalWidth>0)ok++;"
+    "else bad++;});"
+    "document.getElementById('image-check').textContent='images loaded='+ok+' "
+    "broken='+bad;});</script>\n"
+    "</body></html>\n";
+
+}  // namespace
+
+const eval::StampedTrajectory* groundTruth(const Session& session) {
+  const eval::StampedTrajectory* truth = nullptr;
+  for (const auto& r : session.references()) {
+    if (r.name == "ground truth") truth = &r.poses;
+  }
+  return truth;
+}
+
+std::vector<ScanRow> scanRows(Session& session, const eval::StampedTrajectory* truth,
+                              bool show_progress) {
+  const std::size_t n = session.countAll();
+  const auto traj = session.trajectory(n - 1);
+  std::vector<ScanRow> rows;
+  rows.reserve(n);
+  pipeline::Progress progress("lidarseg-inspect", show_progress, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    rows.push_back(scanRow(session.frame(i), traj[i]));
+    progress.update(i + 1);
+  }
+  progress.done(n);
+  if (truth) compareWithTruth(rows, *truth, session.mountOfFirstScan());
+  return rows;
+}
+
+ReportSummary summarizeRows(const std::vector<ScanRow>& rows) {
+  ReportSummary report;
+  report.scans = rows.size();
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    report.failed_matches += rows[i].failed;
+    if (i > 0)
+      report.length_m +=
+          std::hypot(rows[i].pose.x - rows[i - 1].pose.x, rows[i].pose.y - rows[i - 1].pose.y);
+  }
+  if (std::isfinite(rows.back().drift_m)) report.final_error_m = rows.back().drift_m;
+  return report;
+}
+
+std::vector<std::size_t> worstFirst(const std::vector<ScanRow>& rows, std::size_t count) {
+  std::vector<std::size_t> order(rows.size());
+  std::iota(order.begin(), order.end(), 0);
+  const auto badness = [&](std::size_t i) {
+    const ScanRow& r = rows[i];
+    const double score = std::isfinite(r.error_m) ? r.error_m : r.sd_xy_m;
+    return std::make_pair(r.failed ? 1 : 0, score);
+  };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return badness(a) > badness(b); });
+  order.resize(std::min(order.size(), count));
+  return order;
+}
+
+std::string reportHtml(const std::string& input, const ReportSummary& summary,
+                       const std::vector<ScanRow>& rows, bool with_truth, const std::string& no_plots) {
+  return htmlHeader(input) + htmlResults(summary, rows, with_truth, no_plots) +
+         htmlGallery(rows, summary.gallery) + kHtmlFooter;
+}
+
+}  // namespace lidarseg::inspect

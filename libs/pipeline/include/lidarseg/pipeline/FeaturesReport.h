@@ -1,0 +1,52 @@
+#pragma once
+/// @file FeaturesReport.h
+/// What `lidarseg-features` measured over a log, and its report: features.md (tables of
+/// recall and precision per type against a ground truth) and features.json.
+
+#include <array>
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lidarseg/core/Feature.h"
+#include "lidarseg/core/Statistics.h"
+#include "lidarseg/eval/FeatureEvaluation.h"
+
+namespace lidarseg::pipeline {
+
+/// Everything `lidarseg-features` measured.
+struct FeaturesReport {
+  std::string input;
+  std::size_t scans = 0;
+  std::size_t beams_per_scan = 0;
+  std::array<std::size_t, kNumFeatureTypes> detections{};
+  /// Time of FeatureDetector::detect() per scan (microseconds, wall clock).
+  Summary detect_us;
+  /// Time of segmentation (Wall-Danielsson + cascade) per scan (microseconds).
+  Summary segment_us;
+  /// Present when a ground truth was given.
+  std::optional<eval::FeatureEvaluation> evaluation;
+  Summary position_error_m;
+  /// Camera images met, images given regions, regions in all, and the share of each
+  /// image the regions cover (0..1, per image).
+  std::size_t images = 0;
+  std::size_t images_with_rois = 0;
+  std::size_t rois = 0;
+  Summary roi_coverage;
+  /// Scans skipped (unreadable), with the reason.
+  std::vector<std::string> skipped;
+  /// What the run could not do but did not fail for, one line each (no figure without
+  /// gnuplot, a --figure-scan beyond the log): printed by the tool after its results.
+  std::vector<std::string> warnings;
+};
+
+/// features.md: counts and median times per scan, the regions of interest, and with a
+/// ground truth the recall, precision, position error and confusion per type.
+std::string featuresMarkdown(const FeaturesReport& report);
+
+/// features.json: counts and median times, and the scores when a ground truth was given;
+/// non-finite numbers as null.
+std::string featuresJson(const FeaturesReport& report);
+
+}  // namespace lidarseg::pipeline

@@ -1,0 +1,45 @@
+#pragma once
+/// @file RawlogWriter.h
+/// lidarseg-odometry --write-rawlog: the input log written back as an MRPT rawlog with
+/// lidarseg's motion as the robot's odometry action (decision 54: the MRPT observation
+/// rides along in each record for this writer).
+
+#include <string>
+#include <vector>
+
+#include <mrpt/io/CFileGZOutputStream.h>
+
+#include "lidarseg/core/Feature.h"
+#include "lidarseg/core/Pose2D.h"
+#include "lidarseg/mrpt/LaserLogReader.h"
+#include "lidarseg/mrpt/LaserOdometry.h"
+#include "lidarseg/pipeline/OutputFiles.h"
+
+namespace lidarseg::pipeline {
+
+/// Writes, per scan, an action collection (the robot's motion since the previous scan as a
+/// `CActionRobotMovement2D` with its covariance, robot frame) then a sensory frame (the scan,
+/// the observations that came with it except the log's own odometry, and optionally the
+/// scan's doors and corners as a `CObservationBearingRange`). gzip level 1, as MRPT's own
+/// tools write rawlogs; under a temporary name that `outputs` puts in place.
+class RawlogWriter {
+ public:
+  /// @param landmarks add each scan's features as landmarks (for MRPT's EKF SLAM).
+  /// @throws std::runtime_error naming the temporary file when it cannot be written.
+  RawlogWriter(const std::string& path, OutputSet& outputs, bool landmarks);
+
+  /// One scan. `stamp_s`: the scan's repaired stamp (the TUM files'), strictly increasing;
+  /// `features`: the scan's doors and corners (sensor frame), used with landmarks only.
+  void write(const mrpt_adapter::LaserRecord& record, const mrpt_adapter::LaserOdometryStep& step,
+             double stamp_s, const std::vector<Feature>& features);
+
+  /// Flushes and closes the file (before `outputs` commits).
+  void close() { out_.close(); }
+
+ private:
+  bool landmarks_;
+  mrpt::io::CFileGZOutputStream out_;
+  Pose2D last_pose_;  // robot pose of the previous scan, odometry frame
+};
+
+}  // namespace lidarseg::pipeline

@@ -1,0 +1,44 @@
+#pragma once
+/// @file RunEvaluation.h
+/// A run's methods evaluated against what the user gave or the log holds: a ground truth
+/// (Table I, final error, ATE), Freiburg relations, and the log's own poses as per-scan
+/// relations (lidarseg-odometry --gt, --relations, --log-reference).
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lidarseg/eval/Relations.h"
+#include "lidarseg/eval/StampedTrajectory.h"
+#include "lidarseg/pipeline/RunReport.h"
+
+namespace lidarseg::pipeline {
+
+class OdometryRun;
+
+/// Ground truth, relations and the log's own poses, for the evaluation.
+struct RunReferences {
+  std::optional<eval::StampedTrajectory> gt;  ///< robot poses (TUM)
+  std::optional<std::vector<eval::Relation>> relations;
+  std::optional<std::vector<eval::Relation>> log_relations;
+  /// Largest stamp difference for a pose to meet the ground truth's (s); evaluateRun()
+  /// sets it to a quarter of the log's median scan period.
+  double gt_tolerance_s = 0.025;
+};
+
+/// PREFIX.gt.tum beside a log PREFIX.rawlog, .clf or .log (optionally .gz), as the simulator
+/// writes it; empty when there is no such file.
+std::string groundTruthBeside(const std::string& log_path);
+
+/// The ground truth (TUM) and relations files read before the run, so that a bad file fails
+/// early; an empty path reads nothing.
+/// @throws std::runtime_error naming the file and line.
+RunReferences readRunReferences(const std::string& gt_path, const std::string& relations_path);
+
+/// Every method of `report` against the references: errors against the ground truth,
+/// the relations within `relations_tolerance_s`, and with `log_reference` the relations of
+/// the log's own poses (a warning when the log has fewer than two).
+void evaluateRun(const OdometryRun& run, RunReferences& refs, bool log_reference,
+                 double relations_tolerance_s, OdometryReport& report);
+
+}  // namespace lidarseg::pipeline

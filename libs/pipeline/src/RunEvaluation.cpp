@@ -1,0 +1,60 @@
+#include "lidarseg/pipeline/RunEvaluation.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "lidarseg/eval/TrajectoryMetrics.h"
+#include "lidarseg/pipeline/OdometryRun.h"
+
+namespace lidarseg::pipeline {
+
+namespace {
+
+std::string stemOf(const std::string& path) {
+  for (const char* ext : {".rawlog.gz", ".rawlog", ".clf.gz", ".log.gz", ".clf", ".log"}) {
+    const std::string e(ext);
+    if (path.size() > e.size() && path.compare(path.size() - e.size(), e.size(), e) == 0) {
+      return path.substr(0, path.size() - e.size());
+    }
+  }
+  return path;
+}
+
+void evaluate(MethodReport& m, const RunReferences& refs, double relations_tolerance_s) {
+  if (refs.gt) m.errors = eval::evaluateTrajectory(m.trajectory, *refs.gt, refs.gt_tolerance_s);
+  if (refs.relations)
+    m.relations = eval::evaluateRelations(m.trajectory, *refs.relations, relations_tolerance_s);
+  if (refs.log_relations)
+    m.log_relations = eval::evaluateRelations(m.trajectory, *refs.log_relations, 1e-9);
+}
+
+}  // namespace
+
+std::string groundTruthBeside(const std::string& log_path) {
+  const std::string candidate = stemOf(log_path) + ".gt.tum";
+  return std::filesystem::exists(candidate) ? candidate : std::string();
+}
+
+RunReferences readRunReferences(const std::string& gt_path, const std::string& relations_path) {
+  RunReferences refs;
+  if (!gt_path.empty()) refs.gt = eval::readTum(gt_path);
+  if (!relations_path.empty()) refs.relations = eval::readRelations(relations_path);
+  return refs;
+}
+
+void evaluateRun(const OdometryRun& run, RunReferences& refs, bool log_reference,
+                 double relations_tolerance_s, OdometryReport& report) {
+  refs.gt_tolerance_s = std::max(1e-6, 0.25 * run.medianStep());
+  if (log_reference) {
+    if (run.logPoses().size() < 2) {
+      report.warnings.push_back("--log-reference: the log has no poses beside its scans");
+    } else {
+      refs.log_relations = eval::relationsFrom(run.logPoses(), 0.0, 0.0, 1);
+    }
+  }
+  evaluate(report.lidarseg, refs, relations_tolerance_s);
+  if (report.icp) evaluate(*report.icp, refs, relations_tolerance_s);
+  if (report.icp_s2s) evaluate(*report.icp_s2s, refs, relations_tolerance_s);
+}
+
+}  // namespace lidarseg::pipeline

@@ -1,0 +1,183 @@
+#include "lidarseg/pipeline/SimulationFiles.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <ostream>
+#include <stdexcept>
+#include <utility>
+
+#include <mrpt/core/Clock.h>
+#include <mrpt/img/CImage.h>
+#include <mrpt/obs/CObservationImage.h>
+#include <mrpt/obs/CObservationOdometry.h>
+
+#include "lidarseg/core/Angles.h"
+#include "lidarseg/mrpt/ScanConverter.h"
+
+namespace lidarseg::pipeline {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// TUM trajectory line: time x y z qx qy qz qw (rotation about z only).
+void writeTum(std::ostream& os, double t, const Pose2D& p, double z) {
+  os << std::setprecision(9) << t << ' ' << p.x << ' ' << p.y << ' ' << z << ' ' << 0.0 << ' '
+     << 0.0 << ' ' << std::sin(0.5 * p.yaw) << ' ' << std::cos(0.5 * p.yaw) << '\n';
+}
+
+// The frame's image saved as DIR/NAME (PNG), in an observation that refers to that file.
+mrpt::obs::CObservationImage::Ptr imageObservation(const sim::SimulatedFrame& f,
+                                                   const sim::PinholeCamera& cam,
+                                                   const std::string& dir,
+                                                   const std::string& name) {
+  mrpt::img::CImage img;
+  auto rgb = f.image.rgb;
+  img.loadFromMemoryBuffer(static_cast<unsigned>(f.image.width),
+                           static_cast<unsigned>(f.image.height), true, rgb.data(), true);
+  if (!img.saveToFile(dir + "/" + name))
+    throw std::runtime_error("cannot write image '" + dir + "/" + name + "'");
+  img.setExternalStorage(name);
+  auto obs = mrpt::obs::CObservationImage::Create();
+  obs->sensorLabel = "CAMERA";
+  obs->timestamp = mrpt::Clock::fromDouble(f.stamp_s);
+  // MRPT camera pose: +z forward, +x right, +y down, in the robot frame.
+  obs->cameraPose =
+      mrpt::poses::CPose3D(cam.x_m, cam.y_m, cam.z_m, cam.yaw_rad - 0.5 * kPi, 0.0, -0.5 * kPi);
+  obs->cameraParams.ncols = static_cast<uint32_t>(cam.width);
+  obs->cameraParams.nrows = static_cast<uint32_t>(cam.height);
+  obs->cameraParams.setIntrinsicParamsFromValues(cam.fx, cam.fy, cam.cx, cam.cy);
+  obs->image = std::move(img);
+  return obs;
+}
+
+// A PREFIX.features.csv row: one door or corner the lidar sees in scan `i` at time `t`.
+void writeFeatureRow(std::ostream& os, std::size_t i, double t, const sim::Feature& ft) {
+  os << std::setprecision(9) << i << ',' << t << ',' << lidarseg::toString(ft.type) << ','
+     << std::setprecision(4) << ft.position.x() << ',' << ft.position.y() << ',' << ft.theta_rad
+     << ',' << ft.width_m << ',' << ft.id << ',' << (ft.resolvable ? 1 : 0) << ','
+     << lidarseg::toString(ft.seen_as) << '\n';
+}
+
+// The ROBOTLASER1 and ODOM lines of one scan (CARMEN); both poses are the wheel odometry.
+void writeCarmenLines(std::ostream& c, const sim::SimulatedFrame& f,
+                      const sim::SensorModel& sensor) {
+  const double fov = std::abs(sensor.layout->angles().back() - sensor.layout->angles().front());
+  const double step = fov / static_cast<double>(f.scan.size() - 1);
+  const double t = f.stamp_s;
+  c << std::setprecision(6) << "ROBOTLASER1 0 " << -0.5 * fov << ' ' << fov << ' ' << step << ' '
+    << sensor.max_range_m << " 0.01 0 " << f.scan.size();
+  c << std::setprecision(4);
+  for (double r : f.scan.ranges_m) c << ' ' << r;
+  c << " 0 " << f.odometry.x << ' ' << f.odometry.y << ' ' << f.odometry.yaw << ' ' << f.odometry.x
+    << ' ' << f.odometry.y << ' ' << f.odometry.yaw << " 0 0 0 0 0 " << std::setprecision(6) << t
+    << " lidarseg-sim " << t << '\n';
+  c << "ODOM " << std::setprecision(4) << f.odometry.x << ' ' << f.odometry.y << ' '
+    << f.odometry.yaw << " 0 0 0 " << std::setprecision(6) << t << " lidarseg-sim " << t << '\n';
+}
+
+}  // namespace
+
+void prepareSimulationFolders(const std::string& prefix, bool camera) {
+  const fs::path parent = fs::path(prefix).parent_path();
+  if (!parent.empty()) fs::create_directories(parent);
+  std::error_code ec;
+  fs::remove_all(prefix + "_Images.tmp", ec);
+  if (camera) {
+    registerTemporaryFolder(prefix + "_Images.tmp");
+    fs::create_directories(prefix + "_Images.tmp");
+  }
+}
+
+SimulationFiles::SimulationFiles(const std::string& prefix, const sim::SimulationParams& params,
+                                 const sim::World& world, const std::string& world_path,
+                                 bool write_carmen)
+    : prefix_(prefix),
+      params_(params),
+      world_(world),
+      lidar_pose_(0, 0, params.lidar_z_m, 0, 0, 0),
+      gt_(prefix_ + ".gt.tum"),
+      odom_(prefix_ + ".odom.tum"),
+      features_(prefix_ + ".features.csv"),
+      rois_(prefix_ + ".rois.csv"),
+      carmen_(write_carmen ? std::make_unique<PendingFile>(prefix_ + ".carmen.log") : nullptr),
+      rawlog_tmp_(uniqueTemporary(prefix_ + ".rawlog")),
+      rawlog_(rawlog_tmp_) {
+  if (!rawlog_.fileOpenCorrectly()) throw std::runtime_error("cannot write '" + rawlog_tmp_ + "'");
+  gt_.out() << "# timestamp x y z qx qy qz qw (true robot pose, world frame)\n";
+  odom_.out() << "# timestamp x y z qx qy qz qw (wheel odometry, drifting)\n";
+  features_.out() << "scan,t,type,x,y,theta,width,id,resolvable,seen_as\n";
+  rois_.out() << "image,scan,t,file,door,kind,u_min,v_min,u_max,v_max\n";
+  if (carmen_) {
+    carmen_->out() << "# lidarseg-simulate: " << world_path << ", seed " << params.seed
+                   << "\n# ROBOTLASER1 and ODOM lines; poses are wheel odometry\n";
+  }
+}
+
+void SimulationFiles::write(std::size_t i, const sim::SimulatedFrame& f) {
+  writeRawlogScan(f);
+  writeTum(gt_.out(), f.stamp_s, f.T_world_robot, 0.0);
+  writeTum(odom_.out(), f.stamp_s, f.odometry, 0.0);
+  for (const sim::Feature& ft : f.features) {
+    writeFeatureRow(features_.out(), i, f.stamp_s, ft);
+    (lidarseg::isDoor(ft.type) ? counts_.door_sightings : counts_.corner_sightings)++;
+  }
+  if (f.has_image) writeImage(i, f, counts_.images++);
+  if (carmen_) writeCarmenLines(carmen_->out(), f, params_.sensor);
+  ++counts_.scans;
+}
+
+// Odometry first: an MRPT consumer then has the motion before the scan it explains.
+void SimulationFiles::writeRawlogScan(const sim::SimulatedFrame& f) {
+  auto odo = mrpt::obs::CObservationOdometry::Create();
+  odo->sensorLabel = "ODOMETRY";
+  odo->timestamp = mrpt::Clock::fromDouble(f.stamp_s);
+  odo->odometry = mrpt::poses::CPose2D(f.odometry.x, f.odometry.y, f.odometry.yaw);
+  archive_ << *odo;
+  archive_ << *mrpt_adapter::makeRangeScanObservation(f.scan, "LIDAR", lidar_pose_,
+                                                      params_.sensor.range_sigma_m);
+}
+
+// Image number `image` (of scan `i`): its PNG, its observation in the rawlog, its door boxes.
+void SimulationFiles::writeImage(std::size_t i, const sim::SimulatedFrame& f, std::size_t image) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "img_%06zu.png", image);
+  archive_ << *imageObservation(f, params_.camera, prefix_ + "_Images.tmp", name);
+  for (const sim::DoorBox& b : f.door_boxes) {
+    rois_.out() << image << ',' << i << ',' << std::setprecision(9) << f.stamp_s << ',' << name
+                << ',' << b.door << ',' << sim::toString(world_.doors()[b.door].kind) << ','
+                << b.u_min << ',' << b.v_min << ',' << b.u_max << ',' << b.v_max << '\n';
+  }
+}
+
+// The rawlog closed first, the images folder last.
+void SimulationFiles::commit() {
+  rawlog_.close();
+  fs::rename(rawlog_tmp_, prefix_ + ".rawlog");
+  releaseTemporary(rawlog_tmp_);
+  committed_ = true;
+  gt_.commit();
+  odom_.commit();
+  features_.commit();
+  rois_.commit();
+  if (carmen_) carmen_->commit();
+  if (params_.camera_every_scans > 0) {
+    std::error_code ec;
+    fs::remove_all(prefix_ + "_Images", ec);
+    fs::rename(prefix_ + "_Images.tmp", prefix_ + "_Images");
+    releaseTemporary(prefix_ + "_Images.tmp");
+  }
+}
+
+// A run that did not commit leaves no rawlog temporary behind.
+SimulationFiles::~SimulationFiles() {
+  if (committed_) return;
+  rawlog_.close();
+  std::error_code ec;
+  fs::remove(rawlog_tmp_, ec);
+  releaseTemporary(rawlog_tmp_);
+}
+
+}  // namespace lidarseg::pipeline

@@ -1,0 +1,38 @@
+#pragma once
+/// @file FrameSource.h
+/// The camera frames `lidarseg-people` analyses: a video, a folder of images or one image.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/videoio.hpp>
+
+namespace lidarseg::vision {
+
+/// Frames of a video (anything OpenCV's VideoCapture reads), a folder of images (png, jpg,
+/// jpeg, bmp, ppm, pgm; read in name order) or one image. Images are read through
+/// readImage(), their header's size checked first (decision 52).
+class FrameSource {
+ public:
+  /// @throws std::runtime_error naming `input` when it does not exist, a folder holds no
+  /// image or the file is neither an image nor a video OpenCV can read.
+  explicit FrameSource(const std::string& input);
+
+  /// How many frames the input holds: its image files, or the frame count the video's
+  /// container declares (0 when it declares none); for a progress's time left only.
+  std::size_t expectedFrames() const;
+
+  /// The next frame (BGR) and its file name (empty for a video's frame); false at the end.
+  /// @throws std::runtime_error naming the file for an unreadable or oversized image.
+  bool next(cv::Mat& frame, std::string& file);
+
+ private:
+  std::string input_;
+  cv::VideoCapture video_;
+  std::vector<std::string> files_;
+  std::size_t next_file_ = 0;
+};
+
+}  // namespace lidarseg::vision

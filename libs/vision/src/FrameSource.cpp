@@ -1,0 +1,60 @@
+#include "lidarseg/vision/FrameSource.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cctype>
+#include <filesystem>
+#include <stdexcept>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "lidarseg/vision/ImageFile.h"
+
+namespace lidarseg::vision {
+
+namespace fs = std::filesystem;
+
+FrameSource::FrameSource(const std::string& input) : input_(input) {
+  if (fs::is_directory(input)) {
+    for (const auto& e : fs::directory_iterator(input)) {
+      std::string ext = e.path().extension().string();
+      std::transform(ext.begin(), ext.end(), ext.begin(),
+                     [](unsigned char c) { return std::tolower(c); });
+      if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".ppm" ||
+          ext == ".pgm") {
+        files_.push_back(e.path().string());
+      }
+    }
+    std::sort(files_.begin(), files_.end());
+    if (files_.empty())
+      throw std::runtime_error("'" + input + "': no image files (png, jpg, bmp, ppm, pgm)");
+  } else if (!fs::exists(input)) {
+    throw std::runtime_error("'" + input + "': no such file or directory");
+  } else if (readImageHeader(input) || cv::haveImageReader(input)) {
+    files_.push_back(input);  // read (and its size checked) by next()
+  } else {
+    video_.open(input);
+    if (!video_.isOpened())
+      throw std::runtime_error("'" + input + "': neither an image nor a video OpenCV can read");
+  }
+}
+
+std::size_t FrameSource::expectedFrames() const {
+  if (!video_.isOpened()) return files_.size();
+  const double n = video_.get(cv::CAP_PROP_FRAME_COUNT);
+  return std::isfinite(n) && n > 0 ? static_cast<std::size_t>(n) : 0;
+}
+
+bool FrameSource::next(cv::Mat& frame, std::string& file) {
+  if (video_.isOpened()) {
+    file.clear();
+    return video_.read(frame) && !frame.empty();
+  }
+  if (next_file_ >= files_.size()) return false;
+  const std::string& path = files_[next_file_++];
+  frame = readImage(path);
+  file = fs::path(path).filename().string();
+  return true;
+}
+
+}  // namespace lidarseg::vision
