@@ -16,7 +16,7 @@
 #include "lidarseg/pipeline/BatchResults.h"
 #include "lidarseg/pipeline/OutputFiles.h"
 #include "lidarseg/pipeline/ParallelJobs.h"
-#include "Plots.h"
+#include "lidarseg/pipeline/Plots.h"
 #include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/apps/SimulateApp.h"
 #include "lidarseg/mrpt/SimulationConfig.h"
@@ -27,6 +27,10 @@ namespace lidarseg::apps {
 
 using pipeline::writeFileAtomically;
 using pipeline::OutputSet;
+using pipeline::makeSeries;
+using pipeline::plotXYPng;
+using pipeline::PlotSeries;
+using pipeline::PlotStyle;
 
 namespace fs = std::filesystem;
 

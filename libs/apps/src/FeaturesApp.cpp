@@ -10,7 +10,7 @@
 
 #include "lidarseg/mrpt/CameraRois.h"
 #include "lidarseg/pipeline/FeatureCsv.h"
-#include "Plots.h"
+#include "lidarseg/pipeline/Plots.h"
 #include "ReportTools.h"
 #include "lidarseg/core/FeatureDetector.h"
 #include "lidarseg/core/ScanSegmenter.h"
@@ -24,6 +24,8 @@ using mrpt_adapter::drawRois;
 using mrpt_adapter::writeRoiCsvHeader;
 using mrpt_adapter::writeRoiCsvRows;
 using pipeline::writeFileAtomically;
+using pipeline::scanFeaturesPng;
+using pipeline::ScanPicture;
 
 namespace {
 

@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <iostream>
 
-#include "Plots.h"
+#include "lidarseg/pipeline/Plots.h"
 #include "lidarseg/apps/InspectApp.h"
 #include "lidarseg/inspect/Drawing.h"
 #include "lidarseg/inspect/LayerSwitches.h"
@@ -16,6 +16,11 @@ namespace lidarseg::apps {
 using vision::encodePng;
 
 using pipeline::OutputSet;
+using pipeline::makeSeries;
+using pipeline::plotHistogramsPng;
+using pipeline::plotTrajectoriesPng;
+using pipeline::plotXYPng;
+using pipeline::PlotSeries;
 
 namespace fs = std::filesystem;
 

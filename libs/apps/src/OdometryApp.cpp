@@ -9,7 +9,7 @@
 
 #include "lidarseg/pipeline/FeatureCsv.h"
 #include "lidarseg/pipeline/OutputFiles.h"
-#include "Plots.h"
+#include "lidarseg/pipeline/Plots.h"
 #include "lidarseg/pipeline/Progress.h"
 #include "lidarseg/core/FeatureDetector.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
@@ -25,6 +25,10 @@ using pipeline::refuseOverwritingInput;
 using pipeline::OutputSet;
 
 using pipeline::Progress;
+using pipeline::makeSeries;
+using pipeline::plotHistogramsPng;
+using pipeline::plotTrajectoriesPng;
+using pipeline::PlotSeries;
 
 namespace fs = std::filesystem;
 

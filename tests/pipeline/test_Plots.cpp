@@ -1,4 +1,4 @@
-// The charts' series (libs/apps' private Plots.h): how a style is drawn, the histograms
+// The charts' series (lidarseg/pipeline/Plots.h): how a style is drawn, the histograms
 // drawn as steps from their samples, and the paper's Fig. 6 drawn by gnuplot on equal scales.
 #include <cmath>
 #include <fstream>
@@ -11,24 +11,24 @@
 #include <gtest/gtest.h>
 
 #include "EmptyPath.h"
-#include "Plots.h"
+#include "lidarseg/pipeline/Plots.h"
 #include "lidarseg/vision/ImageFile.h"
 
-namespace lidarseg::apps {
+namespace lidarseg::pipeline {
 namespace {
 
 TEST(Plots, EachStyleHasItsGnuplotClause) {
   EXPECT_EQ(gnuplotWith(PlotStyle::kLines), "with lines lw 2");
   EXPECT_EQ(gnuplotWith(PlotStyle::kMarkers), "with points pt 7 ps 1.3");
   EXPECT_EQ(gnuplotWith(PlotStyle::kSteps), "with steps lw 2");
-  EXPECT_EQ(makeSeries("a", pipeline::kIcpColour).style, PlotStyle::kLines);
-  EXPECT_EQ(makeSeries("a", pipeline::kIcpColour, PlotStyle::kMarkers).style, PlotStyle::kMarkers);
+  EXPECT_EQ(makeSeries("a", kIcpColour).style, PlotStyle::kLines);
+  EXPECT_EQ(makeSeries("a", kIcpColour, PlotStyle::kMarkers).style, PlotStyle::kMarkers);
 }
 
 TEST(Plots, HistogramsAreStepsOfEachSeriesSharesOverLogarithmicBins) {
-  PlotSeries a = makeSeries("lidarseg", pipeline::kLidarsegColour, PlotStyle::kMarkers);
+  PlotSeries a = makeSeries("lidarseg", kLidarsegColour, PlotStyle::kMarkers);
   a.x = {1.0, 10.0, 100.0, 100.0, 0.0, -3.0, std::numeric_limits<double>::quiet_NaN()};  // 4 usable
-  PlotSeries b = makeSeries("MRPT ICP keyframed", pipeline::kIcpColour);
+  PlotSeries b = makeSeries("MRPT ICP keyframed", kIcpColour);
   b.x = {10.0};
   const std::vector<PlotSeries> h = histogramShares({a, b}, 4);
   ASSERT_EQ(h.size(), 2u);
@@ -42,8 +42,8 @@ TEST(Plots, HistogramsAreStepsOfEachSeriesSharesOverLogarithmicBins) {
     EXPECT_EQ(s.y.back(), 0.0);  // the last edge closes the last bin
   }
   EXPECT_EQ(h[0].name, "lidarseg");
-  EXPECT_EQ(h[0].colour.b, pipeline::kLidarsegColour.b);
-  EXPECT_EQ(h[1].colour.r, pipeline::kIcpColour.r);
+  EXPECT_EQ(h[0].colour.b, kLidarsegColour.b);
+  EXPECT_EQ(h[1].colour.r, kIcpColour.r);
   // 1 in the first bin, 10 in the third, both 100s in the last.
   EXPECT_DOUBLE_EQ(h[0].y[0], 0.25);
   EXPECT_DOUBLE_EQ(h[0].y[1], 0.0);
@@ -73,7 +73,7 @@ cv::Point pixelOf(const ScanFigureLayout& L, int panel, double x, double y) {
 
 // Whether a pixel within `radius` of `at` has `colour` (each channel within 40: the lines
 // are anti-aliased).
-bool hasColourNear(const cv::Mat& bgr, cv::Point at, int radius, pipeline::Rgb colour) {
+bool hasColourNear(const cv::Mat& bgr, cv::Point at, int radius, Rgb colour) {
   for (int dy = -radius; dy <= radius; ++dy) {
     for (int dx = -radius; dx <= radius; ++dx) {
       const cv::Point p = at + cv::Point(dx, dy);
@@ -130,21 +130,21 @@ TEST(Plots, TheScanFigureIsAPngOfItsLayoutWithThePalettesColoursInPlace) {
   // segments, the door and the corner right; none of the right panel's marks on the left.
   const cv::Mat img = vision::readImage(path);
   for (int panel = 0; panel < 2; ++panel) {
-    EXPECT_TRUE(hasColourNear(img, pixelOf(L, panel, 0, 0), 3, pipeline::kRobotColour)) << panel;
+    EXPECT_TRUE(hasColourNear(img, pixelOf(L, panel, 0, 0), 3, kRobotColour)) << panel;
   }
-  EXPECT_TRUE(hasColourNear(img, pixelOf(L, 0, 8.0, -1.2), 3, pipeline::kScanPointColour));
-  EXPECT_TRUE(hasColourNear(img, pixelOf(L, 1, 8.0, -1.2), 2, pipeline::kLidarsegColour));
-  EXPECT_FALSE(hasColourNear(img, pixelOf(L, 0, 8.0, -1.2), 3, pipeline::kLidarsegColour));
+  EXPECT_TRUE(hasColourNear(img, pixelOf(L, 0, 8.0, -1.2), 3, kScanPointColour));
+  EXPECT_TRUE(hasColourNear(img, pixelOf(L, 1, 8.0, -1.2), 2, kLidarsegColour));
+  EXPECT_FALSE(hasColourNear(img, pixelOf(L, 0, 8.0, -1.2), 3, kLidarsegColour));
   // A circle is drawn around its centre: look on its ring, at about its radius.
-  const auto ring = [&](int panel, double x, double y, pipeline::Rgb c) {
+  const auto ring = [&](int panel, double x, double y, Rgb c) {
     for (int r = 6; r <= 16; ++r) {
       if (hasColourNear(img, pixelOf(L, panel, x, y) + cv::Point(r, 0), 0, c)) return true;
     }
     return false;
   };
-  EXPECT_TRUE(ring(1, 3.5, 1.2, pipeline::kDoorColour));
-  EXPECT_TRUE(ring(1, 12.0, -1.2, pipeline::kCornerColour));
-  EXPECT_FALSE(ring(0, 12.0, -1.2, pipeline::kCornerColour));
+  EXPECT_TRUE(ring(1, 3.5, 1.2, kDoorColour));
+  EXPECT_TRUE(ring(1, 12.0, -1.2, kCornerColour));
+  EXPECT_FALSE(ring(0, 12.0, -1.2, kCornerColour));
   // An empty scan still draws: the sensor alone, 2 m across at least.
   const ScanFigureLayout E = scanFigureLayout(ScanPicture{});
   EXPECT_GE(E.x_max_m - E.x_min_m, 2.0);
@@ -166,4 +166,4 @@ TEST(Plots, WithoutGnuplotTheScanFigureIsRefusedNamingIt) {
 }
 
 }  // namespace
-}  // namespace lidarseg::apps
+}  // namespace lidarseg::pipeline

@@ -1,4 +1,4 @@
-#include "Plots.h"
+#include "lidarseg/pipeline/Plots.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -21,7 +21,7 @@
 
 extern char** environ;
 
-namespace lidarseg::apps {
+namespace lidarseg::pipeline {
 
 namespace {
 
@@ -58,7 +58,7 @@ std::string quoted(const std::string& text) {
 }
 
 // gnuplot's colour of a palette entry: "#rrggbb".
-std::string hex(const pipeline::Rgb& c) {
+std::string hex(const Rgb& c) {
   char buf[16];
   std::snprintf(buf, sizeof buf, "#%02x%02x%02x", c.r, c.g, c.b);
   return buf;
@@ -332,14 +332,14 @@ std::string scanFeaturesPng(const ScanPicture& scan, const std::string& title) {
      << "set label 1 '" << L.scale_bar_m << " m' at " << bar_x + L.scale_bar_m << ',' << bar_y
      << " offset 0.8,0 left front\n";
   const std::string robot_plot = quoted(robot) + " using 1:2 with points pt 2 ps 3 lw 2.5 lc rgb '" +
-                                 hex(pipeline::kRobotColour) + "' title 'robot'";
+                                 hex(kRobotColour) + "' title 'robot'";
   // Left: the raw points.
   gp << "set lmargin at screen " << L.plot_left_px[0] / W << "\nset rmargin at screen "
      << (L.plot_left_px[0] + L.plot_width_px) / W
      << "\nset title 'raw scan: " << counted(scan.points.size(), "point") << "'\n"
      << "plot ";
   if (!scan.points.empty()) {
-    gp << quoted(points) << " using 1:2 with points pt 7 ps 0.45 lc rgb '" << hex(pipeline::kScanPointColour)
+    gp << quoted(points) << " using 1:2 with points pt 7 ps 0.45 lc rgb '" << hex(kScanPointColour)
        << "' title 'scan points', ";
   }
   gp << robot_plot << "\n";
@@ -350,23 +350,23 @@ std::string scanFeaturesPng(const ScanPicture& scan, const std::string& title) {
      << ", " << counted(scan.corners.size(), "corner") << "'\n"
      << "plot ";
   if (!scan.segments.empty()) {
-    gp << quoted(segments) << " using 1:2 with lines lw 2.5 lc rgb '" << hex(pipeline::kLidarsegColour)
+    gp << quoted(segments) << " using 1:2 with lines lw 2.5 lc rgb '" << hex(kLidarsegColour)
        << "' title 'segments', ";
   }
   if (!scan.door_jambs.empty()) {
-    gp << quoted(jambs) << " using 1:2 with lines lw 1.5 dt 2 lc rgb '" << hex(pipeline::kDoorColour)
+    gp << quoted(jambs) << " using 1:2 with lines lw 1.5 dt 2 lc rgb '" << hex(kDoorColour)
        << "' title 'door jambs', ";
   }
   if (!scan.doors.empty()) {
-    gp << quoted(doors) << " using 1:2 with points pt 6 ps 2.5 lw 2 lc rgb '" << hex(pipeline::kDoorColour)
+    gp << quoted(doors) << " using 1:2 with points pt 6 ps 2.5 lw 2 lc rgb '" << hex(kDoorColour)
        << "' title 'door', ";
   }
   if (!scan.corners.empty()) {
-    gp << quoted(corners) << " using 1:2 with points pt 6 ps 2.5 lw 2 lc rgb '" << hex(pipeline::kCornerColour)
+    gp << quoted(corners) << " using 1:2 with points pt 6 ps 2.5 lw 2 lc rgb '" << hex(kCornerColour)
        << "' title 'corner', ";
   }
   gp << robot_plot << "\nunset multiplot\n";
   return runGnuplot(dir, gp.str());
 }
 
-}  // namespace lidarseg::apps
+}  // namespace lidarseg::pipeline

@@ -1,8 +1,9 @@
 #pragma once
-// Private to lidarseg::apps: the pictures of a run (trajectories, timing histograms,
-// per-run errors) and a scan's features (the paper's Fig. 6) as PNG images drawn by gnuplot
-// (pngcairo).
-// @throws std::runtime_error when gnuplot is missing or fails.
+/// @file
+/// lidarseg::pipeline: the charts of every tool's report - the pictures of a run
+/// (trajectories, timing histograms, per-run errors) and a scan's features (the paper's
+/// Fig. 6) as PNG images drawn by gnuplot (pngcairo), one colour per method from Palette.h.
+/// The drawing functions throw std::runtime_error when gnuplot is missing or fails.
 
 #include <array>
 #include <string>
@@ -11,7 +12,7 @@
 
 #include "lidarseg/pipeline/Palette.h"
 
-namespace lidarseg::apps {
+namespace lidarseg::pipeline {
 
 /// How a series is drawn.
 enum class PlotStyle {
@@ -27,13 +28,13 @@ std::string gnuplotWith(PlotStyle style);
 /// (lidarseg/pipeline/Palette.h), the same in every picture of every tool.
 struct PlotSeries {
   std::string name;
-  pipeline::Rgb colour;
+  Rgb colour;
   std::vector<double> x, y;
   PlotStyle style = PlotStyle::kLines;
 };
 
 /// An empty series named `name`, drawn in `colour` with `style`.
-inline PlotSeries makeSeries(const std::string& name, pipeline::Rgb colour, PlotStyle style = PlotStyle::kLines) {
+inline PlotSeries makeSeries(const std::string& name, Rgb colour, PlotStyle style = PlotStyle::kLines) {
   return PlotSeries{name, colour, {}, {}, style};
 }
 
@@ -96,4 +97,4 @@ ScanFigureLayout scanFigureLayout(const ScanPicture& scan);
 /// @throws std::runtime_error when gnuplot is missing or fails.
 std::string scanFeaturesPng(const ScanPicture& scan, const std::string& title);
 
-}  // namespace lidarseg::apps
+}  // namespace lidarseg::pipeline
