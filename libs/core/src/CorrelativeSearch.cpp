@@ -42,7 +42,6 @@ struct Workspace {
   std::vector<Eigen::Vector2d> pts;
   std::vector<int> cells;  // per rotation: (ci, cj) of every used point, at the prior translation
   std::vector<Block> top;
-  SearchGrid grid;  // for the overload that prepares the keyframe itself
 };
 
 // The depth-first branch and bound below the top level: children best bound first, a branch
@@ -187,7 +186,9 @@ void CorrelativeSearch::prepare(const std::vector<Eigen::Vector2d>& key, SearchG
   fine.assign(cells, 0);
   const int r = static_cast<int>(std::ceil(3.0 * P.sigma_m / g.res));
   const double inv2s2 = 1.0 / (2.0 * P.sigma_m * P.sigma_m);
-  std::vector<double> fx_factor(static_cast<std::size_t>(2 * r + 1)), fy_factor(static_cast<std::size_t>(2 * r + 1));
+  thread_local std::vector<double> fx_factor, fy_factor;  // per point's window; kept between calls
+  fx_factor.resize(static_cast<std::size_t>(2 * r + 1));
+  fy_factor.resize(static_cast<std::size_t>(2 * r + 1));
   for (const auto& p : key) {
     if (!finite(p)) continue;
     const double fx = (p.x() - g.x0) / g.res, fy = (p.y() - g.y0) / g.res;
