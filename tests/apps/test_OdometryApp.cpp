@@ -110,12 +110,34 @@ TEST(OdometryApp, SimulatedRunBothMethodsEveryOutput) {
   EXPECT_NEAR(parsed.at("methods").at("icp").at("time_ms").at("median").get<double>(),
               r.icp->time_summary_us.median * 1e-3, 1e-9);
   EXPECT_EQ(slurp(o.out_dir + "/trajectories.png").substr(1, 3), "PNG");
-  // timing.csv: a header and one line per scan.
+  // timing.csv: a header and one line per scan; its last column (before ICP's) says whether
+  // the recovery search ran, and those rows add up to summary.json's "searches".
   std::ifstream csv(o.out_dir + "/timing.csv");
   std::string line;
-  std::size_t lines = 0;
-  while (std::getline(csv, line)) ++lines;
+  std::getline(csv, line);
+  const auto columns = [](const std::string& l) {
+    std::vector<std::string> out(1);
+    for (char ch : l) {
+      if (ch == ',') out.emplace_back();
+      else out.back().push_back(ch);
+    }
+    return out;
+  };
+  const std::vector<std::string> header = columns(line);
+  const auto searched_at = std::find(header.begin(), header.end(), "searched");
+  ASSERT_NE(searched_at, header.end()) << line;
+  const auto searched_col = static_cast<std::size_t>(searched_at - header.begin());
+  std::size_t lines = 1, searched = 0;
+  while (std::getline(csv, line)) {
+    ++lines;
+    const std::vector<std::string> row = columns(line);
+    ASSERT_EQ(row.size(), header.size()) << line;
+    EXPECT_TRUE(row[searched_col] == "0" || row[searched_col] == "1") << line;
+    searched += row[searched_col] == "1";
+  }
   EXPECT_EQ(lines, r.frames + 1);
+  EXPECT_EQ(parsed.at("methods").at("lidarseg").at("searches").get<std::size_t>(), searched);
+  EXPECT_EQ(r.lidarseg.searches, searched);
   // The TUM output keeps the scans' own stamps.
   std::ifstream tum(o.out_dir + "/lidarseg.tum");
   std::getline(tum, line);  // header

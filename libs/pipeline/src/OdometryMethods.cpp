@@ -45,6 +45,8 @@ void LidarsegMethod::record(const ScanInput& scan) {
   m.refine_iterations.push_back(c.refine.iterations);
   m.match_status.push_back(c.first ? "first" : toString(c.match.status));
   m.scan_matches.push_back(c.match.matches.size());
+  m.searched.push_back(c.search.has_value() ? 1 : 0);
+  m.searches += c.search.has_value();
   if (!c.first) {
     ++m.status_counts[toString(c.status)];
     if (c.match.status == MatchStatus::kTooFewMatches) ++m.match_failures[c.match.rejections.dominant()];

@@ -66,6 +66,7 @@ Json methodOf(const MethodReport& m) {
     j["tracking"] = m.tracking;
     j["lost"] = m.lost;
     j["lost_scans"] = m.lost_scans;
+    j["searches"] = m.searches;
     j["match_failures"] = Json::object();
     for (const auto& [k, v] : m.match_failures) j["match_failures"][k] = v;
   }
@@ -94,7 +95,7 @@ std::string timingCsv(const OdometryReport& report) {
   const MethodReport& l = report.lidarseg;
   std::ostringstream csv;
   csv << "index,stamp_s,segmentation_us,cascade_us,matching_us,total_us,status,matches,refinement_us,"
-         "inlier_ratio,refine_iterations,match_status,prior_x_m,prior_y_m,prior_yaw_rad"
+         "inlier_ratio,refine_iterations,match_status,prior_x_m,prior_y_m,prior_yaw_rad,searched"
       << (report.icp ? ",icp_total_us" : "") << (report.icp_s2s ? ",icp_s2s_total_us" : "") << "\n";
   csv << std::setprecision(9);
   for (std::size_t k = 0; k < l.time_us.size(); ++k) {
@@ -102,7 +103,7 @@ std::string timingCsv(const OdometryReport& report) {
         << ',' << l.cascade_us[k] << ',' << l.matching_us[k] << ',' << l.time_us[k] << ',' << l.scan_status[k] << ','
         << l.scan_matches[k] << ',' << l.refinement_us[k] << ',' << l.inlier_ratio[k] << ','
         << l.refine_iterations[k] << ',' << l.match_status[k] << ',' << l.prior[k].x << ',' << l.prior[k].y << ','
-        << l.prior[k].yaw;
+        << l.prior[k].yaw << ',' << static_cast<int>(l.searched[k]);
     if (report.icp) csv << ',' << report.icp->time_us[k];
     if (report.icp_s2s) csv << ',' << report.icp_s2s->time_us[k];
     csv << '\n';

@@ -43,6 +43,10 @@ struct MethodReport {
   /// ("gated", "over_threshold", "ambiguous", "not_mutual", "outliers", "none"), whatever the
   /// refinement or the search made of the scan afterwards.
   std::map<std::string, std::size_t> match_failures;
+  /// lidarseg, per scan: whether the correlative search ran (the recovery of a doubtful or
+  /// failed refinement), and how many scans it ran on.
+  std::vector<char> searched;
+  std::size_t searches = 0;
   /// lidarseg: the index of every lost scan (the first 1000).
   std::vector<std::size_t> lost_scans;
   std::size_t lost = 0;
