@@ -83,12 +83,13 @@ int main(int argc, char** argv) {
     }
     std::size_t n = jobs.getValue();
     if (n == 0) n = std::max(1u, std::thread::hardware_concurrency());
-    const auto failed = BatchApp::runMany(job, lidarseg::apps::parseSeeds(seeds.getValue()), n,
-                                          selfExe(argv[0]), !quiet.getValue());
-    for (const auto& f : failed) std::cerr << "lidarseg-batch: failed: " << f << "\n";
-    const auto s = BatchApp::aggregate(job.out_dir, title.getValue().empty() ? job.out_dir : title.getValue());
-    std::cout << s.table_markdown;
-    return failed.empty() ? 0 : 3;
+    // The folder stays locked from the first run to the table (no writer in between).
+    const auto outcome = BatchApp::runAndAggregate(job, lidarseg::apps::parseSeeds(seeds.getValue()), n,
+                                                   selfExe(argv[0]), !quiet.getValue(),
+                                                   title.getValue().empty() ? job.out_dir : title.getValue());
+    for (const auto& f : outcome.failed) std::cerr << "lidarseg-batch: failed: " << f << "\n";
+    std::cout << outcome.summary.table_markdown;
+    return outcome.failed.empty() ? 0 : 3;
   } catch (const std::exception& e) {
     std::cerr << "lidarseg-batch: error: " << lidarseg::apps::describeError(e) << "\n";
     return 1;

@@ -4,10 +4,15 @@
 #include <fstream>
 #include <iterator>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include "EmptyPath.h"
 #include "lidarseg/apps/BatchApp.h"
+#include "lidarseg/pipeline/BatchResults.h"
 
 namespace lidarseg::apps {
 namespace {
@@ -126,6 +131,50 @@ TEST(BatchApp, RunManyReportsFailedAndCrashedJobsAndFinishesTheOthers) {
   other.world_path = script;  // another file's contents
   EXPECT_THROW(BatchApp::runMany(other, {6}, 1, script, false), std::runtime_error);
   EXPECT_FALSE(BatchApp::finished(job.out_dir, 6));
+}
+
+// Whether another writer could take the folder's lock now (a separate open file, as another
+// process's: flock refuses it even within this process).
+bool anotherWriterCouldLock(const std::string& dir) {
+  const int fd = ::open((dir + "/.lidarseg.lock").c_str(), O_RDWR | O_CLOEXEC);
+  if (fd < 0) return true;  // no lock file: nothing held
+  const bool locked = ::flock(fd, LOCK_EX | LOCK_NB) == 0;
+  ::close(fd);
+  return locked;
+}
+
+// `lidarseg-batch run` runs, then aggregates: no other writer may slip in between (issue 16).
+TEST(BatchApp, TheFolderStaysLockedFromTheRunsToTheirTable) {
+  const std::string dir = kTmp + "/run-and-aggregate";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // A stand-in job writing a metrics.csv with its seed and every figure 1.
+  std::string values = pipeline::metricsLine(0, std::vector<double>(pipeline::batchMetricNames().size(), 1.0));
+  values = values.substr(values.find(','));
+  std::ofstream(dir + "/metrics.head") << pipeline::metricsHeader();
+  std::ofstream(dir + "/metrics.values") << values;
+  const std::string script = dir + "/job.sh";
+  std::ofstream(script) << "#!/bin/sh\n"
+                           "while [ $# -gt 0 ]; do case \"$1\" in --seed) seed=$2;; --out) out=$2;; esac; shift; done\n"
+                           "mkdir -p \"$out/run_$seed\" && { cat '" << dir << "/metrics.head'; printf %s \"$seed\"; cat '"
+                        << dir << "/metrics.values'; } > \"$out/run_$seed/metrics.csv\"\n";
+  fs::permissions(script, fs::perms::owner_all);
+  BatchJob job;
+  job.world_path = "w";
+  job.trajectory_path = "t";
+  job.out_dir = dir + "/out";
+  bool between_called = false, locked_between = false;
+  const BatchOutcome outcome = BatchApp::runAndAggregate(job, {1, 2, 3}, 2, script, false, "locked", [&] {
+    between_called = true;
+    locked_between = !anotherWriterCouldLock(job.out_dir);
+  });
+  EXPECT_TRUE(between_called);
+  EXPECT_TRUE(locked_between) << "the folder was free between the runs and the aggregation";
+  EXPECT_TRUE(outcome.failed.empty());
+  EXPECT_EQ(outcome.summary.runs, 3u);
+  EXPECT_EQ(outcome.summary.seeds, (std::vector<std::uint64_t>{1, 2, 3}));
+  EXPECT_TRUE(fs::exists(job.out_dir + "/table1.md"));
+  EXPECT_TRUE(anotherWriterCouldLock(job.out_dir)) << "released once the table is written";
 }
 
 }  // namespace

@@ -354,5 +354,33 @@ TEST(OdometryApp, WarningsAreSummarisedApartFromTheResults) {
   EXPECT_EQ(std::count(e.begin(), e.end(), '\n'), 3);
 }
 
+// A run into the folder of an earlier one with a baseline it does not run: the earlier run's
+// icp.tum does not stay beside the new summary, and summary.json lists exactly the folder's
+// files (issue 16).
+TEST(OdometryApp, ASecondRunIntoTheSameFolderLeavesNoFileOfTheFirstItDoesNotWrite) {
+  const std::string path = carmenRoom("room_rerun.clf", {}, false);
+  OdometryOptions o = optionsFor(path, "out_rerun");
+  fs::remove_all(o.out_dir);
+  o.scanner_rotation_hz = 0.0;
+  o.baseline_icp = true;
+  OdometryApp(o).run();
+  ASSERT_TRUE(fs::exists(o.out_dir + "/icp.tum"));
+  o.baseline_icp = false;
+  OdometryApp(o).run();
+  EXPECT_FALSE(fs::exists(o.out_dir + "/icp.tum"));
+  const auto listed = nlohmann::json::parse(slurp(o.out_dir + "/summary.json")).at("files").get<std::vector<std::string>>();
+  std::vector<std::string> present;
+  for (const auto& e : fs::directory_iterator(o.out_dir)) {
+    const std::string name = e.path().filename().string();
+    if (name != ".lidarseg.lock") present.push_back(name);
+  }
+  std::vector<std::string> sorted = listed;
+  std::sort(sorted.begin(), sorted.end());
+  std::sort(present.begin(), present.end());
+  EXPECT_EQ(sorted, present);
+  EXPECT_NE(std::find(listed.begin(), listed.end(), "lidarseg.tum"), listed.end());
+  EXPECT_EQ(std::find(listed.begin(), listed.end(), "icp.tum"), listed.end());
+}
+
 }  // namespace
 }  // namespace lidarseg::apps

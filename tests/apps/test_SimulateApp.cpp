@@ -1,9 +1,13 @@
 // lidarseg-simulate run as a class: outputs, determinism per seed, ground truth, errors.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <sstream>
+
+#include <sys/inotify.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -61,6 +65,65 @@ TEST(SimulateApp, WritesEveryOutputAndTheSameBytesForTheSameSeed) {
   EXPECT_EQ(slurp(testDir() + "/a.gt.tum"), slurp(testDir() + "/c.gt.tum"));  // the truth has no noise
   EXPECT_FALSE(fs::exists(testDir() + "/a.rawlog.tmp"));
   EXPECT_GT(a.door_sightings, 0u);
+}
+
+// The names put in place ("+name") and removed ("-name") in `dir`, in order, from the moment
+// of construction.
+class FolderEvents {
+ public:
+  explicit FolderEvents(const std::string& dir) : fd_(::inotify_init1(IN_NONBLOCK | IN_CLOEXEC)) {
+    if (fd_ >= 0) ::inotify_add_watch(fd_, dir.c_str(), IN_MOVED_TO | IN_DELETE);
+  }
+  ~FolderEvents() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  FolderEvents(const FolderEvents&) = delete;
+  FolderEvents& operator=(const FolderEvents&) = delete;
+  bool watching() const { return fd_ >= 0; }
+  std::vector<std::string> read() const {
+    std::vector<std::string> out;
+    alignas(inotify_event) char buf[8192];
+    for (ssize_t n = 0; (n = ::read(fd_, buf, sizeof buf)) > 0;) {
+      for (ssize_t at = 0; at < n;) {
+        const auto* e = reinterpret_cast<const inotify_event*>(buf + at);
+        at += static_cast<ssize_t>(sizeof(inotify_event) + e->len);
+        if (e->len > 0) out.push_back(std::string(e->mask & IN_DELETE ? "-" : "+") + e->name);
+      }
+    }
+    return out;
+  }
+
+ private:
+  int fd_;
+};
+
+std::ptrdiff_t positionOf(const std::vector<std::string>& events, const std::string& event) {
+  return std::find(events.begin(), events.end(), event) - events.begin();
+}
+
+// A reader opens the rawlog: when a second run replaces a first, the old rawlog goes before
+// its images folder, and the new one appears after the new images folder, last (issue 16).
+TEST(SimulateApp, ARerunPublishesItsRawlogLastAfterItsImagesFolder) {
+  SimulateApp(shortRun("rerun", 7)).run();
+  FolderEvents events(testDir());
+  ASSERT_TRUE(events.watching());
+  const SimulateReport r = SimulateApp(shortRun("rerun", 8)).run();
+  const std::vector<std::string> order = events.read();
+  ASSERT_FALSE(order.empty());
+  EXPECT_EQ(order.back(), "+rerun.rawlog");
+  const auto at = [&](const std::string& e) { return positionOf(order, e); };
+  const auto n = static_cast<std::ptrdiff_t>(order.size());
+  ASSERT_LT(at("-rerun.rawlog"), n);
+  ASSERT_LT(at("-rerun_Images"), n);
+  ASSERT_LT(at("+rerun_Images"), n);
+  EXPECT_LT(at("-rerun.rawlog"), at("-rerun_Images")) << "an old rawlog stood beside no images";
+  EXPECT_LT(at("+rerun_Images"), at("+rerun.rawlog"));
+  EXPECT_EQ(std::count(order.begin(), order.end(), "+rerun.rawlog"), 1);
+  // The folder now holds the second run's images.
+  std::size_t images = 0;
+  for (const auto& e : fs::directory_iterator(testDir() + "/rerun_Images")) images += e.is_regular_file() ? 1 : 0;
+  EXPECT_EQ(images, r.images);
+  EXPECT_FALSE(fs::exists(testDir() + "/rerun_Images.tmp"));
 }
 
 TEST(SimulateApp, GeneratedBuildingWritesItsWorldAndTrajectoryThatReproduceTheRun) {

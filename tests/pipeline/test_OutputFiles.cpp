@@ -1,6 +1,8 @@
 // How outputs are published (issue 16, class 4): a set is sealed by its manifest, removed
-// first and renamed last, and the SIGINT/SIGTERM cleanup removes temporary folders as well as
+// first and renamed last, the files an earlier set wrote and the new one does not are removed
+// (and nothing else), and the SIGINT/SIGTERM cleanup removes temporary folders as well as
 // temporary files.
+#include <algorithm>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +15,7 @@
 #include <unistd.h>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "lidarseg/pipeline/OutputFiles.h"
 
@@ -130,8 +133,10 @@ TEST(OutputFiles, TheManifestOfASetIsRemovedFirstAndRenamedIntoPlaceLast) {
     set.commit();
   }
   const std::vector<std::string> order = events.read();
-  const std::vector<std::string> expected = {"-summary.json", "+lidarseg.tum", "+timing.csv", "+results.md",
-                                             "+summary.json"};
+  // The publishing record (the names of both sets) is written before the old manifest goes,
+  // and removed once the new one is in place.
+  const std::vector<std::string> expected = {"+.lidarseg.publishing", "-summary.json", "+lidarseg.tum", "+timing.csv",
+                                             "+results.md", "+summary.json", "-.lidarseg.publishing"};
   EXPECT_EQ(order, expected);
   for (const char* name : {"lidarseg.tum", "timing.csv", "results.md", "summary.json"}) {
     EXPECT_EQ(slurp(dir + "/" + name), std::string("new ") + name);
@@ -164,6 +169,88 @@ TEST(OutputFiles, ASetThatCannotBePublishedLeavesNoManifestBesideItsFiles) {
   for (const auto& e : fs::directory_iterator(dir)) {
     EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
   }
+}
+
+// A manifest as lidarseg-odometry's: JSON listing its set's files.
+std::string manifestOf(const std::vector<std::string>& files) {
+  return nlohmann::json{{"files", files}}.dump() + "\n";
+}
+
+std::vector<std::string> filesListedIn(const std::string& manifest) {
+  return nlohmann::json::parse(slurp(manifest)).at("files").get<std::vector<std::string>>();
+}
+
+// A set of `names` (each holding "NAME of SET") sealed by a manifest listing them.
+void publish(const std::string& dir, const std::vector<std::string>& names, const std::string& set_name) {
+  OutputSet set;
+  set.addManifest(dir + "/summary.json", manifestOf);
+  for (const auto& n : names) set.add(dir + "/" + n, n + " of " + set_name);
+  set.commit();
+}
+
+TEST(OutputFiles, AFileOfThePreviousSetThatTheNewSetDoesNotWriteIsRemovedAndNoOtherFile) {
+  const std::string dir = freshFolder("stale-files");
+  publish(dir, {"lidarseg.tum", "icp.tum", "trajectories.png"}, "run 1");
+  EXPECT_EQ(filesListedIn(dir + "/summary.json"),
+            (std::vector<std::string>{"lidarseg.tum", "icp.tum", "trajectories.png", "summary.json"}));
+  std::ofstream(dir + "/notes.txt") << "the user's";                     // never written by a set
+  fs::create_directories(dir + "/plots");                                 // nor this folder
+  publish(dir, {"lidarseg.tum"}, "run 2");  // no --baseline icp, no plots
+  EXPECT_FALSE(fs::exists(dir + "/icp.tum"));
+  EXPECT_FALSE(fs::exists(dir + "/trajectories.png"));
+  EXPECT_EQ(slurp(dir + "/lidarseg.tum"), "lidarseg.tum of run 2");
+  EXPECT_EQ(filesListedIn(dir + "/summary.json"), (std::vector<std::string>{"lidarseg.tum", "summary.json"}));
+  EXPECT_EQ(slurp(dir + "/notes.txt"), "the user's");
+  EXPECT_TRUE(fs::is_directory(dir + "/plots"));
+  EXPECT_FALSE(fs::exists(dir + "/" + OutputSet::kPublishing));
+  // Every file in the folder is the new set's, or not a set's at all.
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir)) left.push_back(e.path().filename().string());
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{".lidarseg.lock", "lidarseg.tum", "notes.txt", "plots", "summary.json"}));
+}
+
+TEST(OutputFiles, AManifestNamingFilesOutsideItsFolderRemovesNoneOfThem) {
+  const std::string dir = freshFolder("stale-outside");
+  const std::string outside = kTmp + "/stale-outside-victim.txt";
+  std::ofstream(outside) << "keep";
+  fs::create_directories(dir + "/sub");
+  std::ofstream(dir + "/sub/x.tum") << "keep";
+  fs::create_directories(dir + "/a-folder");
+  // A manifest edited by hand (or not lidarseg's): names that are not plain files of the folder.
+  std::ofstream(dir + "/summary.json") << manifestOf({"../stale-outside-victim.txt", outside, "sub/x.tum", ".", "..",
+                                                      ".lidarseg.lock", "a-folder", std::string("x\0y", 3)});
+  publish(dir, {"lidarseg.tum"}, "run 2");
+  EXPECT_EQ(slurp(outside), "keep");
+  EXPECT_EQ(slurp(dir + "/sub/x.tum"), "keep");
+  EXPECT_TRUE(fs::is_directory(dir + "/a-folder"));
+  EXPECT_TRUE(fs::exists(dir + "/.lidarseg.lock"));
+  EXPECT_EQ(filesListedIn(dir + "/summary.json"), (std::vector<std::string>{"lidarseg.tum", "summary.json"}));
+}
+
+TEST(OutputFiles, ARunStoppedWhilePublishingLeavesARecordTheNextRunCleansUpBy) {
+  const std::string dir = freshFolder("stale-interrupted");
+  publish(dir, {"lidarseg.tum", "icp.tum"}, "run 1");
+  fs::create_directories(dir + "/timing.csv/in-the-way");  // run 2 stops at its timing.csv
+  EXPECT_THROW(publish(dir, {"lidarseg.tum", "icp-s2s.tum", "timing.csv"}, "run 2"), std::runtime_error);
+  // Run 2 got as far as its scan-to-scan trajectory: no manifest says so, its record does.
+  EXPECT_FALSE(fs::exists(dir + "/summary.json"));
+  EXPECT_FALSE(fs::exists(dir + "/icp.tum")) << "run 1's, removed before run 2's renames";
+  EXPECT_EQ(slurp(dir + "/icp-s2s.tum"), "icp-s2s.tum of run 2");
+  const std::string record = slurp(dir + "/" + OutputSet::kPublishing);
+  EXPECT_NE(record.find("icp-s2s.tum\n"), std::string::npos) << record;
+  fs::remove_all(dir + "/timing.csv");
+  publish(dir, {"lidarseg.tum"}, "run 3");
+  EXPECT_FALSE(fs::exists(dir + "/icp-s2s.tum"));
+  EXPECT_FALSE(fs::exists(dir + "/" + OutputSet::kPublishing));
+  EXPECT_EQ(slurp(dir + "/lidarseg.tum"), "lidarseg.tum of run 3");
+  EXPECT_EQ(filesListedIn(dir + "/summary.json"), (std::vector<std::string>{"lidarseg.tum", "summary.json"}));
+}
+
+TEST(OutputFiles, AManifestMustBeNamedAsOne) {
+  const std::string dir = freshFolder("manifest-name");
+  OutputSet set;
+  EXPECT_THROW(set.addManifest(dir + "/results.json", manifestOf), std::invalid_argument);
 }
 
 }  // namespace

@@ -7,8 +7,10 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
 
 #include "ErrorOf.h"
+#include "lidarseg/vision/FrameSource.h"
 #include "lidarseg/vision/ImageFile.h"
 
 namespace lidarseg::vision {
@@ -148,6 +150,49 @@ TEST(ImageFile, CutOrUnknownFilesAreNamed) {
     EXPECT_NE(errorOf([&] { readImage(tiff); }).find("size cannot be checked before decoding"), std::string::npos)
         << errorOf([&] { readImage(tiff); });
   }
+}
+
+namespace {
+
+// A two-frame MJPEG video of w x h pixels; empty when this OpenCV cannot write one.
+std::string mjpegVideo(const std::string& name, int w, int h) {
+  fs::create_directories(kTmp);
+  const std::string path = kTmp + "/" + name;
+  cv::VideoWriter out(path, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10.0, cv::Size(w, h));
+  if (!out.isOpened()) return {};
+  for (int k = 0; k < 2; ++k) out.write(cv::Mat(h, w, CV_8UC3, cv::Scalar(40.0 * k, 80, 120)));
+  return path;
+}
+
+}  // namespace
+
+// Video frames are held to the image files' cap (issue 16): a video whose container declares
+// frames beyond it is refused, naming it, before a frame is decoded.
+TEST(ImageFile, AVideoWhoseFramesAreBeyondTheCapIsRefusedBeforeAnyIsDecoded) {
+  const std::string small = mjpegVideo("small.avi", 64, 48);
+  const std::string wide = mjpegVideo("wide.avi", 8200, 16);
+  if (small.empty() || wide.empty()) GTEST_SKIP() << "this OpenCV cannot write an MJPEG video";
+  FrameSource frames(small);
+  cv::Mat frame;
+  std::string file;
+  std::size_t n = 0;
+  while (frames.next(frame, file)) {
+    EXPECT_EQ(frame.cols, 64);
+    EXPECT_EQ(frame.rows, 48);
+    ++n;
+  }
+  EXPECT_EQ(n, 2u);
+  const std::string e = errorOf([&] { FrameSource refused(wide); });
+  EXPECT_NE(e.find("'" + wide + "': video frames of 8200 x 16 pixels"), std::string::npos) << e;
+  EXPECT_NE(e.find("up to 8192 x 8192 pixels"), std::string::npos) << e;
+}
+
+TEST(ImageFile, TheCapIsOneToMaxOnEachSide) {
+  EXPECT_NO_THROW(requireImageSize(1, 1, "w", "x"));
+  EXPECT_NO_THROW(requireImageSize(kMaxImageSidePx, kMaxImageSidePx, "w", "x"));
+  EXPECT_EQ(errorOf([] { requireImageSize(0, 5, "'v.avi', frame 3", "video frame"); }),
+            "'v.avi', frame 3: video frame of 0 x 5 pixels; images are read from 1 x 1 up to 8192 x 8192 pixels");
+  EXPECT_NE(errorOf([] { requireImageSize(5, kMaxImageSidePx + 1, "w", "x"); }), "(no error)");
 }
 
 }  // namespace lidarseg::vision

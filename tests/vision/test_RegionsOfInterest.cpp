@@ -8,10 +8,14 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <mrpt/img/CImage.h>
+#include <mrpt/obs/CObservationImage.h>
+#include <opencv2/core.hpp>
 
 #include "lidarseg/apps/SimulateApp.h"
 #include "lidarseg/core/FeatureDetector.h"
 #include "lidarseg/core/ScanSegmenter.h"
+#include "lidarseg/mrpt/CameraRois.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/mrpt/ScanConverter.h"
 #include "lidarseg/sim/CameraSimulator.h"
@@ -185,6 +189,27 @@ TEST(RoiProjector, DetectedDoorsMatchTheSimulatorsDoorBoxes) {
   // (it finds 0.98 of the resolvable doors over whole logs, docs/results.md).
   EXPECT_GE(recall, 0.9) << found << " of " << boxes;
   EXPECT_GE(mean_iou, 0.7) << "mean IoU over " << found << " boxes";
+}
+
+// An image embedded in a log is held to the image files' cap before its pixels are copied and
+// drawn on (issue 16); the error names the observation (the caller adds the log and entry).
+TEST(CameraRois, AnEmbeddedImageBeyondTheCapIsRefusedWithItsLabel) {
+  const mrpt_adapter::CameraRois rois("embedded.rawlog", simulatorCamera(), RoiParams{});
+  mrpt::obs::CObservationImage obs;
+  obs.sensorLabel = "CAMERA";
+  obs.image = mrpt::img::CImage(cv::Mat(16, 8200, CV_8UC3, cv::Scalar::all(7)), mrpt::img::DEEP_COPY);
+  std::string error = "(no error)";
+  try {
+    rois.pixels(obs);
+  } catch (const std::runtime_error& e) {
+    error = e.what();
+  }
+  EXPECT_NE(error.find("image observation 'CAMERA': embedded image of 8200 x 16 pixels"), std::string::npos) << error;
+  EXPECT_NE(error.find("up to 8192 x 8192 pixels"), std::string::npos) << error;
+  obs.image = mrpt::img::CImage(cv::Mat(48, 64, CV_8UC3, cv::Scalar::all(7)), mrpt::img::DEEP_COPY);
+  const cv::Mat pixels = rois.pixels(obs);
+  EXPECT_EQ(pixels.cols, 64);
+  EXPECT_EQ(pixels.rows, 48);
 }
 
 }  // namespace

@@ -211,11 +211,13 @@ std::vector<std::string> runSeeds(const BatchJob& base, const std::vector<std::u
 
 }  // namespace
 
-std::vector<std::string> BatchApp::runMany(const BatchJob& base, const std::vector<std::uint64_t>& seeds,
-                                           std::size_t jobs, const std::string& self_exe, bool progress) {
+namespace {
+
+// runMany() with the folder's lock taken in `claimed`, which the caller may keep holding.
+std::vector<std::string> runManyClaimed(const BatchJob& base, const std::vector<std::uint64_t>& seeds, std::size_t jobs,
+                                        const std::string& self_exe, bool progress, OutputSet& claimed) {
   // Before any work: a second runner on this folder is refused at once (the jobs lock their
   // own run folders and seeds).
-  OutputSet claimed;
   claimed.claimOutputs({}, {{base.out_dir, "--out"}},
                        {base.world_path, base.trajectory_path, base.sim_config_path, base.odometry_config_path});
   pipeline::claimExperiment(base.out_dir, experimentOf(base));
@@ -227,6 +229,25 @@ std::vector<std::string> BatchApp::runMany(const BatchJob& base, const std::vect
   const std::vector<std::string> failed = runSeeds(base, todo, jobs, self_exe, progress);
   claimed.commit();  // nothing of its own to publish; the folder is kept
   return failed;
+}
+
+}  // namespace
+
+std::vector<std::string> BatchApp::runMany(const BatchJob& base, const std::vector<std::uint64_t>& seeds,
+                                           std::size_t jobs, const std::string& self_exe, bool progress) {
+  OutputSet claimed;
+  return runManyClaimed(base, seeds, jobs, self_exe, progress, claimed);
+}
+
+BatchOutcome BatchApp::runAndAggregate(const BatchJob& base, const std::vector<std::uint64_t>& seeds,
+                                       std::size_t jobs, const std::string& self_exe, bool progress,
+                                       const std::string& title, const std::function<void()>& between) {
+  OutputSet claimed;  // held until the table is written: aggregate() shares this process's lock
+  BatchOutcome outcome;
+  outcome.failed = runManyClaimed(base, seeds, jobs, self_exe, progress, claimed);
+  if (between) between();
+  outcome.summary = aggregate(base.out_dir, title);
+  return outcome;
 }
 
 BatchSummary BatchApp::aggregate(const std::string& out_dir, const std::string& title) {

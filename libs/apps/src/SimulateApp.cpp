@@ -138,8 +138,9 @@ SimulateReport SimulateApp::runOrThrow() {
   auto building_files = writeBuildingFiles(options_.out_prefix, scene.building);
   pipeline::SimulationFiles files(options_.out_prefix, params, scene.world, options_.world_path, options_.write_carmen);
   simulateScans(simulation, files, options_.progress);
-  files.commit();
-  for (auto& f : building_files) f->commit();
+  std::vector<pipeline::PendingFile*> companions;
+  for (auto& f : building_files) companions.push_back(f.get());
+  files.commit(companions);  // the rawlog last
   return reportOf(options_.out_prefix, scene.trajectory, files.counts());
 }
 

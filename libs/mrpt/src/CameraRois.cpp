@@ -51,6 +51,10 @@ cv::Mat CameraRois::pixels(const mrpt::obs::CObservationImage& image) const {
     const std::string path = images_dir_ + "/" + image.image.getExternalStorageFile();
     return vision::readImage(path);
   }
+  // The pixels are in memory already (MRPT read them with the log), but are copied, converted
+  // and drawn on: held to the cap of image files.
+  vision::requireImageSize(image.image.getWidth(), image.image.getHeight(),
+                           "image observation '" + image.sensorLabel + "'", "embedded image");
   cv::Mat m = image.image.asCvMat<cv::Mat>(mrpt::img::DEEP_COPY);
   if (m.channels() == 1) cv::cvtColor(m, m, cv::COLOR_GRAY2BGR);
   return m;

@@ -20,6 +20,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <nlohmann/json.hpp>
+
 namespace lidarseg::pipeline {
 
 namespace fs = std::filesystem;
@@ -256,23 +258,138 @@ std::string OutputSet::addWritten(const std::string& path) {
   return tmp;
 }
 
+namespace {
+
+bool isManifest(const std::string& path) { return fs::path(path).filename() == OutputSet::kManifest; }
+
+// A name an earlier set may have written: a plain file name of the manifest's folder, never a
+// path elsewhere, the folder's lock or the publishing record.
+bool isSetFileName(const std::string& name) {
+  return !name.empty() && name != "." && name != ".." && name.find('/') == std::string::npos &&
+         name.find('\0') == std::string::npos && name != ".lidarseg.lock" && name != OutputSet::kPublishing;
+}
+
+// A manifest or publishing record larger than this is not one lidarseg wrote: nothing is read
+// from it (and nothing removed on its word).
+constexpr std::uintmax_t kMaxRecordBytes = std::uintmax_t{16} << 20;
+
+bool readableRecord(const std::string& path) {
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(path, ec);
+  return !ec && size <= kMaxRecordBytes;
+}
+
+// The names an existing manifest lists under "files"; none when it is absent, not JSON, or
+// has no such list (a manifest of a lidarseg before the list, or not lidarseg's).
+std::vector<std::string> namesInManifest(const std::string& path) {
+  if (!readableRecord(path)) return {};
+  std::ifstream in(path, std::ios::binary);
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) return {};
+  const auto files = j.find(OutputSet::kManifestFiles);
+  if (files == j.end() || !files->is_array()) return {};
+  std::vector<std::string> names;
+  for (const auto& f : *files) {
+    if (f.is_string()) names.push_back(f.get<std::string>());
+  }
+  return names;
+}
+
+// The names a publishing record left by a stopped run lists, one per line.
+std::vector<std::string> namesInRecord(const std::string& path) {
+  if (!readableRecord(path)) return {};
+  std::ifstream in(path, std::ios::binary);
+  std::vector<std::string> names;
+  for (std::string line; std::getline(in, line);) names.push_back(line);
+  return names;
+}
+
+bool contains(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+// A file of the set replaced that the new set does not write. Only files and links are
+// removed (a folder of that name is not the set's); one that cannot be removed stops the
+// commit, naming it, with no manifest in the folder.
+void removeStaleFile(const fs::path& path) {
+  std::error_code ec;
+  const fs::file_type type = fs::symlink_status(path, ec).type();
+  if (type != fs::file_type::regular && type != fs::file_type::symlink) return;
+  if (::unlink(path.c_str()) != 0 && errno != ENOENT) {
+    throw std::runtime_error("cannot remove '" + path.string() + "', a file of the previous output set: " +
+                             std::strerror(errno));
+  }
+}
+
+}  // namespace
+
+void OutputSet::addManifest(const std::string& path, ManifestText text) {
+  if (!isManifest(path)) throw std::invalid_argument("'" + path + "' is not named " + std::string(kManifest));
+  claim(path);
+  manifests_.emplace_back(path, std::move(text));
+}
+
+// The names of the set's files in the folder of `manifest`, in the order added.
+std::vector<std::string> OutputSet::namesBeside(const std::string& manifest) const {
+  const std::string key = folderKey(folderOf(manifest));
+  std::vector<std::string> names;
+  for (const auto& p : pending_) {
+    const std::string name = fs::path(p.path).filename().string();
+    if (folderKey(folderOf(p.path)) == key && !contains(names, name)) names.push_back(name);
+  }
+  return names;
+}
+
+void OutputSet::writeManifests() {
+  for (const auto& [path, text] : manifests_) {
+    std::vector<std::string> names = namesBeside(path);
+    if (!contains(names, kManifest)) names.push_back(kManifest);
+    add(path, text(names));
+  }
+  manifests_.clear();
+}
+
+// Before the first rename: the names of both sets recorded (a run stopped from here on is
+// cleaned up by the next), the old manifest removed, then the old set's files that the new
+// one does not write.
+void OutputSet::retirePreviousSet(const std::string& manifest) {
+  const fs::path dir = fs::path(folderOf(manifest));
+  const std::string record = (dir / kPublishing).string();
+  std::vector<std::string> previous = namesInManifest(manifest);
+  for (std::string& name : namesInRecord(record)) previous.push_back(std::move(name));
+  const std::vector<std::string> mine = namesBeside(manifest);
+  std::string both;
+  for (const std::string& name : mine) both += name + "\n";
+  for (const std::string& name : previous) {
+    if (isSetFileName(name) && !contains(mine, name)) both += name + "\n";
+  }
+  writeFileAtomically(record, both);
+  if (std::remove(manifest.c_str()) != 0 && errno != ENOENT) {
+    throw std::runtime_error("cannot remove the previous '" + manifest + "': " + std::strerror(errno));
+  }
+  for (const std::string& name : previous) {
+    if (isSetFileName(name) && !contains(mine, name)) removeStaleFile(dir / name);
+  }
+}
+
 void OutputSet::commit() {
   // summary.json is the set's seal (docs/reliability.md, "Publishing a set"): the one it
-  // replaces is removed before the first rename, and it is renamed last. While it is
-  // absent the folder holds no complete set; once it is back, every file of its set is.
-  std::stable_partition(pending_.begin(), pending_.end(),
-                        [](const Pending& p) { return fs::path(p.path).filename() != kManifest; });
+  // replaces is removed before the first rename, with the files of its set that this one
+  // does not write, and it is renamed last. While it is absent the folder holds no complete
+  // set; once it is back, every file of its set is, and no other file of an earlier set.
+  writeManifests();
+  std::stable_partition(pending_.begin(), pending_.end(), [](const Pending& p) { return !isManifest(p.path); });
   for (const auto& p : pending_) {
-    if (fs::path(p.path).filename() != kManifest) continue;
-    if (std::remove(p.path.c_str()) != 0 && errno != ENOENT) {
-      throw std::runtime_error("cannot remove the previous '" + p.path + "': " + std::strerror(errno));
-    }
+    if (isManifest(p.path)) retirePreviousSet(p.path);
   }
   for (const auto& p : pending_) {
     if (std::rename(p.temporary.c_str(), p.path.c_str()) != 0) {
       throw std::runtime_error("cannot rename '" + p.temporary + "' to '" + p.path + "'");
     }
     releaseTemporary(p.temporary);
+  }
+  for (const auto& p : pending_) {
+    if (isManifest(p.path)) std::remove((fs::path(folderOf(p.path)) / kPublishing).c_str());
   }
   committed_ = true;
 }

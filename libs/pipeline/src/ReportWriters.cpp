@@ -111,7 +111,9 @@ std::string timingCsv(const OdometryReport& report) {
   return csv.str();
 }
 
-std::string summaryJson(const OdometryReport& r) {
+namespace {
+
+Json summaryObject(const OdometryReport& r) {
   Json j{{"input", r.input},
          {"format", r.format},
          {"sensor", r.sensor},
@@ -129,6 +131,16 @@ std::string summaryJson(const OdometryReport& r) {
   j["methods"] = Json::object();
   for (const auto* m : methodsOf(r)) j["methods"][m->name] = methodOf(*m);
   if (r.icp) j["speedup_median"] = number(r.speedup_median);
+  return j;
+}
+
+}  // namespace
+
+std::string summaryJson(const OdometryReport& r) { return jsonText(summaryObject(r)); }
+
+std::string summaryJson(const OdometryReport& r, const std::vector<std::string>& files) {
+  Json j = summaryObject(r);
+  j[OutputSet::kManifestFiles] = files;
   return jsonText(j);
 }
 
@@ -245,7 +257,10 @@ std::vector<std::string> addRunOutputs(OutputSet& outputs, const std::string& ou
                 tumText(fromFirst(log_poses), "the log's own poses (CARMEN: corrected), from the first scan's pose"));
   }
   outputs.add(path("timing.csv"), timingCsv(report));
-  outputs.add(path("summary.json"), summaryJson(report));
+  // Written at commit, listing every file of the set (the plots and a --features-out or
+  // --write-rawlog in this folder included).
+  outputs.addManifest(path("summary.json"),
+                      [&report](const std::vector<std::string>& files) { return summaryJson(report, files); });
   outputs.add(path("results.md"), markdownTable(report));
   std::vector<std::string> written = {path("lidarseg.tum"), path("timing.csv"), path("summary.json"), path("results.md")};
   if (report.icp) written.push_back(path("icp.tum"));

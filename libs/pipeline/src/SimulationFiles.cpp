@@ -152,23 +152,34 @@ void SimulationFiles::writeImage(std::size_t i, const sim::SimulatedFrame& f, st
   }
 }
 
-// The rawlog closed first, the images folder last.
-void SimulationFiles::commit() {
+// The rawlog is what a reader opens: the one it replaces is removed first, and it is renamed
+// into place last, once its images folder and the text files beside it are the new run's.
+void SimulationFiles::commit(const std::vector<PendingFile*>& companions) {
   rawlog_.close();
-  fs::rename(rawlog_tmp_, prefix_ + ".rawlog");
-  releaseTemporary(rawlog_tmp_);
-  committed_ = true;
+  const std::string rawlog = prefix_ + ".rawlog";
+  std::error_code ec;
+  fs::remove(rawlog, ec);
+  if (ec) throw std::runtime_error("cannot remove the previous '" + rawlog + "': " + ec.message());
+  if (params_.camera_every_scans > 0) publishImages();
   gt_.commit();
   odom_.commit();
   features_.commit();
   rois_.commit();
   if (carmen_) carmen_->commit();
-  if (params_.camera_every_scans > 0) {
-    std::error_code ec;
-    fs::remove_all(prefix_ + "_Images", ec);
-    fs::rename(prefix_ + "_Images.tmp", prefix_ + "_Images");
-    releaseTemporary(prefix_ + "_Images.tmp");
-  }
+  for (PendingFile* f : companions) f->commit();
+  fs::rename(rawlog_tmp_, rawlog);
+  releaseTemporary(rawlog_tmp_);
+  committed_ = true;
+}
+
+// PREFIX_Images.tmp/ becomes PREFIX_Images/, replacing an earlier run's folder.
+void SimulationFiles::publishImages() {
+  const std::string images = prefix_ + "_Images";
+  std::error_code ec;
+  fs::remove_all(images, ec);
+  if (ec) throw std::runtime_error("cannot remove the previous '" + images + "': " + ec.message());
+  fs::rename(images + ".tmp", images);
+  releaseTemporary(images + ".tmp");
 }
 
 // A run that did not commit leaves no rawlog temporary behind.

@@ -36,7 +36,17 @@ FrameSource::FrameSource(const std::string& input) : input_(input) {
     video_.open(input);
     if (!video_.isOpened())
       throw std::runtime_error("'" + input + "': neither an image nor a video OpenCV can read");
+    requireDeclaredSize();
   }
+}
+
+// The size the video's container declares, checked before any frame is decoded; a container
+// that declares none has each frame checked by next().
+void FrameSource::requireDeclaredSize() const {
+  const double w = video_.get(cv::CAP_PROP_FRAME_WIDTH), h = video_.get(cv::CAP_PROP_FRAME_HEIGHT);
+  if (!(w > 0.0 && h > 0.0 && std::isfinite(w) && std::isfinite(h))) return;
+  const auto side = [](double v) { return static_cast<std::uint64_t>(std::min(v, 1e18)); };
+  requireImageSize(side(w), side(h), "'" + input_ + "'", "video frames");
 }
 
 std::size_t FrameSource::expectedFrames() const {
@@ -48,7 +58,11 @@ std::size_t FrameSource::expectedFrames() const {
 bool FrameSource::next(cv::Mat& frame, std::string& file) {
   if (video_.isOpened()) {
     file.clear();
-    return video_.read(frame) && !frame.empty();
+    if (!video_.read(frame) || frame.empty()) return false;
+    requireImageSize(static_cast<std::uint64_t>(frame.cols), static_cast<std::uint64_t>(frame.rows),
+                     "'" + input_ + "', frame " + std::to_string(video_frame_), "video frame");
+    ++video_frame_;
+    return true;
   }
   if (next_file_ >= files_.size()) return false;
   const std::string& path = files_[next_file_++];

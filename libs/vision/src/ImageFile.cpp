@@ -128,6 +128,13 @@ std::optional<ImageHeader> readImageHeader(const std::string& path) {
   return std::nullopt;
 }
 
+void requireImageSize(std::uint64_t width, std::uint64_t height, const std::string& where, const std::string& what) {
+  if (width >= 1 && height >= 1 && width <= kMaxImageSidePx && height <= kMaxImageSidePx) return;
+  const std::string cap = std::to_string(kMaxImageSidePx);
+  throw std::runtime_error(where + ": " + what + " of " + std::to_string(width) + " x " + std::to_string(height) +
+                           " pixels; images are read from 1 x 1 up to " + cap + " x " + cap + " pixels");
+}
+
 cv::Mat readImage(const std::string& path) {
   const std::optional<ImageHeader> header = readImageHeader(path);
   if (!header) {
@@ -137,13 +144,7 @@ cv::Mat readImage(const std::string& path) {
     }
     throw std::runtime_error("cannot read image '" + path + "' (not a PNG, JPEG, BMP or PNM file)");
   }
-  const std::string cap = std::to_string(kMaxImageSidePx);
-  if (header->width == 0 || header->height == 0 || header->width > kMaxImageSidePx ||
-      header->height > kMaxImageSidePx) {
-    throw std::runtime_error("'" + path + "': " + header->format + " image of " + std::to_string(header->width) +
-                             " x " + std::to_string(header->height) + " pixels; images are read from 1 x 1 up to " +
-                             cap + " x " + cap + " pixels");
-  }
+  requireImageSize(header->width, header->height, "'" + path + "'", header->format + " image");
   cv::Mat image = cv::imread(path, cv::IMREAD_COLOR);
   if (image.empty()) throw std::runtime_error("cannot decode image '" + path + "' (" + header->format + ")");
   const auto w = static_cast<std::uint64_t>(image.cols), h = static_cast<std::uint64_t>(image.rows);

@@ -5,6 +5,7 @@
 /// as independent, resumable jobs, and the aggregation of their results.
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,12 @@ struct BatchSummary {
   std::string table_markdown;
 };
 
+/// What `lidarseg-batch run` gives: the runs that failed and the aggregation of the finished.
+struct BatchOutcome {
+  std::vector<std::string> failed;  ///< "seed N: why" of the runs that failed
+  BatchSummary summary;             ///< over every finished run of the folder
+};
+
 /// Runs and aggregates the batch; every member is static (the state is the results folder).
 class BatchApp {
  public:
@@ -59,6 +66,15 @@ class BatchApp {
   /// stderr is a terminal.
   static std::vector<std::string> runMany(const BatchJob& base, const std::vector<std::uint64_t>& seeds,
                                           std::size_t jobs, const std::string& self_exe, bool progress);
+
+  /// runMany(), then aggregate() with `title`, the folder's lock held across both: no other
+  /// writer (another `lidarseg-batch run`, a job started by hand) can add or change a run
+  /// between the runs and their table. `between`, when given, is called at that moment, the
+  /// lock still held (a test's view of it).
+  /// @throws std::runtime_error as runMany() and aggregate() do.
+  static BatchOutcome runAndAggregate(const BatchJob& base, const std::vector<std::uint64_t>& seeds, std::size_t jobs,
+                                      const std::string& self_exe, bool progress, const std::string& title,
+                                      const std::function<void()>& between = {});
 
   /// Reads every OUT/run_*/metrics.csv, writes OUT/table1.md, OUT/aggregate.csv and
   /// OUT/final_errors.png, and returns the summary.

@@ -32,7 +32,9 @@ class CameraRois {
                                    const std::vector<Feature>& features) const;
 
   /// The image's pixels (BGR), loaded from the images directory when stored externally.
-  /// @throws std::runtime_error naming the file when it cannot be read.
+  /// @throws std::runtime_error naming the file when it cannot be read, or the observation's
+  /// label when an embedded image is outside vision::kMaxImageSidePx (the caller adds the
+  /// log and entry).
   cv::Mat pixels(const mrpt::obs::CObservationImage& image) const;
 
   /// Name of the image's file (external storage), or "" when embedded in the log.

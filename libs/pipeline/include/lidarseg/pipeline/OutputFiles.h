@@ -4,6 +4,7 @@
 /// another run is writing, or a temporary file after an interruption.
 
 #include <fstream>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -68,11 +69,22 @@ struct NamedOutput {
 /// A set holding a manifest (`summary.json`) is published as a whole: commit() removes the
 /// manifest it replaces first and renames the new one last, so a reader who finds
 /// `summary.json` finds every file of its run beside it, never an older run's
-/// (docs/reliability.md, "Publishing a set").
+/// (docs/reliability.md, "Publishing a set"). The files of the set it replaces that this one
+/// does not write (per the old manifest's `files` list, and the publishing record of a run
+/// stopped half-way) are removed before the new files are renamed into place; no other file
+/// of the folder is touched.
 class OutputSet {
  public:
   /// The file name that seals a set: present only when its whole set is in place.
   static constexpr const char* kManifest = "summary.json";
+  /// The manifest's key listing the file names of its set (names in the manifest's folder).
+  static constexpr const char* kManifestFiles = "files";
+  /// While a set is published: the names of both the set replaced and the new one, one per
+  /// line, so that a run stopped between two renames is cleaned up by the next.
+  static constexpr const char* kPublishing = ".lidarseg.publishing";
+  /// The text of a manifest, given the names of the files of its set in its folder (itself
+  /// included), in the order they were added.
+  using ManifestText = std::function<std::string(const std::vector<std::string>& files)>;
 
   OutputSet() = default;
   OutputSet(const OutputSet&) = delete;
@@ -91,8 +103,14 @@ class OutputSet {
   void add(const std::string& path, std::string content);
   /// Registers an output someone else writes: returns the temporary name to write it under.
   std::string addWritten(const std::string& path);
+  /// Adds the manifest (`path` named kManifest), written by commit() once the set's files are
+  /// known: `text` receives their names and must list them under kManifestFiles, which is
+  /// how the next set finds the files this one leaves behind.
+  /// @throws std::invalid_argument when `path` is not named kManifest.
+  void addManifest(const std::string& path, ManifestText text);
   /// Renames every temporary file to its final name, the manifest last, after removing the
-  /// manifest it replaces (see the class comment).
+  /// manifest it replaces and the files of its set that this one does not write (see the
+  /// class comment).
   /// @throws std::runtime_error naming the file that could not be written; the folder then
   ///         holds no manifest of this set or of the one before.
   void commit();
@@ -102,7 +120,11 @@ class OutputSet {
   struct Pending {
     std::string path, temporary;
   };
+  std::vector<std::string> namesBeside(const std::string& manifest) const;
+  void writeManifests();
+  void retirePreviousSet(const std::string& manifest);
   std::vector<Pending> pending_;
+  std::vector<std::pair<std::string, ManifestText>> manifests_;  // written by commit()
   std::vector<std::string> locked_folders_;  // canonical; the locks are shared within the process
   std::vector<std::string> created_folders_;  // by claim(): removed again when nothing was published
   bool committed_ = false;

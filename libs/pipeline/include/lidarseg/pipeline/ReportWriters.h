@@ -20,13 +20,16 @@ std::string timingCsv(const OdometryReport& report);
 /// summary.json: counts, per method time summaries, statuses, errors; non-finite numbers
 /// are written as null.
 std::string summaryJson(const OdometryReport& report);
+/// summary.json as the manifest of its output set: the same, and `files`, the names of the
+/// set's files in its folder (docs/reliability.md, "Publishing a set").
+std::string summaryJson(const OdometryReport& report, const std::vector<std::string>& files);
 /// results.md: the paper's Table I columns plus final error and ATE, then the counts.
 std::string markdownTable(const OdometryReport& report);
 
 /// Adds a run's text outputs to `outputs`, in OUT_DIR (created): lidarseg.tum, icp.tum and
 /// icp-s2s.tum for the baselines that ran, wheel-odometry.tum and log-poses.tum (the log's
-/// own, from the first scan's pose) when the log has them, timing.csv, summary.json and
-/// results.md. Returns the paths in the order a run lists them (the report's first, then
+/// own, from the first scan's pose) when the log has them, timing.csv, summary.json (the
+/// set's manifest, written at commit: `report` must outlive the commit) and results.md. Returns the paths in the order a run lists them (the report's first, then
 /// the trajectories of the baselines and of the log).
 std::vector<std::string> addRunOutputs(OutputSet& outputs, const std::string& out_dir, const OdometryReport& report,
                                        const eval::StampedTrajectory& log_poses,

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/poses/CPose3D.h>
@@ -33,7 +34,8 @@ struct SimulationCounts {
 void prepareSimulationFolders(const std::string& prefix, bool camera);
 
 /// Every output of a simulated run, written scan by scan under temporary names; commit()
-/// publishes them (PREFIX_Images/ last). Destroyed without commit(), it leaves no temporary.
+/// publishes them, PREFIX.rawlog last (docs/reliability.md, "Publishing a set"). Destroyed
+/// without commit(), it leaves no temporary.
 class SimulationFiles {
  public:
   /// Opens every output (PREFIX.rawlog last) and writes the text files' headers.
@@ -43,8 +45,12 @@ class SimulationFiles {
                   const sim::World& world, const std::string& world_path, bool write_carmen);
   /// Scan `i` with its truth, odometry, sightings and image, in every output.
   void write(std::size_t i, const sim::SimulatedFrame& f);
-  /// Renames every output to its final name.
-  void commit();
+  /// Renames every output to its final name: removes the PREFIX.rawlog it replaces, then puts
+  /// PREFIX_Images/, the text files and `companions` (e.g. a generated building's files) in
+  /// place, and the rawlog last. A reader who finds PREFIX.rawlog finds its images beside it.
+  /// @throws std::runtime_error (std::filesystem::filesystem_error) naming the file that
+  ///         could not be replaced; the folder then holds no PREFIX.rawlog.
+  void commit(const std::vector<PendingFile*>& companions = {});
   /// What was written so far.
   const SimulationCounts& counts() const { return counts_; }
   ~SimulationFiles();
@@ -54,6 +60,7 @@ class SimulationFiles {
  private:
   void writeRawlogScan(const sim::SimulatedFrame& f);
   void writeImage(std::size_t i, const sim::SimulatedFrame& f, std::size_t image);
+  void publishImages();
 
   bool committed_ = false;
   SimulationCounts counts_;

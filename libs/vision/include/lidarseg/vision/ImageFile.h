@@ -15,6 +15,12 @@ namespace lidarseg::vision {
 /// BGR. A header declaring more is refused before decoding (decision 52).
 inline constexpr std::uint64_t kMaxImageSidePx = 8192;
 
+/// Refuses a size outside [1, kMaxImageSidePx] on either side, the same cap for image files,
+/// video frames and images embedded in a log (decision 52).
+/// @throws std::runtime_error "WHERE: WHAT of W x H pixels; images are read from 1 x 1 up to
+/// 8192 x 8192 pixels", e.g. WHERE "'clip.avi', frame 3" and WHAT "video frame".
+void requireImageSize(std::uint64_t width, std::uint64_t height, const std::string& where, const std::string& what);
+
 /// What an image file's header says.
 struct ImageHeader {
   std::string format;  ///< "PNG", "JPEG", "BMP" or "PNM"
