@@ -64,7 +64,32 @@ TEST(BatchApp, RunsResumeAndAggregate) {
   EXPECT_TRUE(fs::exists(job.out_dir + "/table1.md"));
   EXPECT_TRUE(fs::exists(job.out_dir + "/aggregate.csv"));
   EXPECT_TRUE(fs::exists(job.out_dir + "/final_errors.png"));
+  EXPECT_NE(s.table_markdown.find("µs; speed-up"), std::string::npos) << s.table_markdown;
   EXPECT_THROW(BatchApp::aggregate(kTmp + "/nothing-here", "x"), std::runtime_error);
+  // Without ICP there is no ratio to give: no "0.0x" speed-up, no ICP time, a NaN in the CSV.
+  BatchJob alone = job;
+  alone.baseline_icp = false;
+  alone.out_dir = kTmp + "/out-no-icp";
+  alone.seed = 1;
+  BatchApp::runOne(alone);
+  const BatchSummary a = BatchApp::aggregate(alone.out_dir, "test");
+  EXPECT_EQ(a.table_markdown.find("speed-up"), std::string::npos) << a.table_markdown;
+  EXPECT_EQ(a.table_markdown.find("| MRPT ICP |"), std::string::npos);
+  EXPECT_NE(a.table_markdown.find("(MRPT ICP not run)"), std::string::npos) << a.table_markdown;
+  std::ifstream csv(alone.out_dir + "/aggregate.csv");
+  std::string header, row;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  const auto column = [](const std::string& line, const std::string& name_line, const std::string& name) {
+    std::size_t index = 0, start = 0;
+    for (std::size_t at = 0; at < name_line.size(); ++at) {
+      if (name_line.compare(at, name.size() + 1, name + ",") == 0 && (at == 0 || name_line[at - 1] == ',')) break;
+      if (name_line[at] == ',') ++index;
+    }
+    for (std::size_t k = 0; k < index; ++k) start = line.find(',', start) + 1;
+    return line.substr(start, line.find(',', start) - start);
+  };
+  EXPECT_EQ(column(row, header, "speedup_median"), "nan") << header << "\n" << row;
   // Without gnuplot: the table and a warning, no picture (none of the earlier runs left).
   ::testing::internal::CaptureStderr();
   {

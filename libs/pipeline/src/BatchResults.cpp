@@ -96,7 +96,7 @@ std::vector<double> runMetrics(const OdometryReport& r) {
   std::vector<double> out = {static_cast<double>(r.frames)};
   method(std::optional<MethodReport>(r.lidarseg), out);
   method(r.icp, out);
-  out.push_back(r.speedup_median);
+  out.push_back(r.icp ? r.speedup_median : std::nan(""));  // no ratio without ICP
   out.push_back(r.lidarseg.errors ? r.lidarseg.errors->path_length_m : std::nan(""));
   return out;
 }
@@ -168,6 +168,10 @@ std::string table1Markdown(const std::string& title, const std::vector<std::uint
        << stats.at("icp_median_ms").median * 1e3 << " µs; speed-up (median over runs of each "
        << "run's median ratio) " << std::setprecision(1) << stats.at("speedup_median").median
        << "x. Path length " << std::setprecision(1) << stats.at("path_length_m").mean << " m.\n";
+  } else if (stats.at("lidarseg_median_ms").count > 0) {  // --no-icp: no ratio to give
+    md << "\nMedian time per scan: lidarseg " << std::setprecision(4)
+       << stats.at("lidarseg_median_ms").median * 1e3 << " µs (MRPT ICP not run). Path length "
+       << std::setprecision(1) << stats.at("path_length_m").mean << " m.\n";
   }
   return md.str();
 }
