@@ -53,6 +53,7 @@ TEST(SegmentStatsApp, SkippedScansAreAWarningOnStderrNotInTheResults) {
   r.input = "log.rawlog";
   r.scans = 3;
   r.skipped = {"log.rawlog: entry 7 (scan 2): no valid beam", "log.rawlog: entry 9 (scan 4): no valid beam"};
+  r.skipped_count = 2;
   std::ostringstream out, err;
   SegmentStatsApp::print(r, out);
   SegmentStatsApp::printWarnings(r, err);

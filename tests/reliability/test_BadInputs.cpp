@@ -20,7 +20,9 @@
 #include <zlib.h>
 
 #include "SyntheticScenes.h"
+#include "lidarseg/apps/FeaturesApp.h"
 #include "lidarseg/apps/OdometryApp.h"
+#include "lidarseg/apps/SegmentStatsApp.h"
 #include "lidarseg/apps/SimulateApp.h"
 #include "lidarseg/core/SegmentOdometry.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
@@ -358,6 +360,93 @@ TEST(BadInputs, CarmenFieldCountsRangeValuesAndBeamCounts) {
   EXPECT_EQ(r.lidarseg.trajectory.size(), 16u);
   for (const auto& p : r.lidarseg.trajectory) EXPECT_TRUE(std::isfinite(p.pose.x) && std::isfinite(p.pose.yaw));
   EXPECT_NEAR(r.lidarseg.trajectory[14].pose.x, 0.28, 0.05);  // bad values do not derail it
+}
+
+// --- Rows: the same bad records in every tool (issue 15) ---------------------------------
+// The column `column` (0-based) of every row of a CSV file after its header, as numbers.
+std::vector<double> csvColumn(const std::string& path, std::size_t column) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  std::vector<double> values;
+  while (std::getline(in, line)) {
+    std::stringstream fields(line);
+    std::string field;
+    for (std::size_t k = 0; k <= column; ++k) std::getline(fields, field, ',');
+    values.push_back(std::stod(field));
+  }
+  return values;
+}
+
+// lidarseg-odometry, lidarseg-features and lidarseg-segment read a log through the same
+// records path (pipeline::RecordGate): the same lines skipped with the same messages and
+// counts, the same scans used, and the same repaired stamps in their per-scan files.
+TEST(BadInputs, TheOdometryFeaturesAndSegmentToolsSkipAndCountTheSameRecords) {
+  std::ostringstream log;
+  int line = 0;
+  std::vector<int> bad_lines;
+  const auto add = [&](const std::string& l, bool bad = false) {
+    log << l << "\n";
+    ++line;
+    if (bad) bad_lines.push_back(line);
+  };
+  double x = 0.0;
+  for (int k = 0; k < 8; ++k, x += 0.02) add(flaser(x, 10.0 + 0.1 * k));
+  add("FLASER 181 1 2 3", true);                              // too few fields
+  add(flaser(x, 10.7)), x += 0.02;                            // a repeated stamp
+  add("FLASER 1 2.0 0 0 0 0 0 0 10.8 host 10.8", true);       // one beam
+  add(flaser(x, 10.65)), x += 0.02;                           // backwards
+  add("FLASER 0 0 0 0 0 0 0 10.9 host 10.9", true);           // no beam
+  for (int k = 0; k < 6; ++k, x += 0.02) add(flaser(x, 14.0 + 0.1 * k));  // after a gap
+  const std::string path = put("same_records.log", log.str());
+  const std::string dir = kTmp + "/same_records";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+
+  OdometryOptions oo = optionsFor(path, "");
+  oo.features_out = dir + "/odometry_features.csv";
+  const OdometryReport o = OdometryApp(oo).run();
+  apps::FeaturesOptions fo;
+  fo.input = path;
+  fo.out_csv = dir + "/features.csv";
+  fo.progress = false;
+  const apps::FeaturesReport f = apps::FeaturesApp(fo).run();
+  apps::SegmentStatsOptions so;
+  so.input = path;
+  so.csv_path = dir + "/segment.csv";
+  so.progress = false;
+  const apps::SegmentStatsReport s = apps::SegmentStatsApp(so).run();
+
+  ASSERT_EQ(o.skipped.size(), bad_lines.size());
+  for (std::size_t k = 0; k < bad_lines.size(); ++k) {
+    EXPECT_EQ(o.skipped[k].rfind(path + ":" + std::to_string(bad_lines[k]) + ":", 0), 0u) << o.skipped[k];
+  }
+  EXPECT_EQ(f.skipped, o.skipped);
+  EXPECT_EQ(s.skipped, o.skipped);
+  EXPECT_EQ(o.skipped_count, bad_lines.size());
+  EXPECT_EQ(f.skipped_count, o.skipped_count);
+  EXPECT_EQ(s.skipped_count, o.skipped_count);
+  EXPECT_EQ(o.frames, 16u);
+  EXPECT_EQ(f.scans, o.frames);
+  EXPECT_EQ(s.scans, o.frames);
+  EXPECT_EQ(o.non_increasing_stamps, 2u);
+  EXPECT_EQ(o.time_gaps, 1u);
+
+  // lidarseg-segment's stamps are lidarseg-odometry's: strictly increasing, the repeated
+  // and the backwards one nudged past the previous.
+  const std::vector<double> stamps = csvColumn(so.csv_path, 1);
+  ASSERT_EQ(stamps.size(), o.lidarseg.trajectory.size());
+  for (std::size_t k = 0; k < stamps.size(); ++k) {
+    EXPECT_NEAR(stamps[k], o.lidarseg.trajectory[k].stamp_s, 1e-9) << k;
+    if (k > 0) {
+      EXPECT_GT(stamps[k], stamps[k - 1]) << k;
+    }
+  }
+  // lidarseg-features writes the doors and corners lidarseg-odometry --features-out writes.
+  const std::vector<double> feature_stamps = csvColumn(fo.out_csv, 0);
+  EXPECT_FALSE(feature_stamps.empty());
+  EXPECT_EQ(feature_stamps, csvColumn(oo.features_out, 0));
+  EXPECT_EQ(slurp(fo.out_csv), slurp(oo.features_out));
 }
 
 // --- Rows: non-monotonic and duplicate timestamps ---------------------------------------

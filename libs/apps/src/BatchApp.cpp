@@ -16,7 +16,6 @@
 #include "lidarseg/pipeline/BatchResults.h"
 #include "lidarseg/pipeline/OutputFiles.h"
 #include "lidarseg/pipeline/ParallelJobs.h"
-#include "lidarseg/pipeline/Plots.h"
 #include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/apps/SimulateApp.h"
 #include "lidarseg/mrpt/SimulationConfig.h"
@@ -27,33 +26,8 @@ namespace lidarseg::apps {
 
 using pipeline::writeFileAtomically;
 using pipeline::OutputSet;
-using pipeline::makeSeries;
-using pipeline::plotXYPng;
-using pipeline::PlotSeries;
-using pipeline::PlotStyle;
 
 namespace fs = std::filesystem;
-
-namespace {
-
-// final_errors.png: each method's final position error against the seed (MRPT ICP's when it ran).
-std::string finalErrorsPng(const pipeline::MetricRows& rows, bool with_icp, const std::string& title) {
-  const std::size_t lidarseg = pipeline::metricColumn("lidarseg_final_error_m");
-  const std::size_t icp = pipeline::metricColumn("icp_final_error_m");
-  PlotSeries a = makeSeries("lidarseg", pipeline::kLidarsegColour, PlotStyle::kMarkers);
-  PlotSeries b = makeSeries("MRPT ICP keyframed", pipeline::kIcpColour, PlotStyle::kMarkers);
-  for (const auto& r : rows) {
-    a.x.push_back(r[0]);
-    a.y.push_back(r[lidarseg]);
-    b.x.push_back(r[0]);
-    b.y.push_back(r[icp]);
-  }
-  std::vector<PlotSeries> series = {a};
-  if (with_icp) series.push_back(b);
-  return plotXYPng(series, "Final position error per run: " + title, "seed", "final error (m)", true);
-}
-
-}  // namespace
 
 std::string BatchApp::runDir(const std::string& out_dir, std::uint64_t seed) {
   return (fs::path(out_dir) / ("run_" + std::to_string(seed))).string();
@@ -265,7 +239,7 @@ BatchSummary BatchApp::aggregate(const std::string& out_dir, const std::string& 
   // Without gnuplot the table is written without its picture, with a warning (decision 55).
   try {
     outputs.add((out / "final_errors.png").string(),
-                finalErrorsPng(rows, stats.at("icp_final_error_m").count > 0, title));
+                pipeline::finalErrorsPng(rows, stats.at("icp_final_error_m").count > 0, title));
   } catch (const std::runtime_error& e) {
     std::cerr << "lidarseg-batch: warning: no picture final_errors.png: " << e.what() << "\n";
     std::error_code ec;

@@ -11,6 +11,7 @@
 #include "lidarseg/mrpt/CameraRois.h"
 #include "lidarseg/pipeline/FeatureCsv.h"
 #include "lidarseg/pipeline/Plots.h"
+#include "lidarseg/pipeline/RecordGate.h"
 #include "ReportTools.h"
 #include "lidarseg/core/FeatureDetector.h"
 #include "lidarseg/core/ScanSegmenter.h"
@@ -25,7 +26,6 @@ using mrpt_adapter::writeRoiCsvHeader;
 using mrpt_adapter::writeRoiCsvRows;
 using pipeline::writeFileAtomically;
 using pipeline::scanFeaturesPng;
-using pipeline::ScanPicture;
 
 namespace {
 
@@ -38,26 +38,6 @@ mrpt_adapter::LidarsegConfig loadConfig(const std::string& path) {
 cv::Size imageSize(const mrpt::obs::CObservationImage& image, const std::optional<vision::CameraParams>& camera) {
   if (camera) return {camera->width, camera->height};
   return {static_cast<int>(image.cameraParams.ncols), static_cast<int>(image.cameraParams.nrows)};
-}
-
-// One scan as paper Fig. 6 draws it: valid points, the segments of `level`, doors and corners.
-ScanPicture scanPicture(const Segmentation& segmentation, CascadeLevel level, const std::vector<Feature>& features) {
-  ScanPicture pic;
-  for (const auto& q : segmentation.points) {
-    if (std::isfinite(q.x())) pic.points.emplace_back(q.x(), q.y());
-  }
-  for (const Segment& sg : segmentation.level(level).segments) {
-    pic.segments.push_back({sg.start.x(), sg.start.y(), sg.end.x(), sg.end.y()});
-  }
-  for (const Feature& f : features) {
-    if (isDoor(f.type)) {
-      pic.doors.emplace_back(f.position.x(), f.position.y());
-      pic.door_jambs.push_back({f.jamb_a.x(), f.jamb_a.y(), f.jamb_b.x(), f.jamb_b.y()});
-    } else {
-      pic.corners.emplace_back(f.position.x(), f.position.y());
-    }
-  }
-  return pic;
 }
 
 // The last scan processed: a camera image is given the features of the scan before it.
@@ -103,23 +83,26 @@ class LogPass {
     }
   }
 
-  // The record's scan: segmented, its features detected (both timed), counted, written and scored.
-  void addScan(const mrpt_adapter::LaserRecord& record) {
+  // The record's scan at its run's stamp: segmented, its features detected (both timed),
+  // counted, written and scored. @throws std::invalid_argument for a scan that cannot be
+  // segmented (the gate skips it).
+  void addScan(const mrpt_adapter::LaserRecord& record, const StampStep& time) {
     const Scan& scan = record.scan;
-    report_.beams_per_scan = std::max(report_.beams_per_scan, scan.size());
     auto t0 = Clock::now();
     segmenter_.process(scan, segmentation_);
-    segment_us_.push_back(microsecondsSince(t0));
+    const double segment_us = microsecondsSince(t0);
     t0 = Clock::now();
     detector_.detect(segmentation_, features_);
     detect_us_.push_back(microsecondsSince(t0));
+    segment_us_.push_back(segment_us);
+    report_.beams_per_scan = std::max(report_.beams_per_scan, scan.size());
     ++report_.scans;
 
     // Features are in the sensor frame; the CSV speaks of the robot frame.
     const auto& sp = record.observation->sensorPose;
     last_ = LastScan{record.index, sp, features_};
     for (const Feature& f : features_) ++report_.detections[static_cast<std::size_t>(f.type)];
-    pipeline::writeFeatureCsvRows(csv_, record.stamp_s, record.index, {sp.x(), sp.y(), sp.yaw()}, features_);
+    pipeline::writeFeatureCsvRows(csv_, time.output_stamp_s, record.index, {sp.x(), sp.y(), sp.yaw()}, features_);
     if (report_.evaluation) score(record.index);
     if (options_.figure_scan && *options_.figure_scan == record.index) drawFigure(record.index);
   }
@@ -144,6 +127,7 @@ class LogPass {
   // unusable calibration or unreadable pixels skip it.
   void addImage(const mrpt_adapter::LaserRecord& record, const mrpt::obs::CObservationImage& image, std::size_t n) {
     const auto skip = [&](const std::exception& e) {
+      ++report_.skipped_count;
       report_.skipped.push_back(record.where + ": image " + std::to_string(n) + ": " + e.what());
     };
     std::vector<vision::Roi> rois;
@@ -193,7 +177,7 @@ class LogPass {
         "scan " + std::to_string(scan) + " of " + std::filesystem::path(options_.input).filename().string();
     std::string png;
     try {
-      png = scanFeaturesPng(scanPicture(segmentation_, detector_.params().level, features_), title);
+      png = scanFeaturesPng(pipeline::scanPictureOf(segmentation_, detector_.params().level, features_), title);
     } catch (const std::runtime_error& e) {
       report_.warnings.push_back("no figure " + options_.figure_path + ": " + e.what());
       return;
@@ -250,20 +234,22 @@ void claimOutputs(const FeaturesOptions& o, OutputSet& outputs) {
   if (!o.images_out.empty()) std::filesystem::create_directories(o.images_out);
 }
 
-// Every record of the log through the pass (up to max_scans scans), with progress on
-// stderr; what the reader skipped is listed in the report.
-void readLog(const FeaturesOptions& o, LogPass& pass, FeaturesReport& report) {
+// Every record of the log through the run's gate into the pass (up to max_scans scans),
+// with progress on stderr; what the gate and the reader skipped is listed in the report.
+void readLog(const FeaturesOptions& o, const mrpt_adapter::LidarsegConfig& config, LogPass& pass,
+             FeaturesReport& report) {
   mrpt_adapter::LaserLogReader reader(o.input, o.sensor_label);
-  Progress progress("lidarseg-features", o.progress, o.max_scans);
-  while (auto record = reader.next()) {
-    pass.addImages(*record);
-    if (o.max_scans > 0 && report.scans >= o.max_scans) break;
-    pass.addScan(*record);
-    progress.update(report.scans, reader.fractionRead());
-  }
-  progress.done(report.scans);
-  if (report.scans == 0) throw std::runtime_error(o.input + ": no laser scan read");
-  for (const std::string& issue : reader.issues()) report.skipped.push_back(issue);
+  pipeline::RecordGate gate(config.stamps);
+  const auto use = [&](const mrpt_adapter::LaserRecord& record) {
+    gate.pass(record, [&](const StampStep& time) { pass.addScan(record, time); });
+  };
+  const auto images = [&](const mrpt_adapter::LaserRecord& record) { pass.addImages(record); };
+  pipeline::readRecords(reader, gate.counts(), {"lidarseg-features", o.sensor_label, o.max_scans, o.progress}, use,
+                        images);
+  pipeline::RecordCounts counts = gate.counts();
+  pipeline::addReaderCounts(reader, counts);
+  report.skipped.insert(report.skipped.end(), counts.skipped.begin(), counts.skipped.end());
+  report.skipped_count += counts.skipped_count;
   if (o.figure_scan && !pass.figureMet()) {
     report.warnings.push_back("no figure " + o.figure_path + ": no scan " + std::to_string(*o.figure_scan) +
                               " among the " + std::to_string(report.scans) + " scans read");
@@ -279,7 +265,7 @@ FeaturesReport FeaturesApp::run() {
   FeaturesReport report;
   report.input = options_.input;
   LogPass pass(options_, config, report, outputs);
-  readLog(options_, pass, report);
+  readLog(options_, config, pass, report);
   pass.summarise();
   writeOutputs(options_, report, pass, outputs);
   return report;
@@ -291,7 +277,7 @@ void FeaturesApp::printWarnings(const FeaturesReport& report, std::ostream& err)
   const std::string tool = "lidarseg-features: warning: ";
   for (const std::string& w : report.warnings) err << tool << w << '\n';
   if (!report.skipped.empty()) {
-    err << tool << report.skipped.size() << " scans or images skipped, the first: " << report.skipped.front() << '\n';
+    err << tool << report.skipped_count << " scans or images skipped, the first: " << report.skipped.front() << '\n';
   }
 }
 

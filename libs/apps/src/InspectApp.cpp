@@ -386,4 +386,11 @@ int InspectApp::window(Session& session) {
   win.loop();
 }
 
+InspectReport InspectApp::writeReport(inspect::Session& session) {
+  const InspectReport r = inspect::writeLogReport(
+      session, {options_.report_dir, options_.input, options_.layers, options_.gallery, options_.progress});
+  if (!r.no_plots.empty()) std::cerr << "lidarseg-inspect: warning: no plots in the report: " << r.no_plots << "\n";
+  return r;
+}
+
 }  // namespace lidarseg::apps

@@ -2,7 +2,7 @@
 #include "lidarseg/core/Angles.h"
 
 #include "lidarseg/pipeline/OutputFiles.h"
-#include "lidarseg/pipeline/Progress.h"
+#include "lidarseg/pipeline/RecordGate.h"
 #include "lidarseg/pipeline/Timing.h"
 
 #include <iomanip>
@@ -19,18 +19,21 @@ namespace lidarseg::apps {
 using pipeline::OutputSet;
 
 using pipeline::Clock;
-using pipeline::Progress;
 using pipeline::microsecondsSince;
 
 namespace {
 
-// The [segmentation] section of the shared configuration (every section optional), or a
-// section of the user's choice read alone; the defaults without a file.
-SegmentationParams loadParams(const SegmentStatsOptions& options) {
-  if (options.config_path.empty()) return {};
-  return options.section == mrpt_adapter::kSegmentationSection
-             ? mrpt_adapter::LidarsegConfig::loadFile(options.config_path).odometry.segmentation
-             : mrpt_adapter::loadSegmentationParamsFile(options.config_path, options.section);
+// The shared configuration (every section optional), or with a section of the user's
+// choice read alone as [segmentation] (the other sections' defaults); the defaults
+// without a file.
+mrpt_adapter::LidarsegConfig loadConfig(const SegmentStatsOptions& options) {
+  mrpt_adapter::LidarsegConfig config;
+  if (options.config_path.empty()) return config;
+  if (options.section == mrpt_adapter::kSegmentationSection) {
+    return mrpt_adapter::LidarsegConfig::loadFile(options.config_path);
+  }
+  config.odometry.segmentation = mrpt_adapter::loadSegmentationParamsFile(options.config_path, options.section);
+  return config;
 }
 
 // Every scan segmented and cascaded (timed), its levels accumulated and its CSV row written.
@@ -42,21 +45,16 @@ class ScanPass {
     csv_ << std::setprecision(12);
   }
 
-  // The record's scan; listed as skipped when it cannot be converted or segmented.
-  void addScan(const mrpt_adapter::LaserRecord& record) {
+  // The record's scan at its run's stamp. @throws std::invalid_argument for a scan that
+  // cannot be segmented (the gate skips it).
+  void addScan(const mrpt_adapter::LaserRecord& record, const StampStep& time) {
     const Scan& scan = record.scan;
-    double wd_us = 0.0, cascade_us = 0.0;
-    try {
-      const auto t0 = Clock::now();
-      segmenter_.wallDanielsson().segment(scan, seg_);
-      wd_us = microsecondsSince(t0);
-      const auto t1 = Clock::now();
-      segmenter_.cascade().apply(seg_);
-      cascade_us = microsecondsSince(t1);
-    } catch (const std::exception& e) {
-      report_.skipped.push_back(record.where + " (scan " + std::to_string(record.index) + "): " + e.what());
-      return;
-    }
+    const auto t0 = Clock::now();
+    segmenter_.wallDanielsson().segment(scan, seg_);
+    const double wd_us = microsecondsSince(t0);
+    const auto t1 = Clock::now();
+    segmenter_.cascade().apply(seg_);
+    const double cascade_us = microsecondsSince(t1);
     if (report_.scans == 0) {
       report_.beams_per_scan = scan.size();
       report_.field_of_view_deg = static_cast<double>(record.observation->aperture) * kRadToDeg;
@@ -64,7 +62,7 @@ class ScanPass {
     }
     ++report_.scans;
     stats_.add(seg_, wd_us, cascade_us);
-    csv_ << record.index << ',' << scan.stamp_s << ',' << seg_.num_valid_beams;
+    csv_ << record.index << ',' << time.output_stamp_s << ',' << seg_.num_valid_beams;
     for (const auto& level : seg_.levels) csv_ << ',' << level.segments.size();
     csv_ << ',' << wd_us << ',' << cascade_us << '\n';
   }
@@ -89,23 +87,21 @@ SegmentStatsApp::SegmentStatsApp(SegmentStatsOptions options) : options_(std::mo
 
 namespace {
 
-// Every scan of the log through the pass (up to max_scans, skipped ones counted), with
-// progress on stderr; the sensor and what the reader skipped go into the report.
-void readLog(const SegmentStatsOptions& o, ScanPass& pass, SegmentStatsReport& report) {
+// Every record of the log through the run's gate into the pass (up to max_scans scans),
+// with progress on stderr; the sensor and what the gate and the reader skipped go into the
+// report.
+void readLog(const SegmentStatsOptions& o, const StampPolicyParams& stamps, ScanPass& pass, SegmentStatsReport& report) {
   mrpt_adapter::LaserLogReader reader(o.input, o.sensor_label);
-  Progress progress("lidarseg-segment", o.progress, o.max_scans);
-  while (auto record = reader.next()) {
-    if (o.max_scans > 0 && report.scans + report.skipped.size() >= o.max_scans) break;
-    pass.addScan(*record);
-    progress.update(report.scans, reader.fractionRead());
-  }
-  progress.done(report.scans);
+  pipeline::RecordGate gate(stamps);
+  const auto use = [&](const mrpt_adapter::LaserRecord& record) {
+    gate.pass(record, [&](const StampStep& time) { pass.addScan(record, time); });
+  };
+  pipeline::readRecords(reader, gate.counts(), {"lidarseg-segment", o.sensor_label, o.max_scans, o.progress}, use);
   report.sensor_label = reader.sensor();
-  for (const auto& issue : reader.issues()) report.skipped.push_back(issue);
-  if (report.scans == 0 && report.skipped.empty()) {
-    throw std::runtime_error("'" + o.input + "' holds no 2D laser scan" +
-                             (o.sensor_label.empty() ? std::string() : " with sensor label '" + o.sensor_label + "'"));
-  }
+  pipeline::RecordCounts counts = gate.counts();
+  pipeline::addReaderCounts(reader, counts);
+  report.skipped = counts.skipped;
+  report.skipped_count = counts.skipped_count;
 }
 
 }  // namespace
@@ -116,8 +112,9 @@ SegmentStatsReport SegmentStatsApp::run() {
   outputs.claimOutputs({{options_.csv_path, "--csv"}}, {}, {options_.input, options_.config_path});
   SegmentStatsReport report;
   report.input = options_.input;
-  ScanPass pass(loadParams(options_), report);
-  readLog(options_, pass, report);
+  const mrpt_adapter::LidarsegConfig config = loadConfig(options_);
+  ScanPass pass(config.odometry.segmentation, report);
+  readLog(options_, config.stamps, pass, report);
   pass.summarise();
   if (!options_.csv_path.empty()) outputs.add(options_.csv_path, pass.csv());
   outputs.commit();
@@ -126,7 +123,7 @@ SegmentStatsReport SegmentStatsApp::run() {
 
 void SegmentStatsApp::printWarnings(const SegmentStatsReport& r, std::ostream& err) {
   if (r.skipped.empty()) return;
-  err << "lidarseg-segment: warning: " << r.skipped.size() << " scans skipped, the first: " << r.skipped.front()
+  err << "lidarseg-segment: warning: " << r.skipped_count << " scans skipped, the first: " << r.skipped.front()
       << "\n";
 }
 

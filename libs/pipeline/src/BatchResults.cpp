@@ -13,6 +13,7 @@
 
 #include "lidarseg/eval/Csv.h"
 #include "lidarseg/pipeline/OutputFiles.h"
+#include "lidarseg/pipeline/Plots.h"
 
 namespace lidarseg::pipeline {
 
@@ -229,6 +230,22 @@ void claimExperiment(const std::string& out_dir, const std::string& mine) {
   }
   fs::create_directories(out_dir);
   writeFileAtomically(path, mine);
+}
+
+std::string finalErrorsPng(const MetricRows& rows, bool with_icp, const std::string& title) {
+  const std::size_t lidarseg = metricColumn("lidarseg_final_error_m");
+  const std::size_t icp = metricColumn("icp_final_error_m");
+  PlotSeries a = makeSeries("lidarseg", kLidarsegColour, PlotStyle::kMarkers);
+  PlotSeries b = makeSeries("MRPT ICP keyframed", kIcpColour, PlotStyle::kMarkers);
+  for (const auto& r : rows) {
+    a.x.push_back(r[0]);
+    a.y.push_back(r[lidarseg]);
+    b.x.push_back(r[0]);
+    b.y.push_back(r[icp]);
+  }
+  std::vector<PlotSeries> series = {a};
+  if (with_icp) series.push_back(b);
+  return plotXYPng(series, "Final position error per run: " + title, "seed", "final error (m)", true);
 }
 
 }  // namespace lidarseg::pipeline

@@ -369,4 +369,23 @@ std::string scanFeaturesPng(const ScanPicture& scan, const std::string& title) {
   return runGnuplot(dir, gp.str());
 }
 
+ScanPicture scanPictureOf(const Segmentation& segmentation, CascadeLevel level, const std::vector<Feature>& features) {
+  ScanPicture pic;
+  for (const auto& q : segmentation.points) {
+    if (std::isfinite(q.x())) pic.points.emplace_back(q.x(), q.y());
+  }
+  for (const Segment& sg : segmentation.level(level).segments) {
+    pic.segments.push_back({sg.start.x(), sg.start.y(), sg.end.x(), sg.end.y()});
+  }
+  for (const Feature& f : features) {
+    if (isDoor(f.type)) {
+      pic.doors.emplace_back(f.position.x(), f.position.y());
+      pic.door_jambs.push_back({f.jamb_a.x(), f.jamb_a.y(), f.jamb_b.x(), f.jamb_b.y()});
+    } else {
+      pic.corners.emplace_back(f.position.x(), f.position.y());
+    }
+  }
+  return pic;
+}
+
 }  // namespace lidarseg::pipeline

@@ -11,6 +11,8 @@
 
 #include "lidarseg/pipeline/JsonText.h"
 #include "lidarseg/pipeline/OutputFiles.h"
+#include "lidarseg/pipeline/Plots.h"
+#include "lidarseg/pipeline/RunEvaluation.h"
 
 namespace lidarseg::pipeline {
 
@@ -268,6 +270,57 @@ std::vector<std::string> addRunOutputs(OutputSet& outputs, const std::string& ou
   if (!wheel_odometry.empty()) written.push_back(path("wheel-odometry.tum"));
   if (!log_poses.empty()) written.push_back(path("log-poses.tum"));
   return written;
+}
+
+namespace {
+// The run's trajectories as chart series: the reference as it is, then the wheel odometry
+// and every method from the reference's pose at lidarseg's first scan.
+std::vector<PlotSeries> trajectorySeries(const OdometryReport& report, const RunReferences& refs,
+                                         const eval::StampedTrajectory& log_poses,
+                                         const eval::StampedTrajectory& wheel_odometry) {
+  std::vector<PlotSeries> series;
+  const auto add = [&](const std::string& name, const eval::StampedTrajectory& t, Rgb colour, const Pose2D& anchor) {
+    if (t.empty()) return;
+    PlotSeries s = makeSeries(name, colour);
+    const Pose2D first_inverse = inverse(t.front().pose);
+    for (const auto& p : t) {
+      const Pose2D q = compose(anchor, compose(first_inverse, p.pose));
+      s.x.push_back(q.x);
+      s.y.push_back(q.y);
+    }
+    series.push_back(std::move(s));
+  };
+  const eval::StampedTrajectory* reference = refs.gt ? &*refs.gt : (log_poses.empty() ? nullptr : &log_poses);
+  Pose2D anchor;
+  if (reference != nullptr) {
+    const auto k = eval::nearestIndex(*reference, report.lidarseg.trajectory.front().stamp_s, refs.gt_tolerance_s);
+    if (k) anchor = (*reference)[*k].pose;
+    PlotSeries s = makeSeries(refs.gt ? "ground truth" : "log poses", kTruthColour);
+    for (const auto& p : *reference) s.x.push_back(p.pose.x), s.y.push_back(p.pose.y);
+    series.push_back(std::move(s));
+  }
+  add("wheel odometry", wheel_odometry, kWheelColour, anchor);
+  add("lidarseg", report.lidarseg.trajectory, kLidarsegColour, anchor);
+  if (report.icp) add("MRPT ICP keyframed", report.icp->trajectory, kIcpColour, anchor);
+  if (report.icp_s2s) add("MRPT ICP scan to scan", report.icp_s2s->trajectory, kIcpS2sColour, anchor);
+  return series;
+}
+}  // namespace
+
+void addRunPlots(OutputSet& outputs, const std::string& out_dir, const OdometryReport& report,
+                 const RunReferences& refs, const eval::StampedTrajectory& log_poses,
+                 const eval::StampedTrajectory& wheel_odometry, const std::string& input_name) {
+  const auto path = [&](const char* name) { return (std::filesystem::path(out_dir) / name).string(); };
+  std::vector<PlotSeries> hist;
+  hist.push_back(makeSeries("lidarseg", kLidarsegColour));
+  hist.back().x = report.lidarseg.time_us;
+  if (report.icp) {
+    hist.push_back(makeSeries("MRPT ICP keyframed", kIcpColour));
+    hist.back().x = report.icp->time_us;
+  }
+  outputs.add(path("trajectories.png"), plotTrajectoriesPng(trajectorySeries(report, refs, log_poses, wheel_odometry),
+                                                            "Trajectories: " + input_name));
+  outputs.add(path("timing.png"), plotHistogramsPng(hist, "Time per scan", "microseconds"));
 }
 
 void printRunSummary(const OdometryReport& r, std::ostream& os) {

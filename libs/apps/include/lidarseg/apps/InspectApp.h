@@ -63,7 +63,8 @@ class InspectApp {
   /// The keyboard shortcuts of the window, one per line.
   static std::vector<std::string> keyHelp();
 
-  /// Writes the HTML report of the whole log; used by run().
+  /// Writes the HTML report of the whole log (inspect::writeLogReport), with a warning on
+  /// stderr when it has no plots; used by run().
   InspectReport writeReport(inspect::Session& session);
 
  private:

@@ -103,8 +103,6 @@ class OdometryApp {
   void collectReaderCounts(const mrpt_adapter::LaserLogReader& reader, OdometryReport& report) const;
   void writeOutputs(OdometryReport& report, const pipeline::RunReferences& refs, const eval::StampedTrajectory& log_poses,
                     const eval::StampedTrajectory& wheel_odometry, OutputSet& outputs) const;
-  void addPlots(const OdometryReport& report, const pipeline::RunReferences& refs, const eval::StampedTrajectory& log_poses,
-                const eval::StampedTrajectory& wheel_odometry, OutputSet& outputs) const;
 
   OdometryOptions options_;
   std::string gt_path_;    // the ground truth used (given or found beside the input)

@@ -32,8 +32,10 @@ struct SegmentStatsReport {
   std::string input;
   std::string sensor_label;
   std::size_t scans = 0;
-  /// Scans that could not be processed, with the reason (scan index and message).
+  /// Scans and lines that could not be processed, with where and why (the first 100),
+  /// and their count in all.
   std::vector<std::string> skipped;
+  std::size_t skipped_count = 0;
   std::size_t beams_per_scan = 0;
   double field_of_view_deg = 0.0;
   double max_range_m = 0.0;

@@ -24,6 +24,8 @@ struct ReportSummary {
   double length_m = 0.0;                ///< lidarseg's path length
   std::optional<double> final_error_m;  ///< against the ground truth (m)
   std::vector<std::size_t> gallery;     ///< frames drawn, worst first
+  /// Why the report has no plots (gnuplot missing or failing); empty when it has them.
+  std::string no_plots;
 };
 
 /// One scan's row of the report's tables.
@@ -63,5 +65,24 @@ std::vector<std::size_t> worstFirst(const std::vector<ScanRow>& rows, std::size_
 /// drawn (no gnuplot): the page says so instead of showing broken images.
 std::string reportHtml(const std::string& input, const ReportSummary& summary,
                        const std::vector<ScanRow>& rows, bool with_truth, const std::string& no_plots = {});
+
+/// How writeLogReport() writes the report.
+struct ReportSettings {
+  std::string dir;     ///< the report's folder (created)
+  std::string input;   ///< the log, as the page names it
+  /// The gallery's layers (comma list, parseLayers()); empty: raw, l1, l3, predicted,
+  /// matches, features, trajectory and camera.
+  std::string layers;
+  std::size_t gallery = 12;  ///< frames in the gallery
+  bool progress = true;      ///< progress of the rows on stderr (only on a terminal)
+};
+
+/// The whole --report of the session's log, put in place together: DIR/index.html
+/// (reportHtml()), trajectory.png (lidarseg and every reference from its pose at the first
+/// scan), error_over_time.png (the error against the truth, or the match's sd),
+/// timing.png (time per scan) and the gallery's frames/scan_N.png (900 x 700). Without
+/// gnuplot the plots are left out and the summary's `no_plots` says why.
+/// @throws std::runtime_error when a file cannot be written.
+ReportSummary writeLogReport(Session& session, const ReportSettings& settings);
 
 }  // namespace lidarseg::inspect

@@ -52,6 +52,11 @@ MetricStats metricStats(const MetricRows& rows);
 std::string table1Markdown(const std::string& title, const std::vector<std::uint64_t>& seeds,
                            const MetricStats& stats);
 
+/// final_errors.png: each run's final position error against its seed, lidarseg's and,
+/// `with_icp`, keyframed MRPT ICP's, as markers (gnuplot).
+/// @throws std::runtime_error when gnuplot is missing or fails.
+std::string finalErrorsPng(const MetricRows& rows, bool with_icp, const std::string& title);
+
 /// aggregate.csv: every run's metrics.csv line under one header.
 std::string aggregateCsv(const MetricRows& rows);
 

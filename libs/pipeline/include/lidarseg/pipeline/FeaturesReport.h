@@ -34,8 +34,10 @@ struct FeaturesReport {
   std::size_t images_with_rois = 0;
   std::size_t rois = 0;
   Summary roi_coverage;
-  /// Scans skipped (unreadable), with the reason.
+  /// Images skipped, then scans and lines skipped (the first 100, as pipeline::RecordGate
+  /// and the log reader keep them), each with where and why; and their count in all.
   std::vector<std::string> skipped;
+  std::size_t skipped_count = 0;
   /// What the run could not do but did not fail for, one line each (no figure without
   /// gnuplot, a --figure-scan beyond the log): printed by the tool after its results.
   std::vector<std::string> warnings;

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "lidarseg/pipeline/OdometryMethods.h"
+#include "lidarseg/pipeline/RecordGate.h"
 #include "lidarseg/pipeline/RunReport.h"
-#include "lidarseg/core/StampPolicy.h"
 #include "lidarseg/mrpt/LidarsegConfig.h"
 
 namespace lidarseg::pipeline {
@@ -44,8 +44,8 @@ class OdometryRun {
   RunStep process(const mrpt_adapter::LaserRecord& record);
   /// lidarseg's method: its last step and segmentation.
   const LidarsegMethod& lidarseg() const { return *lidarseg_; }
-  /// Counts of the run so far (frames, stamps, jumps, skipped scans, warnings).
-  const OdometryReport& counts() const { return counts_; }
+  /// Counts of the run so far (frames, stamps, skipped scans, warnings): its RecordGate's.
+  const RecordCounts& counts() const { return gate_.counts(); }
   /// The poses the log holds beside its scans (CARMEN "corrected" logs), at the output stamps.
   const eval::StampedTrajectory& logPoses() const { return log_poses_; }
   /// The log's wheel odometry of every processed scan that has one (robot poses in the
@@ -59,13 +59,12 @@ class OdometryRun {
 
  private:
   std::optional<Pose2D> priorOf(const mrpt_adapter::LaserRecord& record, const StampStep& time);
-  void warn(const std::string& message);
   RunSettings settings_;
-  StampPolicy stamps_;
+  RecordGate gate_;
+  std::size_t odometry_jumps_ = 0;
   std::unique_ptr<LidarsegMethod> lidarseg_;
   std::unique_ptr<IcpMethod> icp_, icp_s2s_;
   std::vector<OdometryMethod*> methods_;
-  OdometryReport counts_;
   eval::StampedTrajectory log_poses_, wheel_odometry_;
   std::optional<Pose2D> last_odometry_;
   std::vector<double> steps_;

@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "lidarseg/core/Feature.h"
+#include "lidarseg/core/Segmentation.h"
 #include "lidarseg/pipeline/Palette.h"
 
 namespace lidarseg::pipeline {
@@ -68,6 +70,11 @@ struct ScanPicture {
   std::vector<std::array<double, 4>> door_jambs;  ///< jamb_a x, y, jamb_b x, y
   std::vector<std::pair<double, double>> corners;
 };
+
+/// One scan as the paper's Fig. 6 draws it: the valid beams' points, the segments of
+/// `level`, the doors (centres and jambs) and corners (sensor frame). O(points + segments +
+/// features).
+ScanPicture scanPictureOf(const Segmentation& segmentation, CascadeLevel level, const std::vector<Feature>& features);
 
 /// Where scanFeaturesPng() draws: the picture's size and each panel's view, one scale
 /// (pixels per metre) on both axes of both panels.

@@ -12,6 +12,7 @@
 namespace lidarseg::pipeline {
 
 class OutputSet;
+struct RunReferences;
 
 /// A trajectory as a TUM file with a comment header.
 std::string tumText(const eval::StampedTrajectory& trajectory, const std::string& header);
@@ -34,6 +35,15 @@ std::string markdownTable(const OdometryReport& report);
 std::vector<std::string> addRunOutputs(OutputSet& outputs, const std::string& out_dir, const OdometryReport& report,
                                        const eval::StampedTrajectory& log_poses,
                                        const eval::StampedTrajectory& wheel_odometry);
+
+/// Adds a run's charts to `outputs`, in OUT_DIR: trajectories.png (the reference, the
+/// ground truth or else the log's poses, then the wheel odometry and every method, each
+/// from the reference's pose at lidarseg's first scan; titled with `input_name`) and
+/// timing.png (lidarseg's and keyframed ICP's time per scan).
+/// @throws std::runtime_error when gnuplot is missing or fails (decision 55).
+void addRunPlots(OutputSet& outputs, const std::string& out_dir, const OdometryReport& report,
+                 const RunReferences& refs, const eval::StampedTrajectory& log_poses,
+                 const eval::StampedTrajectory& wheel_odometry, const std::string& input_name);
 
 /// A readable summary for stdout: the Markdown table, the stamp and odometry counts, the
 /// lidarseg statuses and the files written; no warnings.

@@ -15,6 +15,7 @@
 #include "lidarseg/eval/Relations.h"
 #include "lidarseg/eval/StampedTrajectory.h"
 #include "lidarseg/eval/TrajectoryMetrics.h"
+#include "lidarseg/pipeline/RecordGate.h"
 
 namespace lidarseg::pipeline {
 
@@ -61,24 +62,14 @@ struct MethodReport {
   std::optional<eval::RelationErrors> log_relations;
 };
 
-/// Everything a run measured.
-struct OdometryReport {
+/// Everything a run measured: the counts of its records (RecordCounts: frames, skipped,
+/// stamps, warnings), then the methods' figures.
+struct OdometryReport : RecordCounts {
   std::string input;
   std::string format;
   std::string sensor;
-  std::size_t frames = 0;
-  /// Scans or lines skipped, with where and why (the first 100), and the count.
-  std::vector<std::string> skipped;
-  std::size_t skipped_count = 0;
-  /// Scans whose time did not increase (processed with a synthetic time step).
-  std::size_t non_increasing_stamps = 0;
-  /// Time gaps beyond max_time_gap_s (the prior restarted from rest).
-  std::size_t time_gaps = 0;
-  /// Clock jumps backwards by more than max_time_gap_s (the prior restarted from rest).
-  std::size_t clock_jumps = 0;
   /// Wheel-odometry increments rejected as implausible (a jump).
   std::size_t odometry_jumps = 0;
-  std::vector<std::string> warnings;
   /// With allow_truncated: why the log could not be read to its end ("file, entry N: ...");
   /// the results cover the scans before it. Empty when the log was read to its end.
   std::string log_error;

@@ -1,0 +1,112 @@
+#pragma once
+/// @file
+/// lidarseg::pipeline: the path every record of a log takes in every tool, before the
+/// tool's own work: read from the log (LaserLogReader: numbers checked, bad lines and
+/// scans skipped with their place), its stamp repaired (StampPolicy), and used or skipped
+/// (a scan the tool's step refuses with std::invalid_argument). lidarseg-odometry (through
+/// OdometryRun), lidarseg-features and lidarseg-segment all read their logs through it, so
+/// one log gives the same records, skipped and counted with the same messages, everywhere.
+
+#include <cstddef>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "lidarseg/core/ScanRecord.h"
+#include "lidarseg/core/StampPolicy.h"
+
+namespace lidarseg::mrpt_adapter {
+class LaserLogReader;
+struct LaserRecord;
+}  // namespace lidarseg::mrpt_adapter
+
+namespace lidarseg::pipeline {
+
+/// What a run made of its log's records: the counts every tool reports alike.
+struct RecordCounts {
+  /// Records used (scans processed).
+  std::size_t frames = 0;
+  /// Scans or lines skipped, with where and why (the first 100), and the count.
+  std::vector<std::string> skipped;
+  std::size_t skipped_count = 0;
+  /// Scans whose time did not increase (processed with a synthetic time step).
+  std::size_t non_increasing_stamps = 0;
+  /// Time gaps beyond max_time_gap_s (the prior restarted from rest).
+  std::size_t time_gaps = 0;
+  /// Clock jumps backwards by more than max_time_gap_s (the prior restarted from rest).
+  std::size_t clock_jumps = 0;
+  /// What was read or repaired but is worth a word, with its place in the log.
+  std::vector<std::string> warnings;
+};
+
+/// The stamp policy and the counts of one run, record after record (in the log's order).
+/// O(1) per record.
+class RecordGate {
+ public:
+  /// @throws std::invalid_argument for invalid stamp parameters (naming the key).
+  explicit RecordGate(const StampPolicyParams& params = {});
+
+  /// What the record's stamp becomes; nothing changes until accept().
+  StampStep time(const ScanRecord& record) const { return stamps_.next(record.stamp_s); }
+  /// The record could not be used: counted, and its message "WHERE (scan N): why" kept
+  /// (the first 100) and returned. The clock stays where it was.
+  std::string skip(const ScanRecord& record, const std::string& why);
+  /// The record was used at `time`: its stamp counted (repeated or backwards, a gap, a
+  /// clock jump, each jump or gap warned about with its place) and the clock moved on.
+  void accept(const ScanRecord& record, const StampStep& time);
+  /// The record through `use` at its stamp step: a std::invalid_argument from `use` skips
+  /// it (skip()), otherwise it is accepted. Returns whether it was used.
+  template <class Use>
+  bool pass(const ScanRecord& record, Use&& use) {
+    const StampStep step = time(record);
+    try {
+      use(step);
+    } catch (const std::invalid_argument& e) {
+      skip(record, e.what());
+      return false;
+    }
+    accept(record, step);
+    return true;
+  }
+  /// A warning of the run (the first 100 kept).
+  void warn(const std::string& message);
+  const StampPolicy& stamps() const { return stamps_; }
+  const RecordCounts& counts() const { return counts_; }
+
+ private:
+  StampPolicy stamps_;
+  RecordCounts counts_;
+};
+
+/// How a tool reads its log.
+struct ReadSettings {
+  /// The tool's name, for the progress line.
+  std::string tool;
+  /// The sensor asked for (empty: the first met), named when the log has no usable scan.
+  std::string sensor;
+  /// Stop after this many records used (0: all).
+  std::size_t max_scans = 0;
+  /// Progress with rate and ETA on stderr (only when stderr is a terminal).
+  bool progress = true;
+  /// A log that ends in a truncated or corrupt entry: false = the reader's error; true =
+  /// the records before it stand, and the error is returned.
+  bool allow_truncated = false;
+};
+
+/// Reads `reader` to its end (or `max_scans` records used): each record to `use`, which
+/// runs it through the tool's gate and so moves `counts`. With `companions`, every record
+/// read goes to it first, the one after the last used too (for the observations logged
+/// before it: a camera image after the last scan).
+/// @returns the error that ended the log early (allow_truncated), else "".
+/// @throws the reader's errors; std::runtime_error naming the log, the sensor and the
+/// first records skipped when no record was used.
+std::string readRecords(mrpt_adapter::LaserLogReader& reader, const RecordCounts& counts, const ReadSettings& settings,
+                        const std::function<void(const mrpt_adapter::LaserRecord&)>& use,
+                        const std::function<void(const mrpt_adapter::LaserRecord&)>& companions = {});
+
+/// The reader's side of the counts, after the run's: the lines and scans it skipped (the
+/// list up to 100, the count in full), then its unknown line types and warnings.
+void addReaderCounts(const mrpt_adapter::LaserLogReader& reader, RecordCounts& counts);
+
+}  // namespace lidarseg::pipeline
