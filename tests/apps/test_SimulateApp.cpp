@@ -6,10 +6,11 @@
 #include <iterator>
 #include <sstream>
 
-#include <sys/inotify.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
+
+#include "FolderEvents.h"
 
 #include "lidarseg/apps/SimulateApp.h"
 #include "lidarseg/mrpt/RawlogScanReader.h"
@@ -67,35 +68,7 @@ TEST(SimulateApp, WritesEveryOutputAndTheSameBytesForTheSameSeed) {
   EXPECT_GT(a.door_sightings, 0u);
 }
 
-// The names put in place ("+name") and removed ("-name") in `dir`, in order, from the moment
-// of construction.
-class FolderEvents {
- public:
-  explicit FolderEvents(const std::string& dir) : fd_(::inotify_init1(IN_NONBLOCK | IN_CLOEXEC)) {
-    if (fd_ >= 0) ::inotify_add_watch(fd_, dir.c_str(), IN_MOVED_TO | IN_DELETE);
-  }
-  ~FolderEvents() {
-    if (fd_ >= 0) ::close(fd_);
-  }
-  FolderEvents(const FolderEvents&) = delete;
-  FolderEvents& operator=(const FolderEvents&) = delete;
-  bool watching() const { return fd_ >= 0; }
-  std::vector<std::string> read() const {
-    std::vector<std::string> out;
-    alignas(inotify_event) char buf[8192];
-    for (ssize_t n = 0; (n = ::read(fd_, buf, sizeof buf)) > 0;) {
-      for (ssize_t at = 0; at < n;) {
-        const auto* e = reinterpret_cast<const inotify_event*>(buf + at);
-        at += static_cast<ssize_t>(sizeof(inotify_event) + e->len);
-        if (e->len > 0) out.push_back(std::string(e->mask & IN_DELETE ? "-" : "+") + e->name);
-      }
-    }
-    return out;
-  }
-
- private:
-  int fd_;
-};
+using lidarseg::testing::FolderEvents;
 
 std::ptrdiff_t positionOf(const std::vector<std::string>& events, const std::string& event) {
   return std::find(events.begin(), events.end(), event) - events.begin();

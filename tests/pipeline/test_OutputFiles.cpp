@@ -10,11 +10,12 @@
 #include <string>
 #include <vector>
 
-#include <sys/inotify.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
+
+#include "FolderEvents.h"
 #include <nlohmann/json.hpp>
 
 #include "lidarseg/pipeline/OutputFiles.h"
@@ -85,35 +86,7 @@ TEST(OutputFiles, AReleasedFolderIsKeptBySIGINT) {
   EXPECT_TRUE(fs::exists(dir + "/run_Images.tmp"));
 }
 
-// What happened to the folder's names, in order: "-name" removed, "+name" renamed into place.
-class FolderEvents {
- public:
-  explicit FolderEvents(const std::string& dir) : fd_(::inotify_init1(IN_NONBLOCK | IN_CLOEXEC)) {
-    if (fd_ >= 0) ::inotify_add_watch(fd_, dir.c_str(), IN_MOVED_TO | IN_DELETE);
-  }
-  ~FolderEvents() {
-    if (fd_ >= 0) ::close(fd_);
-  }
-  FolderEvents(const FolderEvents&) = delete;
-  FolderEvents& operator=(const FolderEvents&) = delete;
-  bool watching() const { return fd_ >= 0; }
-  std::vector<std::string> read() const {
-    std::vector<std::string> out;
-    alignas(inotify_event) char buf[8192];
-    ssize_t n = 0;
-    while ((n = ::read(fd_, buf, sizeof buf)) > 0) {
-      for (ssize_t at = 0; at < n;) {
-        const auto* e = reinterpret_cast<const inotify_event*>(buf + at);
-        at += static_cast<ssize_t>(sizeof(inotify_event) + e->len);
-        if (e->len > 0) out.push_back(std::string(e->mask & IN_DELETE ? "-" : "+") + e->name);
-      }
-    }
-    return out;
-  }
-
- private:
-  int fd_;
-};
+using lidarseg::testing::FolderEvents;
 
 TEST(OutputFiles, TheManifestOfASetIsRemovedFirstAndRenamedIntoPlaceLast) {
   const std::string dir = freshFolder("manifest-order");
