@@ -380,6 +380,17 @@ TEST(OdometryApp, ASecondRunIntoTheSameFolderLeavesNoFileOfTheFirstItDoesNotWrit
   EXPECT_EQ(sorted, present);
   EXPECT_NE(std::find(listed.begin(), listed.end(), "lidarseg.tum"), listed.end());
   EXPECT_EQ(std::find(listed.begin(), listed.end(), "icp.tum"), listed.end());
+  // A rawlog written into the folder by one run, then read by the next from there: the
+  // second run's publishing does not remove its own input.
+  o.write_rawlog = o.out_dir + "/run.rawlog";
+  OdometryApp(o).run();
+  ASSERT_TRUE(fs::exists(o.write_rawlog));
+  OdometryOptions again = optionsFor(o.write_rawlog, "out_rerun");
+  again.scanner_rotation_hz = 0.0;
+  again.baseline_icp = false;
+  const OdometryReport r = OdometryApp(again).run();
+  EXPECT_GT(r.frames, 0u);
+  EXPECT_TRUE(fs::exists(o.write_rawlog));
 }
 
 }  // namespace

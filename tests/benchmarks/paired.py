@@ -58,6 +58,8 @@ def scan_errors(estimate, reference):
 def block_bootstrap(a, b, resamples=1000, block=20, seed=1):
     """95 % intervals of mean(a) - mean(b) and median(a) - median(b), a and b paired by index."""
     n = len(a)
+    if n < 2 or len(b) != n:
+        raise ValueError("a paired comparison needs two equal series of 2 scans or more (%d, %d)" % (n, len(b)))
     if n < 2 * block:
         block = max(1, n // 4)
     starts = n - block + 1

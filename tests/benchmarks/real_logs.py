@@ -73,7 +73,11 @@ def main():
         mean_ratio = k["time_ms"]["mean"] / l["time_ms"]["mean"] if l["time_ms"]["mean"] > 0 else 0.0
         # Scan by scan against keyframed ICP, with a block-bootstrap interval: a difference
         # whose interval holds 0 is a tie that one run cannot settle.
-        diff = paired.cell(paired.compare(out)) if l.get("log_relations") else "—"
+        try:
+            diff = paired.cell(paired.compare(out)) if l.get("log_relations") else "—"
+        except (ValueError, ArithmeticError) as e:  # too few scans, files that do not pair
+            print("[real] %s: no paired comparison: %s" % (name, e), file=sys.stderr)
+            diff = "—"
         row = "| %s | %s | %d | %s | %s | %s | %s | %s | %s | %s | %.0f / %.0f | %.1f× | %.0f / %.0f | %.1f× | %s |" % (
             name, group, s["frames"], cell(l, "t"), cell(k, "t"), cell(c, "t"), cell(l, "r"), cell(k, "r"),
             cell(c, "r"), lost, l["time_ms"]["median"] * 1e3, k["time_ms"]["median"] * 1e3,

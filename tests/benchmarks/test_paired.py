@@ -60,6 +60,20 @@ class Paired(unittest.TestCase):
             self.assertEqual(paired.verdict(tie["mean_ci"]), "tie")
             self.assertIn("tie", paired.cell(tie))
 
+    def test_correlated_errors_get_a_wider_interval_than_independent_ones(self):
+        # The same spread of per-scan differences, independent or in runs of 40 equal values
+        # (a corridor where one method is off for a while): resampling blocks must see that
+        # the runs carry less information, resampling scans one by one would not.
+        rng = random.Random(6)
+        independent = [rng.gauss(0.0, 1.0) for _ in range(2000)]
+        runs = [v for v in independent[:50] for _ in range(40)]
+        zeros = [0.0] * 2000
+        (ilo, ihi), _ = paired.block_bootstrap(independent, zeros)
+        (rlo, rhi), _ = paired.block_bootstrap(runs, zeros)
+        self.assertGreater(rhi - rlo, 2.0 * (ihi - ilo))
+        with self.assertRaises(ValueError):
+            paired.block_bootstrap([1.0], [2.0])
+
     def test_mismatched_files_are_refused_with_their_place(self):
         ref, est = walk(20, 0.01, 5)
         with self.assertRaises(ValueError):

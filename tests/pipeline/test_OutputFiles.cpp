@@ -154,9 +154,15 @@ std::vector<std::string> filesListedIn(const std::string& manifest) {
 }
 
 // A set of `names` (each holding "NAME of SET") sealed by a manifest listing them.
-void publish(const std::string& dir, const std::vector<std::string>& names, const std::string& set_name) {
+// The names a tool of these tests may write beside its manifest (its own names).
+const std::vector<std::string> kOwnNames = {"lidarseg.tum", "icp.tum", "icp-s2s.tum", "timing.csv",
+                                            "trajectories.png", "run.rawlog"};
+
+void publish(const std::string& dir, const std::vector<std::string>& names, const std::string& set_name,
+             const std::vector<std::string>& inputs = {}) {
   OutputSet set;
-  set.addManifest(dir + "/summary.json", manifestOf);
+  set.claimOutputs({}, {{dir, "-o"}}, inputs);
+  set.addManifest(dir + "/summary.json", manifestOf, kOwnNames);
   for (const auto& n : names) set.add(dir + "/" + n, n + " of " + set_name);
   set.commit();
 }
@@ -201,6 +207,29 @@ TEST(OutputFiles, AManifestNamingFilesOutsideItsFolderRemovesNoneOfThem) {
   EXPECT_EQ(filesListedIn(dir + "/summary.json"), (std::vector<std::string>{"lidarseg.tum", "summary.json"}));
 }
 
+TEST(OutputFiles, AManifestNamesOnlyTheToolsOwnFilesAndNeverTheRunsInput) {
+  const std::string dir = freshFolder("stale-own-names");
+  std::ofstream(dir + "/README.md") << "the user's";
+  std::ofstream(dir + "/data.rawlog") << "the user's log";
+  // A manifest copied from elsewhere (or edited by hand) naming files of the user's.
+  std::ofstream(dir + "/summary.json") << manifestOf({"README.md", "data.rawlog", "icp.tum", "summary.json"});
+  std::ofstream(dir + "/icp.tum") << "an older set's";
+  publish(dir, {"lidarseg.tum"}, "run 2");
+  EXPECT_EQ(slurp(dir + "/README.md"), "the user's");
+  EXPECT_EQ(slurp(dir + "/data.rawlog"), "the user's log");
+  EXPECT_FALSE(fs::exists(dir + "/icp.tum")) << "one of the tool's own names: removed";
+  // A rawlog an earlier run wrote into the folder, read as this run's input: kept, though
+  // its name is one the tool writes and the new set does not write it.
+  publish(dir, {"lidarseg.tum", "run.rawlog"}, "run 3");
+  EXPECT_EQ(slurp(dir + "/run.rawlog"), "run.rawlog of run 3");
+  publish(dir, {"lidarseg.tum"}, "run 4", {dir + "/run.rawlog"});
+  EXPECT_EQ(slurp(dir + "/run.rawlog"), "run.rawlog of run 3");
+  // Run 4's manifest does not list it: kept, it left every set, and no later run removes it.
+  EXPECT_EQ(filesListedIn(dir + "/summary.json"), (std::vector<std::string>{"lidarseg.tum", "summary.json"}));
+  publish(dir, {"lidarseg.tum"}, "run 5");
+  EXPECT_EQ(slurp(dir + "/run.rawlog"), "run.rawlog of run 3");
+}
+
 TEST(OutputFiles, ARunStoppedWhilePublishingLeavesARecordTheNextRunCleansUpBy) {
   const std::string dir = freshFolder("stale-interrupted");
   publish(dir, {"lidarseg.tum", "icp.tum"}, "run 1");
@@ -223,7 +252,7 @@ TEST(OutputFiles, ARunStoppedWhilePublishingLeavesARecordTheNextRunCleansUpBy) {
 TEST(OutputFiles, AManifestMustBeNamedAsOne) {
   const std::string dir = freshFolder("manifest-name");
   OutputSet set;
-  EXPECT_THROW(set.addManifest(dir + "/results.json", manifestOf), std::invalid_argument);
+  EXPECT_THROW(set.addManifest(dir + "/results.json", manifestOf, kOwnNames), std::invalid_argument);
 }
 
 }  // namespace

@@ -67,11 +67,10 @@ void OdometryApp::claimOutputs(OutputSet& outputs) const {
   if (o.write_landmarks && o.write_rawlog.empty()) {
     throw std::invalid_argument("--write-landmarks adds landmarks to the rawlog of --write-rawlog, which is not given");
   }
-  refuseOverwritingInput(o.write_rawlog, o.input, "--write-rawlog");
-  refuseOverwritingInput(o.features_out, o.input, "--features-out");
-  if (!o.out_dir.empty()) outputs.claim((fs::path(o.out_dir) / "summary.json").string());
-  if (!o.write_rawlog.empty()) outputs.claim(o.write_rawlog);
-  if (!o.features_out.empty()) outputs.claim(o.features_out);
+  // The inputs are also what the publishing of the -o folder never removes.
+  const std::string summary = o.out_dir.empty() ? std::string() : (fs::path(o.out_dir) / "summary.json").string();
+  outputs.claimOutputs({{summary, "-o"}, {o.write_rawlog, "--write-rawlog"}, {o.features_out, "--features-out"}}, {},
+                       {o.input, o.gt_path, o.relations_path, o.config_path});
 }
 
 // Ground truth (PREFIX.gt.tum beside the input unless given) and relations files.

@@ -230,6 +230,9 @@ void OutputSet::claimFolder(const std::string& folder) { claim((fs::path(folder)
 
 void OutputSet::claimOutputs(const std::vector<NamedOutput>& files, const std::vector<NamedOutput>& folders,
                              const std::vector<std::string>& inputs) {
+  for (const std::string& input : inputs) {
+    if (!input.empty()) inputs_.push_back(input);
+  }
   // Every refusal first: a refused command line creates no folder and takes no lock.
   for (const auto* outputs : {&files, &folders}) {
     for (const NamedOutput& o : *outputs) {
@@ -323,10 +326,21 @@ void removeStaleFile(const fs::path& path) {
 
 }  // namespace
 
-void OutputSet::addManifest(const std::string& path, ManifestText text) {
+void OutputSet::addManifest(const std::string& path, ManifestText text, std::vector<std::string> own_names) {
   if (!isManifest(path)) throw std::invalid_argument("'" + path + "' is not named " + std::string(kManifest));
   claim(path);
   manifests_.emplace_back(path, std::move(text));
+  for (std::string& name : own_names) own_names_.push_back(std::move(name));
+}
+
+// Whether `path` is the same file as one of the run's inputs (a log the run reads may have
+// been written into its output folder by an earlier run: it is never removed).
+bool OutputSet::isInput(const fs::path& path) const {
+  std::error_code ec;
+  for (const std::string& input : inputs_) {
+    if (fs::equivalent(path, input, ec)) return true;
+  }
+  return false;
 }
 
 // The names of the set's files in the folder of `manifest`, in the order added.
@@ -368,7 +382,9 @@ void OutputSet::retirePreviousSet(const std::string& manifest) {
     throw std::runtime_error("cannot remove the previous '" + manifest + "': " + std::strerror(errno));
   }
   for (const std::string& name : previous) {
-    if (isSetFileName(name) && !contains(mine, name)) removeStaleFile(dir / name);
+    if (isSetFileName(name) && !contains(mine, name) && contains(own_names_, name) && !isInput(dir / name)) {
+      removeStaleFile(dir / name);
+    }
   }
 }
 

@@ -260,9 +260,13 @@ std::vector<std::string> addRunOutputs(OutputSet& outputs, const std::string& ou
   }
   outputs.add(path("timing.csv"), timingCsv(report));
   // Written at commit, listing every file of the set (the plots and a --features-out or
-  // --write-rawlog in this folder included).
+  // --write-rawlog in this folder included). Of an older set's files, only those with the
+  // names below are removed when this set does not write them: a file the user named (a
+  // rawlog written by --write-rawlog may be this run's input) is left in place.
   outputs.addManifest(path("summary.json"),
-                      [&report](const std::vector<std::string>& files) { return summaryJson(report, files); });
+                      [&report](const std::vector<std::string>& files) { return summaryJson(report, files); },
+                      {"lidarseg.tum", "icp.tum", "icp-s2s.tum", "wheel-odometry.tum", "log-poses.tum", "timing.csv",
+                       "results.md", "trajectories.png", "timing.png"});
   outputs.add(path("results.md"), markdownTable(report));
   std::vector<std::string> written = {path("lidarseg.tum"), path("timing.csv"), path("summary.json"), path("results.md")};
   if (report.icp) written.push_back(path("icp.tum"));

@@ -68,7 +68,8 @@ class BatchApp {
                                           std::size_t jobs, const std::string& self_exe, bool progress);
 
   /// runMany(), then aggregate() with `title`, the folder's lock held across both: no other
-  /// writer (another `lidarseg-batch run`, a job started by hand) can add or change a run
+  /// writer (another `lidarseg-batch run` or `aggregate`) can add or change a run (a single
+  /// `lidarseg-batch one` takes only its seed's lock, as the runner's own children do)
   /// between the runs and their table. `between`, when given, is called at that moment, the
   /// lock still held (a test's view of it).
   /// @throws std::runtime_error as runMany() and aggregate() do.

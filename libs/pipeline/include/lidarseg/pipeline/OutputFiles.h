@@ -4,6 +4,7 @@
 /// another run is writing, or a temporary file after an interruption.
 
 #include <fstream>
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
@@ -96,6 +97,7 @@ class OutputSet {
   void claimFolder(const std::string& folder);
   /// What every tool does before its work: refuses any output that is one of `inputs`
   /// (refuseOverwritingInput), then claims each output's folder; empty paths are skipped.
+  /// The inputs are remembered: commit() never removes one as an older set's file.
   /// `folders` are output folders (claimed themselves), `files` output files.
   void claimOutputs(const std::vector<NamedOutput>& files, const std::vector<NamedOutput>& folders,
                     const std::vector<std::string>& inputs);
@@ -105,9 +107,12 @@ class OutputSet {
   std::string addWritten(const std::string& path);
   /// Adds the manifest (`path` named kManifest), written by commit() once the set's files are
   /// known: `text` receives their names and must list them under kManifestFiles, which is
-  /// how the next set finds the files this one leaves behind.
+  /// how the next set finds the files this one leaves behind. `own_names`: every name the
+  /// tool may write beside the manifest in any of its runs; only those are removed as the
+  /// files of an older set (a manifest edited by hand, or copied from elsewhere, can then
+  /// name no other file of the folder), and never a file that is one of the run's inputs.
   /// @throws std::invalid_argument when `path` is not named kManifest.
-  void addManifest(const std::string& path, ManifestText text);
+  void addManifest(const std::string& path, ManifestText text, std::vector<std::string> own_names);
   /// Renames every temporary file to its final name, the manifest last, after removing the
   /// manifest it replaces and the files of its set that this one does not write (see the
   /// class comment).
@@ -123,8 +128,11 @@ class OutputSet {
   std::vector<std::string> namesBeside(const std::string& manifest) const;
   void writeManifests();
   void retirePreviousSet(const std::string& manifest);
+  bool isInput(const std::filesystem::path& path) const;
   std::vector<Pending> pending_;
   std::vector<std::pair<std::string, ManifestText>> manifests_;  // written by commit()
+  std::vector<std::string> own_names_;  // what an older set's manifest may have removed
+  std::vector<std::string> inputs_;     // by claimOutputs(): never removed
   std::vector<std::string> locked_folders_;  // canonical; the locks are shared within the process
   std::vector<std::string> created_folders_;  // by claim(): removed again when nothing was published
   bool committed_ = false;
