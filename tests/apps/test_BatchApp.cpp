@@ -12,6 +12,7 @@
 
 #include "EmptyPath.h"
 #include "lidarseg/apps/BatchApp.h"
+#include "lidarseg/eval/Csv.h"
 #include "lidarseg/pipeline/BatchResults.h"
 
 namespace lidarseg::apps {
@@ -80,16 +81,11 @@ TEST(BatchApp, RunsResumeAndAggregate) {
   std::string header, row;
   std::getline(csv, header);
   std::getline(csv, row);
-  const auto column = [](const std::string& line, const std::string& name_line, const std::string& name) {
-    std::size_t index = 0, start = 0;
-    for (std::size_t at = 0; at < name_line.size(); ++at) {
-      if (name_line.compare(at, name.size() + 1, name + ",") == 0 && (at == 0 || name_line[at - 1] == ',')) break;
-      if (name_line[at] == ',') ++index;
-    }
-    for (std::size_t k = 0; k < index; ++k) start = line.find(',', start) + 1;
-    return line.substr(start, line.find(',', start) - start);
-  };
-  EXPECT_EQ(column(row, header, "speedup_median"), "nan") << header << "\n" << row;
+  const std::vector<std::string> names = eval::splitCsvLine(header), values = eval::splitCsvLine(row);
+  ASSERT_EQ(names.size(), values.size()) << header << "\n" << row;
+  const auto at = std::find(names.begin(), names.end(), "speedup_median");
+  ASSERT_NE(at, names.end()) << header;
+  EXPECT_EQ(values[static_cast<std::size_t>(at - names.begin())], "nan") << header << "\n" << row;
   // Without gnuplot: the table and a warning, no picture (none of the earlier runs left).
   ::testing::internal::CaptureStderr();
   {

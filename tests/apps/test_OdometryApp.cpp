@@ -14,6 +14,7 @@
 
 #include "lidarseg/eval/StampedTrajectory.h"
 #include "lidarseg/apps/OdometryApp.h"
+#include "lidarseg/eval/Csv.h"
 #include "lidarseg/apps/SimulateApp.h"
 #include "lidarseg/mrpt/RawlogScanReader.h"
 #include "lidarseg/pipeline/ReportWriters.h"
@@ -115,22 +116,14 @@ TEST(OdometryApp, SimulatedRunBothMethodsEveryOutput) {
   std::ifstream csv(o.out_dir + "/timing.csv");
   std::string line;
   std::getline(csv, line);
-  const auto columns = [](const std::string& l) {
-    std::vector<std::string> out(1);
-    for (char ch : l) {
-      if (ch == ',') out.emplace_back();
-      else out.back().push_back(ch);
-    }
-    return out;
-  };
-  const std::vector<std::string> header = columns(line);
+  const std::vector<std::string> header = eval::splitCsvLine(line);
   const auto searched_at = std::find(header.begin(), header.end(), "searched");
   ASSERT_NE(searched_at, header.end()) << line;
   const auto searched_col = static_cast<std::size_t>(searched_at - header.begin());
   std::size_t lines = 1, searched = 0;
   while (std::getline(csv, line)) {
     ++lines;
-    const std::vector<std::string> row = columns(line);
+    const std::vector<std::string> row = eval::splitCsvLine(line);
     ASSERT_EQ(row.size(), header.size()) << line;
     EXPECT_TRUE(row[searched_col] == "0" || row[searched_col] == "1") << line;
     searched += row[searched_col] == "1";
