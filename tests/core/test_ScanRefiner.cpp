@@ -130,5 +130,23 @@ TEST(ScanRefiner, KeptPairingsReachTheSamePose) {
   EXPECT_LE(b.iterations, a.iterations);
 }
 
+// `converged` tells a refinement that stopped because its last step was below
+// convergence_m from one whose iterations ran out while the pose still moved (the odometry
+// then also refines from the prior).
+TEST(ScanRefiner, ConvergedSaysWhetherThePoseStoppedMoving) {
+  const sim::World world = testing::corridorWithDoors(2.0, {{3.0, 0.9, 0.3}});
+  const Segmentation key = segmentAt(world, {0.0, 1.0, 0.0}, 1);
+  const Segmentation cur = segmentAt(world, {0.1, 1.05, 0.02}, 2);
+  const RefineResult full = ScanRefiner().refine(key, cur, Pose2D{});
+  EXPECT_TRUE(full.converged);
+  EXPECT_LT(full.iterations, RefinerParams{}.max_iterations);
+  RefinerParams one;
+  one.max_iterations = 1;  // the first step moves the points by centimetres
+  const RefineResult cut = ScanRefiner(one).refine(key, cur, Pose2D{});
+  EXPECT_EQ(cut.iterations, 1u);
+  EXPECT_FALSE(cut.converged);
+  EXPECT_GT(std::abs(cut.T_key_curr.x - full.T_key_curr.x) + std::abs(cut.T_key_curr.y - full.T_key_curr.y), 1e-3);
+}
+
 }  // namespace
 }  // namespace lidarseg

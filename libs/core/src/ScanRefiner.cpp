@@ -445,7 +445,10 @@ RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segme
     T.yaw = wrapAngle(T.yaw + step.z());
     result.iterations = it + 1;
     const double moved = std::max(std::hypot(step.x(), step.y()), std::abs(step.z()) * L);
-    if (moved < P.convergence_m) break;
+    if (moved < P.convergence_m) {
+      result.converged = true;
+      break;
+    }
     // Small steps keep the pairings (the points move by less than reassociate_m).
     reuse = moved < P.reassociate_m;
   }

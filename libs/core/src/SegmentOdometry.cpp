@@ -162,7 +162,10 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
   RefineResult best;
   if (matched) best = refiner_.refine(refine_keyframe_, cur, m.T_prev_curr);
   // 2. From the prior, when the match failed, moved far from the prior (it may have locked
-  // onto a wrong couple: a repeated door, a corridor) or its refinement is doubtful.
+  // onto a wrong couple: a repeated door, a corridor), its refinement is doubtful, or that
+  // refinement was still moving when its iterations ran out (a start off along a corridor
+  // whose only cue is a jamb or a pillar: the pose crawls towards it by a centimetre or two
+  // per iteration, so where it stopped depends on where it started).
   const Pose2D shift = relative(best.T_key_curr, prior);
   const bool far = std::hypot(shift.x, shift.y) > params_.refiner.max_distance_m ||
                    std::abs(shift.yaw) > params_.refiner.max_distance_m / std::max(1.0, best.rms_range_m);
@@ -179,7 +182,7 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
     return r.status != RefineStatus::kFailed && (!gated || plausible(r)) &&
            static_cast<double>(r.inliers) > (1.0 + params_.prior_preference) * static_cast<double>(reference->inliers);
   };
-  if (!matched || far || doubtful(best)) {
+  if (!matched || far || doubtful(best) || !best.converged) {
     reference = refiner_.refine(refine_keyframe_, cur, prior);
     if (!matched || !replaces(best, false)) best = *reference;
   }

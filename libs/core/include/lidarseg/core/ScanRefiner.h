@@ -115,6 +115,9 @@ struct RefineResult {
   /// Root mean square range of the points used (m): the lever arm of a rotation.
   double rms_range_m = 0.0;
   std::size_t iterations = 0;
+  /// The last Gauss-Newton step moved the points less than convergence_m (false: the
+  /// iterations ran out while the pose was still moving, e.g. sliding along a corridor).
+  bool converged = false;
   /// Unit direction (keyframe frame) along which the translation is unconstrained.
   Eigen::Vector2d degenerate_direction = Eigen::Vector2d::Zero();
 };
