@@ -35,9 +35,9 @@ TEST(BatchApp, ParseSeeds) {
   EXPECT_THROW(parseSeeds("1-60000,100001-160000"), std::invalid_argument);  // 120,000 runs
 }
 
-TEST(BatchApp, RunsResumeAndAggregate) {
-  // Its own folder only: CTest runs this file's tests as parallel processes under kTmp.
-  const std::string dir = kTmp + "/resume";
+// A job of 6 m through the maze, its trajectory and results in `dir` (emptied first): its
+// own folder, since CTest runs this file's tests as parallel processes under kTmp.
+BatchJob shortMazeJob(const std::string& dir) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   const std::string traj = dir + "/short.traj";
@@ -46,6 +46,12 @@ TEST(BatchApp, RunsResumeAndAggregate) {
   job.world_path = kWorlds + "maze.world";
   job.trajectory_path = traj;
   job.out_dir = dir + "/out";
+  return job;
+}
+
+TEST(BatchApp, RunsResumeAndAggregate) {
+  const std::string dir = kTmp + "/resume";
+  BatchJob job = shortMazeJob(dir);
   for (std::uint64_t seed : {1, 2}) {
     job.seed = seed;
     BatchApp::runOne(job);
@@ -218,15 +224,8 @@ int holdFolderLock(const std::string& dir, int how) {
 // (a cluster's array job), and an aggregation is refused while one runs; a runner's own job
 // inherits the runner's lock and nothing else passes for it.
 TEST(BatchApp, AJobStartedByHandIsRefusedBesideARunnerAndSharesTheFolderWithOtherJobs) {
-  const std::string dir = kTmp + "/one-by-hand";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const std::string traj = dir + "/short.traj";
-  std::ofstream(traj) << "speed 1.0\nturn_radius 0.6\nwaypoint 24 0\nwaypoint 30 0\n";
-  BatchJob job;
-  job.world_path = kWorlds + "maze.world";
-  job.trajectory_path = traj;
-  job.out_dir = dir + "/out";
+  BatchJob job = shortMazeJob(kTmp + "/one-by-hand");
+  const std::string traj = job.trajectory_path;
   job.baseline_icp = false;
   job.seed = 1;
 
