@@ -62,6 +62,9 @@ int main(int argc, char** argv) {
     TCLAP::SwitchArg keep("", "keep-data", "keep the simulated rawlogs", cmd);
     TCLAP::SwitchArg quiet("q", "quiet", "no progress on stderr", cmd);
     TCLAP::ValueArg<std::string> title("", "title", "title of the aggregated table", false, "", "TEXT", cmd);
+    TCLAP::ValueArg<int> lock_fd("", "folder-lock-fd",
+                                 "(one; set by run for its jobs) the runner's lock on --out, inherited as descriptor N",
+                                 false, -1, "N", cmd);
     if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc - 1, argv + 1, "lidarseg-batch " + command,
                                                              {{"--sensor", "--sensor-model"}})) {
       return *status;
@@ -78,6 +81,7 @@ int main(int argc, char** argv) {
     job.keep_data = keep.getValue();
     if (command == "one") {
       job.seed = seed.getValue();
+      job.folder_lock_fd = lock_fd.getValue();
       BatchApp::runOne(job);
       return 0;
     }

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "EmptyPath.h"
+#include "ErrorOf.h"
 #include "lidarseg/apps/BatchApp.h"
 #include "lidarseg/eval/Csv.h"
 #include "lidarseg/pipeline/BatchResults.h"
@@ -20,6 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 const std::string kWorlds = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/";
 const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/batch";
+using lidarseg::testing::errorOf;
 
 TEST(BatchApp, ParseSeeds) {
   EXPECT_EQ(parseSeeds("1-3"), (std::vector<std::uint64_t>{1, 2, 3}));
@@ -33,15 +35,23 @@ TEST(BatchApp, ParseSeeds) {
   EXPECT_THROW(parseSeeds("1-60000,100001-160000"), std::invalid_argument);  // 120,000 runs
 }
 
-TEST(BatchApp, RunsResumeAndAggregate) {
-  fs::remove_all(kTmp);
-  fs::create_directories(kTmp);
-  const std::string traj = kTmp + "/short.traj";
+// A job of 6 m through the maze, its trajectory and results in `dir` (emptied first): its
+// own folder, since CTest runs this file's tests as parallel processes under kTmp.
+BatchJob shortMazeJob(const std::string& dir) {
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string traj = dir + "/short.traj";
   std::ofstream(traj) << "speed 1.0\nturn_radius 0.6\nwaypoint 24 0\nwaypoint 30 0\n";
   BatchJob job;
   job.world_path = kWorlds + "maze.world";
   job.trajectory_path = traj;
-  job.out_dir = kTmp + "/out";
+  job.out_dir = dir + "/out";
+  return job;
+}
+
+TEST(BatchApp, RunsResumeAndAggregate) {
+  const std::string dir = kTmp + "/resume";
+  BatchJob job = shortMazeJob(dir);
   for (std::uint64_t seed : {1, 2}) {
     job.seed = seed;
     BatchApp::runOne(job);
@@ -66,11 +76,11 @@ TEST(BatchApp, RunsResumeAndAggregate) {
   EXPECT_TRUE(fs::exists(job.out_dir + "/aggregate.csv"));
   EXPECT_TRUE(fs::exists(job.out_dir + "/final_errors.png"));
   EXPECT_NE(s.table_markdown.find("µs; speed-up"), std::string::npos) << s.table_markdown;
-  EXPECT_THROW(BatchApp::aggregate(kTmp + "/nothing-here", "x"), std::runtime_error);
+  EXPECT_THROW(BatchApp::aggregate(dir + "/nothing-here", "x"), std::runtime_error);
   // Without ICP there is no ratio to give: no "0.0x" speed-up, no ICP time, a NaN in the CSV.
   BatchJob alone = job;
   alone.baseline_icp = false;
-  alone.out_dir = kTmp + "/out-no-icp";
+  alone.out_dir = dir + "/out-no-icp";
   alone.seed = 1;
   BatchApp::runOne(alone);
   const BatchSummary a = BatchApp::aggregate(alone.out_dir, "test");
@@ -174,9 +184,11 @@ TEST(BatchApp, TheFolderStaysLockedFromTheRunsToTheirTable) {
   values = values.substr(values.find(','));
   std::ofstream(dir + "/metrics.head") << pipeline::metricsHeader();
   std::ofstream(dir + "/metrics.values") << values;
+  // It also checks that it inherited the runner's folder lock under the number it is given.
   const std::string script = dir + "/job.sh";
   std::ofstream(script) << "#!/bin/sh\n"
-                           "while [ $# -gt 0 ]; do case \"$1\" in --seed) seed=$2;; --out) out=$2;; esac; shift; done\n"
+                           "while [ $# -gt 0 ]; do case \"$1\" in --seed) seed=$2;; --out) out=$2;; --folder-lock-fd) fd=$2;; esac; shift; done\n"
+                           "case $(readlink /proc/$$/fd/$fd) in */.lidarseg.lock) ;; *) echo 'no lock inherited' >&2; exit 1;; esac\n"
                            "mkdir -p \"$out/run_$seed\" && { cat '" << dir << "/metrics.head'; printf %s \"$seed\"; cat '"
                         << dir << "/metrics.values'; } > \"$out/run_$seed/metrics.csv\"\n";
   fs::permissions(script, fs::perms::owner_all);
@@ -191,11 +203,71 @@ TEST(BatchApp, TheFolderStaysLockedFromTheRunsToTheirTable) {
   });
   EXPECT_TRUE(between_called);
   EXPECT_TRUE(locked_between) << "the folder was free between the runs and the aggregation";
-  EXPECT_TRUE(outcome.failed.empty());
+  EXPECT_TRUE(outcome.failed.empty()) << outcome.failed.front();
   EXPECT_EQ(outcome.summary.runs, 3u);
   EXPECT_EQ(outcome.summary.seeds, (std::vector<std::uint64_t>{1, 2, 3}));
   EXPECT_TRUE(fs::exists(job.out_dir + "/table1.md"));
   EXPECT_TRUE(anotherWriterCouldLock(job.out_dir)) << "released once the table is written";
+}
+
+// The folder's lock as another process would hold it: its own open file, locked `how`
+// (LOCK_EX: a runner or an aggregation; LOCK_SH: a job started by hand).
+int holdFolderLock(const std::string& dir, int how) {
+  fs::create_directories(dir);
+  const int fd = ::open((dir + "/.lidarseg.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0 || ::flock(fd, how | LOCK_NB) != 0) ADD_FAILURE() << "cannot lock " << dir;
+  return fd;
+}
+
+// `lidarseg-batch one` started by hand is a writer like any other (issue 16): refused while a
+// runner or an aggregation holds the folder; jobs started by hand share it with each other
+// (a cluster's array job), and an aggregation is refused while one runs; a runner's own job
+// inherits the runner's lock and nothing else passes for it.
+TEST(BatchApp, AJobStartedByHandIsRefusedBesideARunnerAndSharesTheFolderWithOtherJobs) {
+  BatchJob job = shortMazeJob(kTmp + "/one-by-hand");
+  const std::string traj = job.trajectory_path;
+  job.baseline_icp = false;
+  job.seed = 1;
+
+  // A runner (another process) holds the folder: a job by hand is refused before any work.
+  const int runner = holdFolderLock(job.out_dir, LOCK_EX);
+  const std::string refused = errorOf([&] { BatchApp::runOne(job); });
+  EXPECT_NE(refused.find("another run is writing into '" + job.out_dir + "'"), std::string::npos) << refused;
+  EXPECT_FALSE(BatchApp::finished(job.out_dir, 1));
+  EXPECT_FALSE(fs::exists(BatchApp::runDir(job.out_dir, 1) + ".partial"));
+  // Another open file of the lock, or another file, does not pass for the runner's.
+  const int other = ::open((job.out_dir + "/.lidarseg.lock").c_str(), O_RDWR | O_CLOEXEC);
+  job.folder_lock_fd = other;
+  EXPECT_NE(errorOf([&] { BatchApp::runOne(job); }).find("is not the held lock"), std::string::npos);
+  ::close(other);
+  const int not_lock = ::open(traj.c_str(), O_RDONLY | O_CLOEXEC);
+  job.folder_lock_fd = not_lock;
+  EXPECT_NE(errorOf([&] { BatchApp::runOne(job); }).find("is not the held lock"), std::string::npos);
+  ::close(not_lock);
+  EXPECT_FALSE(BatchApp::finished(job.out_dir, 1));
+  // The runner's own job: the runner's open file, inherited (a copy of its descriptor).
+  job.folder_lock_fd = ::dup(runner);
+  BatchApp::runOne(job);
+  EXPECT_TRUE(BatchApp::finished(job.out_dir, 1));
+  EXPECT_FALSE(anotherWriterCouldLock(job.out_dir)) << "the job released its runner's lock";
+  ::close(runner);
+  job.folder_lock_fd = -1;
+
+  // Jobs by hand share the folder (each holds its seed); an aggregation waits for them.
+  const int by_hand = holdFolderLock(job.out_dir, LOCK_SH);
+  EXPECT_NO_THROW(BatchApp::runOne(job));  // finished: returns once it has shared the lock
+  const std::string aggregation = errorOf([&] { BatchApp::aggregate(job.out_dir, "x"); });
+  EXPECT_NE(aggregation.find("another run is writing into"), std::string::npos) << aggregation;
+  ::close(by_hand);
+  EXPECT_EQ(BatchApp::aggregate(job.out_dir, "x").runs, 1u);
+
+  // A job by hand checks the folder's experiment as the runner does.
+  BatchJob other_sensor = job;
+  other_sensor.sensor = "utm30lx";
+  other_sensor.seed = 2;
+  const std::string experiment = errorOf([&] { BatchApp::runOne(other_sensor); });
+  EXPECT_NE(experiment.find("another experiment"), std::string::npos) << experiment;
+  EXPECT_FALSE(BatchApp::finished(job.out_dir, 2));
 }
 
 }  // namespace

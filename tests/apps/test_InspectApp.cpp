@@ -231,6 +231,40 @@ TEST(InspectApp, ReportWithoutGnuplotHasNoPlotsAndSaysWhy) {
   EXPECT_NE(html.find("frames/scan_"), std::string::npos);  // the gallery is still there
 }
 
+// The inspector finds the ground truth beside a CARMEN log as beside a rawlog, as
+// lidarseg-odometry does: PREFIX.gt.tum beside the simulator's PREFIX.carmen.log, and
+// NAME.gt.tum beside NAME.log (issue 15).
+TEST(InspectApp, FindsTheGroundTruthBesideACarmenLogAsTheOdometryDoes) {
+  const std::string dir = testDir();
+  const std::string traj = dir + "/short.traj";
+  std::ofstream(traj) << "speed 1.0\nturn_radius 0.6\nwaypoint 5 0\nwaypoint 8 0\n";
+  SimulateOptions sim;
+  sim.world_path = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/hospital.world";
+  sim.trajectory_path = traj;
+  sim.out_prefix = dir + "/sim";
+  sim.camera_every_scans = 0;
+  sim.write_carmen = true;
+  SimulateApp(sim).run();
+  const std::string truth = sim.out_prefix + ".gt.tum";
+  const std::size_t truth_poses = eval::readTum(truth).size();
+  ASSERT_GT(truth_poses, 0u);
+  fs::copy_file(sim.out_prefix + ".carmen.log", dir + "/copy.log", fs::copy_options::overwrite_existing);
+  fs::copy_file(truth, dir + "/copy.gt.tum", fs::copy_options::overwrite_existing);
+  for (const std::string& log : {sim.out_prefix + ".carmen.log", dir + "/copy.log", sim.out_prefix + ".rawlog"}) {
+    InspectOptions o;
+    o.input = log;
+    const auto session = InspectApp(o).open();
+    ASSERT_EQ(session->references().size(), 1u) << log;
+    EXPECT_EQ(session->references()[0].name, "ground truth") << log;
+    EXPECT_EQ(session->references()[0].poses.size(), truth_poses) << log;
+    OdometryOptions odometry;
+    odometry.input = log;
+    odometry.progress = false;
+    odometry.max_scans = 5;
+    EXPECT_FALSE(OdometryApp(odometry).run().gt_path.empty()) << log;
+  }
+}
+
 TEST(InspectApp, KeysAreListed) {
   const auto keys = InspectApp::keyHelp();
   std::string all;

@@ -27,6 +27,7 @@
 #include "lidarseg/core/SegmentOdometry.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/mrpt/OdometryConfig.h"
+#include "lidarseg/pipeline/ReportWriters.h"
 
 namespace lidarseg {
 namespace {
@@ -447,6 +448,79 @@ TEST(BadInputs, TheOdometryFeaturesAndSegmentToolsSkipAndCountTheSameRecords) {
   EXPECT_FALSE(feature_stamps.empty());
   EXPECT_EQ(feature_stamps, csvColumn(oo.features_out, 0));
   EXPECT_EQ(slurp(fo.out_csv), slurp(oo.features_out));
+}
+
+// lidarseg-features and lidarseg-segment report a log's time gaps and clock jumps as
+// lidarseg-odometry does (issue 15): counted in their summary (features.json and features.md;
+// segment's table), and on stderr one line per kind with the count and the first place.
+TEST(BadInputs, TheFeaturesAndSegmentToolsReportGapsAndClockJumpsAsTheOdometryDoes) {
+  std::ostringstream log;
+  double x = 0.0, t = 10.0;
+  std::vector<int> jump_lines, gap_lines;
+  int line = 0;
+  const auto scans = [&](int n) {
+    for (int k = 0; k < n; ++k, x += 0.02, t += 0.1) log << flaser(x, t) << "\n", ++line;
+  };
+  scans(6);
+  t -= 5.0;  // the clock jumps back (by 4.9 s from the last scan)
+  jump_lines.push_back(line + 1);
+  scans(6);
+  t += 5.0;  // a 5 s gap
+  gap_lines.push_back(line + 1);
+  scans(6);
+  t -= 3.0;  // back again
+  jump_lines.push_back(line + 1);
+  scans(6);
+  const std::string path = put("clock_jump.log", log.str());
+  const std::string dir = kTmp + "/clock_jump";
+  fs::remove_all(dir);
+
+  const OdometryReport o = OdometryApp(optionsFor(path, "")).run();
+  ASSERT_EQ(o.clock_jumps, 2u);
+  ASSERT_EQ(o.time_gaps, 1u);
+  std::ostringstream odometry_err;
+  pipeline::printRunWarnings(o, "lidarseg-odometry", odometry_err);
+
+  apps::FeaturesOptions fo;
+  fo.input = path;
+  fo.report_dir = dir + "/features";
+  fo.progress = false;
+  const apps::FeaturesReport f = apps::FeaturesApp(fo).run();
+  apps::SegmentStatsOptions so;
+  so.input = path;
+  so.progress = false;
+  const apps::SegmentStatsReport s = apps::SegmentStatsApp(so).run();
+
+  for (const auto* stamps : {&f.stamps, &s.stamps}) {
+    EXPECT_EQ(stamps->clock_jumps, o.clock_jumps);
+    EXPECT_EQ(stamps->time_gaps, o.time_gaps);
+    EXPECT_EQ(stamps->non_increasing_stamps, o.non_increasing_stamps);
+  }
+  EXPECT_EQ(f.log_warnings, o.warnings);
+  EXPECT_EQ(s.warnings, o.warnings);
+
+  // stderr: the odometry's lines, each tool under its own name.
+  std::ostringstream features_err, segment_err;
+  apps::FeaturesApp::printWarnings(f, features_err);
+  apps::SegmentStatsApp::printWarnings(s, segment_err);
+  const std::string first_jump = path + ":" + std::to_string(jump_lines[0]) + ": the clock jumps back by 4.9";
+  const std::string first_gap = path + ":" + std::to_string(gap_lines[0]) + ": time gap of 5.1";
+  for (const auto& [tool, err] : {std::pair<std::string, std::string>{"lidarseg-odometry", odometry_err.str()},
+                                  {"lidarseg-features", features_err.str()},
+                                  {"lidarseg-segment", segment_err.str()}}) {
+    EXPECT_NE(err.find(tool + ": warning: 2 x, the first: " + first_jump), std::string::npos) << err;
+    EXPECT_NE(err.find(tool + ": warning: 1 x, the first: " + first_gap), std::string::npos) << err;
+  }
+  // The summaries: features.json and features.md, segment's table.
+  const std::string json = slurp(fo.report_dir + "/features.json");
+  EXPECT_NE(json.find("\"clock_jumps\": 2"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"time_gaps\": 1"), std::string::npos) << json;
+  EXPECT_NE(json.find("the clock jumps back by"), std::string::npos) << json;
+  const std::string counts = "skipped: 0, non-increasing stamps: 0, time gaps: 1, clock jumps: 2";
+  EXPECT_NE(slurp(fo.report_dir + "/features.md").find(counts), std::string::npos);
+  std::ostringstream table;
+  apps::SegmentStatsApp::print(s, table);
+  EXPECT_NE(table.str().find(counts), std::string::npos) << table.str();
 }
 
 // --- Rows: non-monotonic and duplicate timestamps ---------------------------------------

@@ -57,6 +57,19 @@ TEST(FuzzFindings, F2_IniPreprocessorErrorsNameTheFile) {
   EXPECT_NE(e.find(path + ": not a valid INI file"), std::string::npos) << e;
 }
 
+// An expression MRPT's INI preprocessor cannot evaluate ($eval{1+}) is reported with MRPT's
+// message in one line after the file's name, not with its banner "==== MRPT exception ===="
+// in place of the message (issue 16, class 6: found by the audit of 2026-11-26).
+TEST(FuzzFindings, AnIniEvalErrorGivesMrptsMessageInOneLineNotItsBanner) {
+  const std::string path = write("bad-eval.ini", "[segmentation]\nwd_threshold_m = $eval{1+}\n");
+  const std::string e = errorOf([&] { mrpt_adapter::loadSegmentationParamsFile(path); });
+  const std::string prefix = path + ": not a valid INI file: ";
+  ASSERT_EQ(e.rfind(prefix, 0), 0u) << e;
+  EXPECT_GT(e.size(), prefix.size() + 3) << e;
+  EXPECT_EQ(e.find("MRPT exception"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+}
+
 // F3 (fuzz_tables): a true-features CSV with scan = 6.7e22 was converted to size_t
 // (undefined behaviour). Now an error naming file, line and column.
 TEST(FuzzFindings, F3_HugeScanIndexInTrueFeaturesIsAnError) {

@@ -187,6 +187,39 @@ TEST(ImageFile, AVideoWhoseFramesAreBeyondTheCapIsRefusedBeforeAnyIsDecoded) {
   EXPECT_NE(e.find("up to 8192 x 8192 pixels"), std::string::npos) << e;
 }
 
+// A Motion-JPEG frame's size is its own JPEG header's, whatever the container declares: each
+// frame is checked from that header before it is decoded (issue 16). Here the second frame of
+// a 64 x 48 video declares 8200 x 16; FFmpeg could not decode it, and the video used to end
+// there without a word.
+TEST(ImageFile, AMotionJpegFrameBeyondTheCapIsRefusedFromItsHeaderBeforeItIsDecoded) {
+  const std::string small = mjpegVideo("changing.avi", 64, 48);
+  if (small.empty()) GTEST_SKIP() << "this OpenCV cannot write an MJPEG video";
+  std::ifstream in(small, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  in.close();
+  std::vector<std::size_t> frame_headers;  // SOF0 of each frame: FF C0, length, precision, height, width
+  for (std::size_t i = 0; i + 9 < bytes.size(); ++i) {
+    if (static_cast<unsigned char>(bytes[i]) == 0xFF && static_cast<unsigned char>(bytes[i + 1]) == 0xC0) {
+      frame_headers.push_back(i);
+    }
+  }
+  ASSERT_EQ(frame_headers.size(), 2u);
+  const std::size_t sof = frame_headers[1];
+  bytes[sof + 5] = 0, bytes[sof + 6] = 16;                                        // height 16
+  bytes[sof + 7] = static_cast<char>(8200 / 256), bytes[sof + 8] = static_cast<char>(8200 % 256);  // width 8200
+  const std::string changing = kTmp + "/changing-size.avi";
+  std::ofstream(changing, std::ios::binary) << bytes;
+
+  FrameSource frames(changing);  // the container declares 64 x 48
+  cv::Mat frame;
+  std::string file;
+  ASSERT_TRUE(frames.next(frame, file));
+  EXPECT_EQ(frame.cols, 64);
+  const std::string e = errorOf([&] { frames.next(frame, file); });
+  EXPECT_EQ(e, "'" + changing + "', frame 1: video frame of 8200 x 16 pixels; images are read from 1 x 1 up to "
+                "8192 x 8192 pixels");
+}
+
 TEST(ImageFile, TheCapIsOneToMaxOnEachSide) {
   EXPECT_NO_THROW(requireImageSize(1, 1, "w", "x"));
   EXPECT_NO_THROW(requireImageSize(kMaxImageSidePx, kMaxImageSidePx, "w", "x"));

@@ -79,9 +79,30 @@ void removeSimulatedData(const fs::path& work) {
   fs::remove_all(work / "sim_Images", ec);
 }
 
+// What makes the runs of a folder one experiment: the inputs' contents, the sensor and the
+// baselines. A folder resumed with another experiment would average two into one table.
+std::string experimentOf(const BatchJob& job) {
+  std::ostringstream os;
+  os << "world " << pipeline::fileDigest(job.world_path) << "\ntrajectory " << pipeline::fileDigest(job.trajectory_path) << "\nsensor "
+     << job.sensor << "\nsimulation_config " << pipeline::fileDigest(job.sim_config_path) << "\nodometry_config "
+     << pipeline::fileDigest(job.odometry_config_path) << "\nbaseline_icp " << (job.baseline_icp ? 1 : 0) << "\n";
+  return os.str();
+}
+
 }  // namespace
 
 void BatchApp::runOne(const BatchJob& job) {
+  // Before any work: the runner's own job inherits its lock; a job started by hand shares
+  // the folder with other such jobs and is refused beside a runner or an aggregation.
+  OutputSet folder;
+  if (job.folder_lock_fd >= 0) {
+    folder.claimInheritedFolder(job.out_dir, job.folder_lock_fd);
+  } else {
+    folder.claimFolderShared(job.out_dir);
+    // Jobs sharing the folder record or check its experiment one at a time.
+    const pipeline::FileLock record((fs::path(job.out_dir) / ".locks" / "experiment.lock").string());
+    pipeline::claimExperiment(job.out_dir, experimentOf(job));
+  }
   if (finished(job.out_dir, job.seed)) return;
   const pipeline::FileLock lock((fs::path(job.out_dir) / ".locks" / ("run_" + std::to_string(job.seed) + ".lock")).string());
   if (finished(job.out_dir, job.seed)) return;  // finished by the job that held the lock
@@ -107,27 +128,19 @@ std::string jobLogPath(const std::string& out_dir, std::uint64_t seed) {
   return (fs::path(out_dir) / ("run_" + std::to_string(seed) + ".log")).string();
 }
 
-// The job's command line: `self_exe one` with the run's settings and `seed`.
+// The job's command line: `self_exe one` with the run's settings, `seed` and the runner's
+// folder lock (base.folder_lock_fd), which the job inherits.
 std::vector<std::string> jobCommand(const BatchJob& base, std::uint64_t seed,
                                     const std::string& self_exe) {
   std::vector<std::string> args = {self_exe, "one", "--world", base.world_path, "--trajectory",
                                    base.trajectory_path, "--sensor", base.sensor, "--seed",
-                                   std::to_string(seed), "--out", base.out_dir};
+                                   std::to_string(seed), "--out", base.out_dir, "--folder-lock-fd",
+                                   std::to_string(base.folder_lock_fd)};
   if (!base.sim_config_path.empty()) args.insert(args.end(), {"--sim-config", base.sim_config_path});
   if (!base.odometry_config_path.empty()) args.insert(args.end(), {"--config", base.odometry_config_path});
   if (!base.baseline_icp) args.push_back("--no-icp");
   if (base.keep_data) args.push_back("--keep-data");
   return args;
-}
-
-// What makes the runs of a folder one experiment: the inputs' contents, the sensor and the
-// baselines. A folder resumed with another experiment would average two into one table.
-std::string experimentOf(const BatchJob& job) {
-  std::ostringstream os;
-  os << "world " << pipeline::fileDigest(job.world_path) << "\ntrajectory " << pipeline::fileDigest(job.trajectory_path) << "\nsensor "
-     << job.sensor << "\nsimulation_config " << pipeline::fileDigest(job.sim_config_path) << "\nodometry_config "
-     << pipeline::fileDigest(job.odometry_config_path) << "\nbaseline_icp " << (job.baseline_icp ? 1 : 0) << "\n";
-  return os.str();
 }
 
 }  // namespace
@@ -154,7 +167,7 @@ std::vector<std::string> runSeeds(const BatchJob& base, const std::vector<std::u
                                   const std::string& self_exe, bool progress) {
   std::vector<pipeline::ChildJob> children;
   for (const std::uint64_t seed : todo) {
-    children.push_back({jobCommand(base, seed, self_exe), jobLogPath(base.out_dir, seed)});
+    children.push_back({jobCommand(base, seed, self_exe), jobLogPath(base.out_dir, seed), {base.folder_lock_fd}});
   }
   std::vector<std::string> failed;
   std::size_t done = 0;
@@ -188,12 +201,14 @@ std::vector<std::string> runSeeds(const BatchJob& base, const std::vector<std::u
 namespace {
 
 // runMany() with the folder's lock taken in `claimed`, which the caller may keep holding.
-std::vector<std::string> runManyClaimed(const BatchJob& base, const std::vector<std::uint64_t>& seeds, std::size_t jobs,
+std::vector<std::string> runManyClaimed(const BatchJob& given, const std::vector<std::uint64_t>& seeds, std::size_t jobs,
                                         const std::string& self_exe, bool progress, OutputSet& claimed) {
-  // Before any work: a second runner on this folder is refused at once (the jobs lock their
-  // own run folders and seeds).
-  claimed.claimOutputs({}, {{base.out_dir, "--out"}},
-                       {base.world_path, base.trajectory_path, base.sim_config_path, base.odometry_config_path});
+  // Before any work: a second runner, an aggregation or a job started by hand on this folder
+  // is refused at once; the runner's own jobs inherit its lock (and lock their seeds).
+  claimed.claimOutputs({}, {{given.out_dir, "--out"}},
+                       {given.world_path, given.trajectory_path, given.sim_config_path, given.odometry_config_path});
+  BatchJob base = given;
+  base.folder_lock_fd = claimed.folderLockDescriptor(base.out_dir);
   pipeline::claimExperiment(base.out_dir, experimentOf(base));
   // Progress only on a terminal (as every tool's): a line per finished run, with the time
   // so far and the time left at the rate of the runs done.

@@ -2,6 +2,7 @@
 
 #include <iostream>
 
+#include "lidarseg/mrpt/ExceptionMessage.h"
 #include "lidarseg/pipeline/OutputFiles.h"
 
 namespace lidarseg::apps {
@@ -35,16 +36,7 @@ bool g_verbose = false;
 }  // namespace
 
 std::string describeError(const std::exception& e) {
-  const std::string what = e.what();
-  if (g_verbose) return what;
-  std::string message = what;
-  const auto m = what.rfind("Message:");
-  if (m != std::string::npos) message = what.substr(m + 8);
-  const auto first = message.find_first_not_of(" \t\n");
-  message = first == std::string::npos ? std::string() : message.substr(first);
-  message = message.substr(0, message.find('\n'));
-  if (message.empty()) message = what.substr(0, what.find('\n'));
-  return message;
+  return g_verbose ? std::string(e.what()) : mrpt_adapter::exceptionMessage(e.what());
 }
 
 namespace {

@@ -19,6 +19,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "lidarseg/pipeline/OutputFiles.h"
+#include "lidarseg/pipeline/RunEvaluation.h"
 #include "lidarseg/inspect/Drawing.h"
 #include "lidarseg/inspect/LayerSwitches.h"
 #include "lidarseg/eval/StampedTrajectory.h"
@@ -76,12 +77,8 @@ std::unique_ptr<Session> InspectApp::open() {
   inspect::InspectorParams params;
   if (!options_.config_path.empty()) params = inspect::InspectorParams::fromFile(options_.config_path);
   auto session = std::make_unique<Session>(options_.input, options_.sensor_label, params);
-  std::string truth = options_.truth_path;
-  if (truth.empty()) {
-    std::string stem = options_.input;
-    if (endsWith(stem, ".rawlog")) stem.resize(stem.size() - 7);
-    if (fs::exists(stem + ".gt.tum")) truth = stem + ".gt.tum";
-  }
+  // Found as lidarseg-odometry finds it: beside a rawlog or a CARMEN log.
+  const std::string truth = options_.truth_path.empty() ? pipeline::groundTruthBeside(options_.input) : options_.truth_path;
   if (!truth.empty()) session->addReference({"ground truth", eval::readTum(truth)});
   for (const std::string& r : options_.references) {
     const auto eq = r.find('=');

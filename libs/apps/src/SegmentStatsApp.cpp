@@ -102,6 +102,8 @@ void readLog(const SegmentStatsOptions& o, const StampPolicyParams& stamps, Scan
   pipeline::addReaderCounts(reader, counts);
   report.skipped = counts.skipped;
   report.skipped_count = counts.skipped_count;
+  report.stamps = counts;
+  report.warnings = counts.warnings;
 }
 
 }  // namespace
@@ -121,7 +123,13 @@ SegmentStatsReport SegmentStatsApp::run() {
   return report;
 }
 
+void SegmentStatsApp::print(const SegmentStatsReport& r, std::ostream& os) {
+  eval::printSegmentStats(r, os);
+  os << "  " << pipeline::recordCountsLine(r.skipped_count, r.stamps) << "\n";
+}
+
 void SegmentStatsApp::printWarnings(const SegmentStatsReport& r, std::ostream& err) {
+  pipeline::printRecordWarnings(r.warnings, r.stamps, "lidarseg-segment", err);
   if (r.skipped.empty()) return;
   err << "lidarseg-segment: warning: " << r.skipped_count << " scans skipped, the first: " << r.skipped.front()
       << "\n";

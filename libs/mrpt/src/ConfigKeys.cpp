@@ -13,6 +13,8 @@
 
 #include <mrpt/containers/yaml.h>
 
+#include "lidarseg/mrpt/ExceptionMessage.h"
+
 namespace lidarseg::mrpt_adapter::detail {
 
 namespace {
@@ -151,8 +153,8 @@ LoadedConfig readConfigFile(const std::string& path) {
       out.cfg.setContent(out.text);
       out.cfg.getAllSections(sections);
     } catch (const std::exception& e) {
-      const std::string what = e.what();
-      throw std::invalid_argument(path + ": not a valid INI file: " + what.substr(0, what.find('\n')));
+      // MRPT's text is a banner and a backtrace before its message: the message, in one line.
+      throw std::invalid_argument(path + ": not a valid INI file: " + exceptionMessage(e.what()));
     }
     for (const std::string& s : sections) out.lines[s] = iniKeyLines(out.text, s);
   }

@@ -4,6 +4,7 @@
 
 #include "lidarseg/pipeline/Format.h"
 #include "lidarseg/pipeline/JsonText.h"
+#include "lidarseg/pipeline/RecordGate.h"
 
 namespace lidarseg::pipeline {
 
@@ -34,7 +35,13 @@ Json reportJson(const FeaturesReport& report) {
             {"images_with_rois", report.images_with_rois},
             {"rois", report.rois},
             {"roi_coverage_median", finiteOrNull(report.roi_coverage.median)},
-            {"roi_coverage_mean", finiteOrNull(report.roi_coverage.mean)}};
+            {"roi_coverage_mean", finiteOrNull(report.roi_coverage.mean)},
+            {"skipped", report.skipped_count},
+            {"skipped_examples", report.skipped},
+            {"non_increasing_stamps", report.stamps.non_increasing_stamps},
+            {"time_gaps", report.stamps.time_gaps},
+            {"clock_jumps", report.stamps.clock_jumps},
+            {"warnings", report.log_warnings}};
   if (!report.evaluation) return json;
   const auto& ev = *report.evaluation;
   json["gate_m"] = finiteOrNull(ev.gate());
@@ -53,6 +60,7 @@ std::string featuresMarkdown(const FeaturesReport& r) {
   os << r.scans << " scans (" << r.beams_per_scan << " beams). Per scan, median: segmentation "
      << fixed(r.segment_us.median, 2) << " us, detection " << fixed(r.detect_us.median, 2)
      << " us (p99 " << fixed(r.detect_us.p99, 2) << " us).\n\n";
+  os << "Log: " << recordCountsLine(r.skipped_count, r.stamps) << ".\n\n";
   os << "| type | detections |\n|---|---:|\n";
   for (std::size_t k = 0; k < kNumFeatureTypes; ++k) {
     os << "| " << typeName(k) << " | " << r.detections[k] << " |\n";

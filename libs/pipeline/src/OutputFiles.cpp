@@ -187,8 +187,11 @@ std::map<std::string, HeldLock> g_locks;
 
 }  // namespace
 
-void OutputSet::claim(const std::string& path) {
-  const std::string folder = folderOf(path);
+void OutputSet::claim(const std::string& path) { lockFolder(folderOf(path), false); }
+
+void OutputSet::claimFolderShared(const std::string& folder) { lockFolder(folder, true); }
+
+void OutputSet::lockFolder(const std::string& folder, bool shared) {
   std::error_code ec;
   const std::string key = folderKey(folder);
   if (std::find(locked_folders_.begin(), locked_folders_.end(), key) != locked_folders_.end()) return;
@@ -205,7 +208,7 @@ void OutputSet::claim(const std::string& path) {
   for (int attempt = 0; fd < 0; ++attempt) {
     fd = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd < 0) throw std::runtime_error("cannot create the lock '" + lock + "': " + std::strerror(errno));
-    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    if (::flock(fd, (shared ? LOCK_SH : LOCK_EX) | LOCK_NB) != 0) {
       ::close(fd);
       throw std::runtime_error("another run is writing into '" + folder + "' (lock '" + lock +
                                "' held); wait for it or choose another output");
@@ -223,7 +226,38 @@ void OutputSet::claim(const std::string& path) {
   }
   g_locks[key] = HeldLock{fd, 1};
   locked_folders_.push_back(key);
-  if (created) created_folders_.push_back(folder);
+  // A shared holder never removes the folder or its lock: the other holders' locks are on it.
+  if (created && !shared) created_folders_.push_back(folder);
+}
+
+int OutputSet::folderLockDescriptor(const std::string& folder) const {
+  const std::string key = folderKey(folder);
+  const std::lock_guard<std::mutex> guard(g_locks_mutex);
+  const auto held = g_locks.find(key);
+  if (std::find(locked_folders_.begin(), locked_folders_.end(), key) == locked_folders_.end() ||
+      held == g_locks.end()) {
+    throw std::logic_error("the lock of '" + folder + "' is not held by this output set");
+  }
+  return held->second.fd;
+}
+
+void OutputSet::claimInheritedFolder(const std::string& folder, int fd) {
+  const std::string lock = (fs::path(folder) / ".lidarseg.lock").string();
+  struct stat inherited {}, current {};
+  const bool same_file = ::fstat(fd, &inherited) == 0 && ::stat(lock.c_str(), &current) == 0 &&
+                         inherited.st_ino == current.st_ino && inherited.st_dev == current.st_dev;
+  // On the holder's own open file an exclusive flock is granted again at once (locks belong
+  // to the open file); on another open file it is refused while the holder lives.
+  if (!same_file || ::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    throw std::runtime_error("descriptor " + std::to_string(fd) + " is not the held lock '" + lock +
+                             "' of a run writing into '" + folder + "'; another run may be writing there");
+  }
+  const std::string key = folderKey(folder);
+  const std::lock_guard<std::mutex> guard(g_locks_mutex);
+  if (g_locks.count(key) != 0) throw std::logic_error("this process already holds the lock of '" + folder + "'");
+  // Kept open for the set's lifetime; closing this copy leaves the holder's lock in place.
+  g_locks[key] = HeldLock{fd, 1};
+  locked_folders_.push_back(key);
 }
 
 void OutputSet::claimFolder(const std::string& folder) { claim((fs::path(folder) / ".lidarseg.lock").string()); }

@@ -21,8 +21,9 @@ namespace lidarseg::pipeline {
 
 namespace {
 
-// Starts `args` (args[0] is the program) in a child process with its stderr in `log`.
-pid_t startJob(std::vector<std::string> args, const std::string& log) {
+// Starts `args` (args[0] is the program) in a child process with its stderr in `log` and
+// the descriptors `inherited` kept open across exec.
+pid_t startJob(std::vector<std::string> args, const std::string& log, const std::vector<int>& inherited) {
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("cannot start a job (fork failed)");
   if (pid == 0) {
@@ -31,6 +32,7 @@ pid_t startJob(std::vector<std::string> args, const std::string& log) {
     ::prctl(PR_SET_PDEATHSIG, SIGKILL);
     FILE* f = std::freopen(log.c_str(), "w", stderr);
     (void)f;
+    for (const int fd : inherited) ::fcntl(fd, F_SETFD, 0);  // in the child only: no other exec inherits it
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
@@ -60,7 +62,7 @@ void runChildJobs(const std::vector<ChildJob>& jobs, std::size_t at_a_time,
   std::size_t next = 0;
   while (next < jobs.size() || !running.empty()) {
     while (next < jobs.size() && running.size() < std::max<std::size_t>(at_a_time, 1)) {
-      running[startJob(jobs[next].args, jobs[next].log_path)] = next;
+      running[startJob(jobs[next].args, jobs[next].log_path, jobs[next].inherited_fds)] = next;
       ++next;
     }
     int status = 0;

@@ -1,5 +1,7 @@
 #include "lidarseg/pipeline/RawlogWriter.h"
 
+#include <cerrno>
+#include <cstring>
 #include <stdexcept>
 
 #include <mrpt/obs/CActionCollection.h>
@@ -9,6 +11,7 @@
 #include <mrpt/poses/CPosePDFGaussian.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include "lidarseg/mrpt/ExceptionMessage.h"
 #include "lidarseg/mrpt/FeatureObservation.h"
 #include "lidarseg/mrpt/PoseConversion.h"
 
@@ -17,7 +20,7 @@ namespace lidarseg::pipeline {
 using mrpt_adapter::toMrpt;
 
 RawlogWriter::RawlogWriter(const std::string& path, OutputSet& outputs, bool landmarks)
-    : landmarks_(landmarks) {
+    : path_(path), landmarks_(landmarks) {
   const std::string tmp = outputs.addWritten(path);
   if (!out_.open(tmp, 1)) throw std::runtime_error("cannot write '" + tmp + "'");
 }
@@ -37,7 +40,6 @@ void RawlogWriter::write(const mrpt_adapter::LaserRecord& record,
   move.poseChange = mrpt::poses::CPosePDFGaussian::Create(toMrpt(inc), step.increment.cov);
   move.timestamp = mrpt::Clock::fromDouble(stamp_s);
   actions.insert(move);
-  archive << actions;
   mrpt::obs::CSensoryFrame frame;
   // The log's own odometry observations are replaced by lidarseg's action.
   for (const auto& other : record.companions) {
@@ -50,7 +52,16 @@ void RawlogWriter::write(const mrpt_adapter::LaserRecord& record,
     landmarks->timestamp = obs.timestamp;
     frame.insert(landmarks);
   }
-  archive << frame;
+  // MRPT says only "Cannot write bytes to stream!" (no file) when the disk is full or the
+  // file size limit is reached.
+  errno = 0;
+  try {
+    archive << actions << frame;
+  } catch (const std::exception& e) {
+    const int why = errno;
+    throw std::runtime_error("cannot write the rawlog '" + path_ + "': " + mrpt_adapter::exceptionMessage(e.what()) +
+                             (why != 0 ? std::string(" (") + std::strerror(why) + ")" : std::string()));
+  }
 }
 
 }  // namespace lidarseg::pipeline

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <ostream>
 
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/pipeline/Progress.h"
@@ -43,11 +44,12 @@ void RecordGate::accept(const ScanRecord& record, const StampStep& time) {
   if (time.non_increasing) ++counts_.non_increasing_stamps;
   if (time.clock_jump) {
     ++counts_.clock_jumps;
-    warn(record.where + ": the clock jumps back by " + std::to_string(-time.log_step_s) +
+    warn(record.where + ": " + kClockJumpWarning + std::to_string(-time.log_step_s) +
          " s; the motion prior restarts from rest");
   } else if (time.gap) {
     ++counts_.time_gaps;
-    warn(record.where + ": time gap of " + std::to_string(time.log_step_s) + " s; the motion prior restarts from rest");
+    warn(record.where + ": " + kTimeGapWarning + std::to_string(time.log_step_s) +
+         " s; the motion prior restarts from rest");
   }
   stamps_.accept(time);
   ++counts_.frames;
@@ -86,6 +88,53 @@ void addReaderCounts(const mrpt_adapter::LaserLogReader& reader, RecordCounts& c
   counts.skipped_count += reader.skipped();
   for (const auto& s : reader.unknownTypes()) counts.warnings.push_back(s);
   for (const auto& s : reader.warnings()) counts.warnings.push_back(s);
+}
+
+namespace {
+// A warning's kind: its text after the place ("FILE:LINE: " or "FILE, entry N: ") up to
+// the first digit, e.g. "time gap of ".
+std::string warningKind(const std::string& w) {
+  std::size_t start = w.find(": ");
+  start = start == std::string::npos ? 0 : start + 2;
+  const std::size_t digit = w.find_first_of("0123456789", start);
+  return w.substr(start, (digit == std::string::npos ? w.size() : digit) - start);
+}
+}  // namespace
+
+void printWarningKinds(const std::vector<std::string>& warnings,
+                       const std::vector<std::pair<std::string, std::size_t>>& counted, const std::string& tool_name,
+                       std::ostream& err) {
+  // One line per kind: how many, and the first in full (its place in the log).
+  std::vector<std::pair<std::string, std::size_t>> kinds;
+  std::vector<std::string> first;
+  for (const auto& w : warnings) {
+    const std::string kind = warningKind(w);
+    auto it = std::find_if(kinds.begin(), kinds.end(), [&](const auto& k) { return k.first == kind; });
+    if (it == kinds.end()) {
+      kinds.emplace_back(kind, 0);
+      first.push_back(w);
+      it = kinds.end() - 1;
+    }
+    ++it->second;
+  }
+  // The list keeps the first 100 warnings; the run counts the frequent kinds in full.
+  for (std::size_t k = 0; k < kinds.size(); ++k) {
+    std::size_t n = kinds[k].second;
+    for (const auto& [kind, count] : counted) n = kinds[k].first == kind ? std::max(n, count) : n;
+    err << tool_name << ": warning: " << n << " x, the first: " << first[k] << "\n";
+  }
+}
+
+void printRecordWarnings(const std::vector<std::string>& warnings, const StampCounts& stamps,
+                         const std::string& tool_name, std::ostream& err) {
+  printWarningKinds(warnings, {{kTimeGapWarning, stamps.time_gaps}, {kClockJumpWarning, stamps.clock_jumps}},
+                    tool_name, err);
+}
+
+std::string recordCountsLine(std::size_t skipped_count, const StampCounts& stamps) {
+  return "skipped: " + std::to_string(skipped_count) + ", non-increasing stamps: " +
+         std::to_string(stamps.non_increasing_stamps) + ", time gaps: " + std::to_string(stamps.time_gaps) +
+         ", clock jumps: " + std::to_string(stamps.clock_jumps);
 }
 
 }  // namespace lidarseg::pipeline

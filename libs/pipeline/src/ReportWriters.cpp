@@ -12,6 +12,7 @@
 #include "lidarseg/pipeline/JsonText.h"
 #include "lidarseg/pipeline/OutputFiles.h"
 #include "lidarseg/pipeline/Plots.h"
+#include "lidarseg/pipeline/RecordGate.h"
 #include "lidarseg/pipeline/RunEvaluation.h"
 
 namespace lidarseg::pipeline {
@@ -329,48 +330,18 @@ void addRunPlots(OutputSet& outputs, const std::string& out_dir, const OdometryR
 
 void printRunSummary(const OdometryReport& r, std::ostream& os) {
   os << markdownTable(r);
-  os << "\nskipped: " << r.skipped_count << ", non-increasing stamps: " << r.non_increasing_stamps
-     << ", time gaps: " << r.time_gaps << ", clock jumps: " << r.clock_jumps << ", odometry jumps: " << r.odometry_jumps << "\n";
+  os << "\n" << recordCountsLine(r.skipped_count, r) << ", odometry jumps: " << r.odometry_jumps << "\n";
   os << "lidarseg status:";
   for (const auto& [k, v] : r.lidarseg.status_counts) os << " " << k << "=" << v;
   os << "\n";
   for (const auto& s : r.outputs) os << "wrote " << s << "\n";
 }
 
-namespace {
-// A warning's kind: its text after the place ("FILE:LINE: " or "FILE, entry N: ") up to
-// the first digit, e.g. "time gap of ".
-std::string warningKind(const std::string& w) {
-  std::size_t start = w.find(": ");
-  start = start == std::string::npos ? 0 : start + 2;
-  const std::size_t digit = w.find_first_of("0123456789", start);
-  return w.substr(start, (digit == std::string::npos ? w.size() : digit) - start);
-}
-}  // namespace
-
 void printRunWarnings(const OdometryReport& r, const std::string& tool_name, std::ostream& err) {
   const std::string tool = tool_name + ": warning: ";
-  // One line per kind: how many, and the first in full (its place in the log).
-  std::vector<std::pair<std::string, std::size_t>> kinds;
-  std::vector<std::string> first;
-  for (const auto& w : r.warnings) {
-    const std::string kind = warningKind(w);
-    auto it = std::find_if(kinds.begin(), kinds.end(), [&](const auto& k) { return k.first == kind; });
-    if (it == kinds.end()) {
-      kinds.emplace_back(kind, 0);
-      first.push_back(w);
-      it = kinds.end() - 1;
-    }
-    ++it->second;
-  }
-  // The list keeps the first 100 warnings; the run counts the frequent kinds in full.
-  const std::pair<const char*, std::size_t> counted[] = {
-      {"time gap of ", r.time_gaps}, {"the clock jumps back by ", r.clock_jumps}, {"wheel odometry jumps by ", r.odometry_jumps}};
-  for (std::size_t k = 0; k < kinds.size(); ++k) {
-    std::size_t n = kinds[k].second;
-    for (const auto& [kind, count] : counted) n = kinds[k].first == kind ? std::max(n, count) : n;
-    err << tool << n << " x, the first: " << first[k] << "\n";
-  }
+  printWarningKinds(r.warnings, {{kTimeGapWarning, r.time_gaps}, {kClockJumpWarning, r.clock_jumps},
+                                 {"wheel odometry jumps by ", r.odometry_jumps}},
+                    tool_name, err);
   if (r.skipped_count > 0) {
     err << tool << r.skipped_count << " scans or lines skipped, the first: "
         << (r.skipped.empty() ? std::string("?") : r.skipped.front()) << " (all in summary.json)\n";

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "lidarseg/eval/TrajectoryMetrics.h"
 #include "lidarseg/pipeline/OdometryRun.h"
@@ -31,8 +33,17 @@ void evaluate(MethodReport& m, const RunReferences& refs, double relations_toler
 }  // namespace
 
 std::string groundTruthBeside(const std::string& log_path) {
-  const std::string candidate = stemOf(log_path) + ".gt.tum";
-  return std::filesystem::exists(candidate) ? candidate : std::string();
+  const std::string stem = stemOf(log_path);
+  std::vector<std::string> candidates = {stem + ".gt.tum"};
+  // lidarseg-simulate --carmen writes PREFIX.carmen.log beside PREFIX.gt.tum.
+  const std::string carmen = ".carmen";
+  if (stem.size() > carmen.size() && stem.compare(stem.size() - carmen.size(), carmen.size(), carmen) == 0) {
+    candidates.push_back(stem.substr(0, stem.size() - carmen.size()) + ".gt.tum");
+  }
+  for (const std::string& c : candidates) {
+    if (std::filesystem::exists(c)) return c;
+  }
+  return {};
 }
 
 RunReferences readRunReferences(const std::string& gt_path, const std::string& relations_path) {

@@ -37,7 +37,36 @@ FrameSource::FrameSource(const std::string& input) : input_(input) {
     if (!video_.isOpened())
       throw std::runtime_error("'" + input + "': neither an image nor a video OpenCV can read");
     requireDeclaredSize();
+    openUndecoded();
   }
+}
+
+// FFmpeg's Motion-JPEG decoder takes each frame's size from its own JPEG header, whatever the
+// container declared; OpenCV's raw mode (CAP_PROP_FORMAT -1) gives those frames undecoded.
+void FrameSource::openUndecoded() {
+  const int fourcc = static_cast<int>(video_.get(cv::CAP_PROP_FOURCC));
+  const bool mjpeg = fourcc == cv::VideoWriter::fourcc('M', 'J', 'P', 'G') ||
+                     fourcc == cv::VideoWriter::fourcc('m', 'j', 'p', 'g');
+  if (!mjpeg || video_.getBackendName() != "FFMPEG") return;
+  undecoded_.open(input_, cv::CAP_FFMPEG, {cv::CAP_PROP_FORMAT, -1});
+}
+
+// The next frame's JPEG header, read undecoded, held to the cap before video_ decodes it.
+void FrameSource::requireNextFrameSize() {
+  if (!undecoded_.isOpened()) return;
+  cv::Mat packet;
+  if (!undecoded_.read(packet) || packet.empty() || packet.type() != CV_8UC1) {
+    undecoded_.release();  // out of step: each decoded frame is still checked
+    return;
+  }
+  const std::string where = "'" + input_ + "', frame " + std::to_string(video_frame_);
+  ImageHeader header;
+  try {
+    header = readJpegHeader(std::string(reinterpret_cast<const char*>(packet.data), packet.total()), input_);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(where + ": not a Motion-JPEG frame (" + e.what() + ")");
+  }
+  requireImageSize(header.width, header.height, where, "video frame");
 }
 
 // The size the video's container declares, checked before any frame is decoded; a container
@@ -58,6 +87,7 @@ std::size_t FrameSource::expectedFrames() const {
 bool FrameSource::next(cv::Mat& frame, std::string& file) {
   if (video_.isOpened()) {
     file.clear();
+    requireNextFrameSize();
     if (!video_.read(frame) || frame.empty()) return false;
     requireImageSize(static_cast<std::uint64_t>(frame.cols), static_cast<std::uint64_t>(frame.rows),
                      "'" + input_ + "', frame " + std::to_string(video_frame_), "video frame");

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <vector>
 
@@ -84,7 +85,7 @@ bool isJpegFrameMarker(unsigned char m) {
 
 // JPEG: the segments after SOI up to the first frame header (SOFn), whose height and width
 // the decoder uses; each segment is skipped by its length, so the walk is linear in the file.
-ImageHeader jpegHeader(const std::string& path, std::ifstream& in) {
+ImageHeader jpegHeader(const std::string& path, std::istream& in) {
   in.clear();
   in.seekg(2);
   while (true) {
@@ -111,6 +112,15 @@ ImageHeader jpegHeader(const std::string& path, std::ifstream& in) {
 }
 
 }  // namespace
+
+ImageHeader readJpegHeader(const std::string& bytes, const std::string& name) {
+  if (bytes.size() < 3 || static_cast<unsigned char>(bytes[0]) != 0xFF || static_cast<unsigned char>(bytes[1]) != 0xD8 ||
+      static_cast<unsigned char>(bytes[2]) != 0xFF) {
+    invalid(name, "JPEG", "no start of image");
+  }
+  std::istringstream in(bytes);
+  return jpegHeader(name, in);
+}
 
 std::optional<ImageHeader> readImageHeader(const std::string& path) {
   std::error_code ec;

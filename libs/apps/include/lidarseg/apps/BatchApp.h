@@ -29,6 +29,11 @@ struct BatchJob {
   bool baseline_icp = true;  ///< also run MRPT ICP (keyframed like lidarseg)
   /// Keep the simulated rawlog and images (large); default: only the results.
   bool keep_data = false;
+  /// A job of `lidarseg-batch run`: the runner's lock on `out_dir`, inherited as this
+  /// descriptor (`--folder-lock-fd`, set by the runner). -1 (a job started by hand): the job
+  /// shares the folder's lock with other such jobs, and is refused while a runner or an
+  /// aggregation holds it.
+  int folder_lock_fd = -1;
 };
 
 /// Aggregated figures over the runs found in a results folder.
@@ -55,8 +60,12 @@ class BatchApp {
   static bool finished(const std::string& out_dir, std::uint64_t seed);
 
   /// Runs one job in this process: simulate, run both methods, write OUT/run_<seed>/
-  /// (summary.json, metrics.csv, trajectories, timing). Skips a finished run.
-  /// @throws std::runtime_error on failure (nothing is left that looks finished).
+  /// (summary.json, metrics.csv, trajectories, timing). Skips a finished run. First takes
+  /// part in the folder's lock (see BatchJob::folder_lock_fd: shared with other `one` jobs,
+  /// never beside a runner or an aggregation that is not its own) and checks that the folder
+  /// holds this experiment's runs, then holds its seed's lock.
+  /// @throws std::runtime_error on failure, when another writer holds the folder, or when
+  /// the folder holds another experiment (nothing is left that looks finished).
   static void runOne(const BatchJob& job);
 
   /// Runs the jobs for `seeds` that have not finished, `jobs` at a time, each in its own
@@ -68,9 +77,8 @@ class BatchApp {
                                           std::size_t jobs, const std::string& self_exe, bool progress);
 
   /// runMany(), then aggregate() with `title`, the folder's lock held across both: no other
-  /// writer (another `lidarseg-batch run` or `aggregate`) can add or change a run (a single
-  /// `lidarseg-batch one` takes only its seed's lock, as the runner's own children do)
-  /// between the runs and their table. `between`, when given, is called at that moment, the
+  /// writer (another `lidarseg-batch run`, `aggregate` or `one`) can add or change a run
+  /// between the runs and their table; the runner's own jobs inherit its lock. `between`, when given, is called at that moment, the
   /// lock still held (a test's view of it).
   /// @throws std::runtime_error as runMany() and aggregate() do.
   static BatchOutcome runAndAggregate(const BatchJob& base, const std::vector<std::uint64_t>& seeds, std::size_t jobs,

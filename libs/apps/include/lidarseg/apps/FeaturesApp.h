@@ -65,8 +65,10 @@ class FeaturesApp {
 
   /// The report as Markdown (pipeline::featuresMarkdown) on `os` (the results: stdout).
   static void print(const FeaturesReport& report, std::ostream& os);
-  /// The run's warnings on `err` (stderr), after the results: each warning, then the
-  /// skipped scans and images counted with the first in full. Nothing when there is none.
+  /// The run's warnings on `err` (stderr), after the results: one line per kind of the log's
+  /// warnings (time gaps, clock jumps, ...) with its count and first place, as
+  /// lidarseg-odometry prints them; each warning of the run; then the skipped scans and
+  /// images counted with the first in full. Nothing when there is none.
   static void printWarnings(const FeaturesReport& report, std::ostream& err);
 
  private:

@@ -67,8 +67,13 @@ class InspectApp {
   /// stderr when it has no plots; used by run().
   InspectReport writeReport(inspect::Session& session);
 
- private:
+  /// The log's session with its references: the ground truth (--gt, or PREFIX.gt.tum found
+  /// beside the log as lidarseg-odometry finds it, pipeline::groundTruthBeside) and the
+  /// --trajectory files; used by run().
+  /// @throws std::runtime_error naming the file for an unreadable log or reference.
   std::unique_ptr<inspect::Session> open();
+
+ private:
   // Draws options_.frame headless to options_.render_out (PNG or SVG).
   void render(inspect::Session& session);
   int window(inspect::Session& session);

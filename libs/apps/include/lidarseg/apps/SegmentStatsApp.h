@@ -41,10 +41,14 @@ class SegmentStatsApp {
   /// listed in the report instead.
   SegmentStatsReport run();
 
-  /// Writes the report as a readable table (eval::printSegmentStats).
-  static void print(const SegmentStatsReport& report, std::ostream& os) { eval::printSegmentStats(report, os); }
-  /// The run's warnings on `err` (stderr), after the results: the skipped scans counted,
-  /// with the first in full. Nothing when none was skipped.
+  /// Writes the report as a readable table (eval::printSegmentStats), then the log's counts
+  /// as lidarseg-odometry prints them ("skipped: N, non-increasing stamps: N, time gaps: N,
+  /// clock jumps: N").
+  static void print(const SegmentStatsReport& report, std::ostream& os);
+  /// The run's warnings on `err` (stderr), after the results, as lidarseg-odometry prints
+  /// them: one line per kind of the log's warnings (time gaps, clock jumps, ...) with its
+  /// count and first place, then the skipped scans counted with the first in full. Nothing
+  /// when there is none.
   static void printWarnings(const SegmentStatsReport& report, std::ostream& err);
 
  private:

@@ -56,6 +56,17 @@ struct StampStep {
   bool first = true;
 };
 
+/// What a run's stamp policy met, counted over the scans it used: the counts every tool
+/// reading a log reports alike (lidarseg-odometry, -features, -segment).
+struct StampCounts {
+  /// Scans whose time did not increase (processed with a synthetic time step).
+  std::size_t non_increasing_stamps = 0;
+  /// Time gaps beyond max_time_gap_s (the prior restarted from rest).
+  std::size_t time_gaps = 0;
+  /// Clock jumps backwards by more than max_time_gap_s (the prior restarted from rest).
+  std::size_t clock_jumps = 0;
+};
+
 /// Repairs a log's stamps scan by scan (repeated, backwards, gapped) and judges wheel
 /// odometry increments. Pure state machine: the same stamps give the same steps.
 class StampPolicy {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "lidarseg/core/ScanSegmenter.h"
+#include "lidarseg/core/StampPolicy.h"
 #include "lidarseg/core/Statistics.h"
 
 namespace lidarseg::eval {
@@ -36,6 +37,12 @@ struct SegmentStatsReport {
   /// and their count in all.
   std::vector<std::string> skipped;
   std::size_t skipped_count = 0;
+  /// The stamps of the scans used, as lidarseg-odometry counts them (non-increasing, time
+  /// gaps and clock jumps beyond [stamps] max_time_gap_s).
+  StampCounts stamps;
+  /// What the log reader and the stamp policy warned about, with its place in the log (the
+  /// first 100): gaps, clock jumps, a laser whose layout changes, ...
+  std::vector<std::string> warnings;
   std::size_t beams_per_scan = 0;
   double field_of_view_deg = 0.0;
   double max_range_m = 0.0;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "lidarseg/core/Feature.h"
+#include "lidarseg/core/StampPolicy.h"
 #include "lidarseg/core/Statistics.h"
 #include "lidarseg/eval/FeatureEvaluation.h"
 
@@ -38,6 +39,12 @@ struct FeaturesReport {
   /// and the log reader keep them), each with where and why; and their count in all.
   std::vector<std::string> skipped;
   std::size_t skipped_count = 0;
+  /// The stamps of the scans used, as lidarseg-odometry counts them (non-increasing, time
+  /// gaps and clock jumps beyond [stamps] max_time_gap_s).
+  StampCounts stamps;
+  /// What the log reader and the stamp policy warned about, with its place in the log (the
+  /// first 100): gaps, clock jumps, a laser whose layout changes, ...
+  std::vector<std::string> log_warnings;
   /// What the run could not do but did not fail for, one line each (no figure without
   /// gnuplot, a --figure-scan beyond the log): printed by the tool after its results.
   std::vector<std::string> warnings;

@@ -95,6 +95,24 @@ class OutputSet {
   void claim(const std::string& path);
   /// Locks `folder` itself (created if needed), for a tool writing files into it.
   void claimFolder(const std::string& folder);
+  /// Locks `folder` (created if needed) as one of several cooperating writers: a shared
+  /// flock, held together with other shared holders and refused beside an exclusive one
+  /// (claim(), claimFolder()), which is refused beside it in turn. A shared holder never
+  /// removes the folder or its lock file. `lidarseg-batch one` jobs share their results
+  /// folder this way, each writing only its own seed's run.
+  /// @throws std::runtime_error when another process holds the lock exclusively.
+  void claimFolderShared(const std::string& folder);
+  /// The descriptor of this process's lock on `folder`, a folder this set has claimed, for a
+  /// child process to inherit (claimInheritedFolder()). The set keeps it open.
+  /// @throws std::logic_error when this set holds no lock on `folder`.
+  int folderLockDescriptor(const std::string& folder) const;
+  /// In a child process started by a holder of `folder`'s lock (lidarseg-batch's jobs): takes
+  /// part in that lock through descriptor `fd`, inherited from the holder, after checking that
+  /// it is the folder's lock file and holds its lock (the holder's own open file: another
+  /// writer's open file would be refused it). Kept until the set is destroyed, then closed;
+  /// the holder's lock stays, since a flock belongs to the open file.
+  /// @throws std::runtime_error naming the folder and its lock file when `fd` is not that.
+  void claimInheritedFolder(const std::string& folder, int fd);
   /// What every tool does before its work: refuses any output that is one of `inputs`
   /// (refuseOverwritingInput), then claims each output's folder; empty paths are skipped.
   /// The inputs are remembered: commit() never removes one as an older set's file.
@@ -122,6 +140,8 @@ class OutputSet {
   ~OutputSet();
 
  private:
+  // claim() and claimFolderShared(): `folder`'s lock, taken or shared within the process.
+  void lockFolder(const std::string& folder, bool shared);
   struct Pending {
     std::string path, temporary;
   };

@@ -16,6 +16,9 @@ namespace lidarseg::pipeline {
 struct ChildJob {
   std::vector<std::string> args;
   std::string log_path;
+  /// Descriptors of the parent the child inherits under the same numbers (opened close-on-exec
+  /// by the parent, which keeps them; e.g. the runner's folder lock).
+  std::vector<int> inherited_fds;
 };
 
 /// Runs `jobs`, `at_a_time` (at least 1) at a time, in the order given. Each child dies with

@@ -30,6 +30,8 @@ class RawlogWriter {
 
   /// One scan. `stamp_s`: the scan's repaired stamp (the TUM files'), strictly increasing;
   /// `features`: the scan's doors and corners (sensor frame), used with landmarks only.
+  /// @throws std::runtime_error "cannot write the rawlog 'PATH': why" when the file cannot
+  /// take it (disk full, file size limit).
   void write(const mrpt_adapter::LaserRecord& record, const mrpt_adapter::LaserOdometryStep& step,
              double stamp_s, const std::vector<Feature>& features);
 
@@ -37,6 +39,7 @@ class RawlogWriter {
   void close() { out_.close(); }
 
  private:
+  std::string path_;
   bool landmarks_;
   mrpt::io::CFileGZOutputStream out_;
   Pose2D last_pose_;  // robot pose of the previous scan, odometry frame

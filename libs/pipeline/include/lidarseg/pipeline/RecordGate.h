@@ -9,8 +9,10 @@
 
 #include <cstddef>
 #include <functional>
+#include <iosfwd>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "lidarseg/core/ScanRecord.h"
@@ -23,20 +25,20 @@ struct LaserRecord;
 
 namespace lidarseg::pipeline {
 
+/// The text of the frequent warnings' kinds, after their place in the log: counted in full
+/// by RecordCounts (the list keeps the first 100).
+inline constexpr const char* kTimeGapWarning = "time gap of ";
+inline constexpr const char* kClockJumpWarning = "the clock jumps back by ";
+
 /// What a run made of its log's records: the counts every tool reports alike.
-struct RecordCounts {
+/// (The stamp counts: non-increasing stamps, time gaps, clock jumps.)
+struct RecordCounts : StampCounts {
   /// Records used (scans processed).
   std::size_t frames = 0;
   /// Scans or lines skipped, with where and why (the first 100), and the count.
   std::vector<std::string> skipped;
   std::size_t skipped_count = 0;
-  /// Scans whose time did not increase (processed with a synthetic time step).
-  std::size_t non_increasing_stamps = 0;
-  /// Time gaps beyond max_time_gap_s (the prior restarted from rest).
-  std::size_t time_gaps = 0;
-  /// Clock jumps backwards by more than max_time_gap_s (the prior restarted from rest).
-  std::size_t clock_jumps = 0;
-  /// What was read or repaired but is worth a word, with its place in the log.
+  /// What was read or repaired but is worth a word, with its place in the log (the first 100).
   std::vector<std::string> warnings;
 };
 
@@ -108,5 +110,23 @@ std::string readRecords(mrpt_adapter::LaserLogReader& reader, const RecordCounts
 /// The reader's side of the counts, after the run's: the lines and scans it skipped (the
 /// list up to 100, the count in full), then its unknown line types and warnings.
 void addReaderCounts(const mrpt_adapter::LaserLogReader& reader, RecordCounts& counts);
+
+/// Warnings for stderr, one line per kind, "TOOL: warning: N x, the first: WHERE: what"
+/// ("449 x, the first: FILE:1130: time gap of 1.6 s; ..."): a kind is a warning's text
+/// after its place up to the first digit. `warnings` keeps the first 100 of a run; for the
+/// kinds in `counted` (kind, count in full) the count in full is given.
+void printWarningKinds(const std::vector<std::string>& warnings,
+                       const std::vector<std::pair<std::string, std::size_t>>& counted, const std::string& tool,
+                       std::ostream& err);
+
+/// A run's record warnings (the reader's and the stamp policy's, the first 100), gaps and
+/// clock jumps counted in full by `stamps`, as every tool reading a log prints them on
+/// stderr (printWarningKinds()).
+void printRecordWarnings(const std::vector<std::string>& warnings, const StampCounts& stamps, const std::string& tool,
+                         std::ostream& err);
+
+/// "skipped: N, non-increasing stamps: N, time gaps: N, clock jumps: N": the counts every
+/// tool reading a log prints in its summary.
+std::string recordCountsLine(std::size_t skipped_count, const StampCounts& stamps);
 
 }  // namespace lidarseg::pipeline

@@ -26,8 +26,9 @@ struct RunReferences {
   double gt_tolerance_s = 0.025;
 };
 
-/// PREFIX.gt.tum beside a log PREFIX.rawlog, .clf or .log (optionally .gz), as the simulator
-/// writes it; empty when there is no such file.
+/// PREFIX.gt.tum beside a log PREFIX.rawlog, .clf or .log (optionally .gz), and beside the
+/// simulator's CARMEN log PREFIX.carmen.log, as the simulator writes it; empty when there is
+/// no such file. lidarseg-odometry and lidarseg-inspect look for their ground truth so.
 std::string groundTruthBeside(const std::string& log_path);
 
 /// The ground truth (TUM) and relations files read before the run, so that a bad file fails

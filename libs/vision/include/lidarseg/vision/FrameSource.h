@@ -14,7 +14,9 @@ namespace lidarseg::vision {
 /// Frames of a video (anything OpenCV's VideoCapture reads), a folder of images (png, jpg,
 /// jpeg, bmp, ppm, pgm; read in name order) or one image. Images are read through
 /// readImage(), their header's size checked first (decision 52); a video's frames are held to
-/// the same cap, from the size its container declares before any is decoded, and each frame.
+/// the same cap, from the size its container declares before any is decoded, and each frame:
+/// a Motion-JPEG frame from its JPEG header before it is decoded (its size may change from
+/// frame to frame), a frame of another codec once decoded.
 class FrameSource {
  public:
   /// @throws std::runtime_error naming `input` when it does not exist, a folder holds no
@@ -34,11 +36,16 @@ class FrameSource {
  private:
   std::string input_;
   cv::VideoCapture video_;
+  // A Motion-JPEG video read again undecoded (FFmpeg's raw packets), one frame ahead of
+  // video_: each frame's JPEG header is checked before video_ decodes it.
+  cv::VideoCapture undecoded_;
   std::vector<std::string> files_;
   std::size_t next_file_ = 0;
   std::size_t video_frame_ = 0;  // frames of the video read so far
 
   void requireDeclaredSize() const;
+  void openUndecoded();
+  void requireNextFrameSize();
 };
 
 }  // namespace lidarseg::vision

@@ -34,6 +34,12 @@ struct ImageHeader {
 /// is cut short or invalid.
 std::optional<ImageHeader> readImageHeader(const std::string& path);
 
+/// The frame header of a JPEG held in memory (a Motion-JPEG video's frame, as its container
+/// stores it), read without decoding pixels. Linear in the bytes before the frame header.
+/// @throws std::runtime_error "'NAME': invalid JPEG header (...)" when the bytes do not start
+/// like a JPEG or its header is cut short or invalid.
+ImageHeader readJpegHeader(const std::string& bytes, const std::string& name);
+
 /// The image (BGR, 8 bits per channel), its size checked first: readImageHeader(), then
 /// both sides in [1, kMaxImageSidePx], then OpenCV's decoder.
 /// @throws std::runtime_error naming the file (and the cap) for a size beyond the cap, a
