@@ -160,6 +160,9 @@ void FeatureDetectorParams::validate() const {
   if (!(door_shallow_max_recess_m > door_min_recess_m && door_shallow_max_recess_m <= door_max_recess_m)) {
     failKey("door_shallow_max_recess_m", "in (door_min_recess_m, door_max_recess_m]", door_shallow_max_recess_m);
   }
+  if (!(door_shallow_min_recess_m > 0.0 && door_shallow_min_recess_m < door_shallow_max_recess_m)) {
+    failKey("door_shallow_min_recess_m", "in (0, door_shallow_max_recess_m)", door_shallow_min_recess_m);
+  }
   requireInRange("door_shallow_max_incidence_deg", door_shallow_max_incidence_deg, 0.0, 90.0);
   requireNonNegative("corner_door_exclusion_m", corner_door_exclusion_m);
   if (door_max_segments_between > 1000) {
@@ -476,14 +479,22 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
   const std::vector<Segment>& segs = segmentation.level(p.level).segments;
   const std::size_t num_beams = segmentation.points.size();
   const std::size_t W = p.door_shallow_window;
+  // A leaf of a run: its points [k, e), `depth` behind the mean `wall` of the run's wall
+  // points, `t` standard errors of the difference.
+  struct Leaf {
+    std::size_t k = 0, e = 0;
+    double t = 0.0, depth = 0.0, wall = 0.0;
+  };
   // Per-thread scratch: no allocation once grown.
-  thread_local std::vector<double> tl_sum, tl_sum_sq, tl_steps;
-  thread_local std::vector<std::uint32_t> tl_beam_of, tl_starts, tl_ends;
+  thread_local std::vector<double> tl_weight, tl_sum, tl_sum_sq, tl_plain, tl_along, tl_steps;
+  thread_local std::vector<std::uint32_t> tl_beam_of, tl_starts, tl_ends, tl_wall_from, tl_wall_to;
+  thread_local std::vector<Leaf> tl_leaves, tl_candidates;
   // Bound once: every use of a thread_local may look its address up again.
-  std::vector<double>&sum = tl_sum, &sum_sq = tl_sum_sq, &steps = tl_steps;
+  std::vector<double>&weight = tl_weight, &sum = tl_sum, &sum_sq = tl_sum_sq, &steps = tl_steps;
+  std::vector<double>&plain = tl_plain, &along_of = tl_along;
   std::vector<std::uint32_t>&beam_of = tl_beam_of, &starts = tl_starts, &ends = tl_ends;
-  const double inv_w = 1.0 / static_cast<double>(W);
-  const std::size_t doors_before = out.size();
+  std::vector<std::uint32_t>&wall_from = tl_wall_from, &wall_to = tl_wall_to;
+  std::vector<Leaf>&leaves = tl_leaves, &candidates = tl_candidates;
   // A run of consecutive segments on one line (parallel, each end within the collinearity
   // tolerance of the first's line, no beam between them): the segmenter may
   // have split a shallow leaf from one wall only.
@@ -501,47 +512,85 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
     const double run_length = (segs[last].end - s.start).norm();
     if (run_length < 2.0 * p.door_min_wall_m + p.door_min_width_m) continue;
     const Eigen::Vector2d t = s.direction();
-    // Prefix sums of the points' distances behind the first segment's line (and of their
-    // squares), in scan order.
     const std::size_t span = (segs[last].last_beam + num_beams - s.first_beam) % num_beams + 1;
     if (sum.size() < span + 1) {
+      weight.resize(span + 1);
+      plain.resize(span + 1);
+      along_of.resize(span + 1);
       sum.resize(span + 1);
       sum_sq.resize(span + 1);
       beam_of.resize(span);
       steps.resize(span);
     }
+    // The wall's line: fitted (total least squares) to every point of the run. The first
+    // segment's line would do for one segment, but a short first piece's direction is
+    // unsure (sigma / (L sqrt(n / 12)): 20 mrad for 0.5 m and 20 points), and across a run
+    // several metres long that tilt is a ramp of centimetres, which a comparison of means
+    // reads as a leaf.
+    // (The segments' moments add: the run's fit costs one sum per segment.)
+    LineMoments mom;
+    for (std::size_t m = si; m <= last; ++m) mom += segs[m].moments;
+    if (mom.count < 2.0) continue;
+    const double mx = mom.sum_x / mom.count, my = mom.sum_y / mom.count;
+    const double cxx = mom.sum_xx / mom.count - mx * mx, cxy = mom.sum_xy / mom.count - mx * my,
+                 cyy = mom.sum_yy / mom.count - my * my;
+    const double phi = 0.5 * std::atan2(2.0 * cxy, cxx - cyy);  // the direction of most spread
+    Eigen::Vector2d normal(-std::sin(phi), std::cos(phi));
+    if (normal.dot(s.normal) < 0.0) normal = -normal;
+    const double rho_line = normal.x() * mx + normal.y() * my;
+    const double theta_line = std::atan2(normal.y(), normal.x());
+    // Prefix sums of the points' distances behind that line (and of their squares), in scan
+    // order, each weighted by 1 / cos^2 of its incidence: a range error moves a point along
+    // its beam, so across the wall by cos(incidence) of it (the segments' noise model). The
+    // weighted scatter then measures the range noise itself, the same along the whole wall,
+    // and a mean's variance is sigma^2 / (sum of the weights): a stretch seen head-on is not
+    // judged by the scatter of the wall's oblique end.
     std::size_t n = 0;
-    sum[0] = sum_sq[0] = 0.0;
-    const double nx = s.normal.x(), ny = s.normal.y(), rho = s.rho_m;
-    double acc = 0.0, acc_sq = 0.0;  // in registers: no store-to-load chain through the arrays
+    weight[0] = sum[0] = sum_sq[0] = plain[0] = 0.0;
+    const double nx = normal.x(), ny = normal.y(), rho = rho_line;
+    double acc_w = 0.0, acc = 0.0, acc_sq = 0.0, acc_plain = 0.0;  // in registers: no store-to-load chain through the arrays
     for (std::size_t c = 0, beam = s.first_beam; c < span; ++c, beam = beam + 1 == num_beams ? 0 : beam + 1) {
       const Eigen::Vector2d& q = segmentation.points[beam];
       if (!std::isfinite(q.x())) continue;
-      const double r = nx * q.x() + ny * q.y() - rho;
-      acc += r;
-      acc_sq += r * r;
+      const double nq = nx * q.x() + ny * q.y();
+      const double r = nq - rho;
+      const double w = q.squaredNorm() / std::max(nq * nq, 1e-12 * q.squaredNorm());
+      acc_w += w;
+      acc += w * r;
+      acc_sq += w * r * r;
+      acc_plain += r;
       ++n;
+      weight[n] = acc_w;
       sum[n] = acc;
       sum_sq[n] = acc_sq;
+      plain[n] = acc_plain;
+      along_of[n - 1] = q.dot(t);
       beam_of[n - 1] = static_cast<std::uint32_t>(beam);
     }
     if (n < 2 * p.door_min_wall_points + 2 * W) continue;
-    auto along = [&](std::size_t k) { return segmentation.points[beam_of[k]].dot(t); };
-    auto mean = [&](std::size_t a, std::size_t b) { return (sum[b] - sum[a]) / static_cast<double>(b - a); };
-    auto scatter = [&](std::size_t a, std::size_t b) {  // sum of squared deviations from the mean
-      const double m = static_cast<double>(b - a);
-      return std::max(0.0, (sum_sq[b] - sum_sq[a]) - (sum[b] - sum[a]) * (sum[b] - sum[a]) / m);
+    auto along = [&](std::size_t k) { return along_of[k]; };
+    auto mean = [&](std::size_t a, std::size_t b) { return (sum[b] - sum[a]) / (weight[b] - weight[a]); };
+    auto scatter = [&](std::size_t a, std::size_t b) {  // weighted squared deviations from the mean
+      return std::max(0.0, (sum_sq[b] - sum_sq[a]) - (sum[b] - sum[a]) * (sum[b] - sum[a]) / (weight[b] - weight[a]));
     };
     // Step at k: the mean of the W points from k on minus that of the W before. Leaf starts
     // are its local maxima above `edge`, leaf ends its local minima below -edge.
-    const double edge = 0.5 * p.door_min_recess_m;
-    for (std::size_t k = W; k + W <= n; ++k) steps[k] = (sum[k + W] - 2.0 * sum[k] + sum[k - W]) * inv_w;
+    const double edge = 0.5 * p.door_shallow_min_recess_m;
+    // (Plain means: the steps only place the candidates; the test below weighs the points.)
+    const double inv_w = 1.0 / static_cast<double>(W);
+    for (std::size_t k = W; k + W <= n; ++k) steps[k] = (plain[k + W] - 2.0 * plain[k] + plain[k - W]) * inv_w;
     // Branch-free (the noise makes these tests unpredictable): write every k, keep the
     // qualifying ones by advancing the count.
-    if (starts.size() < n) {
-      starts.resize(n);
-      ends.resize(n);
+    if (starts.size() < n + 1) {
+      starts.resize(n + 1);
+      ends.resize(n + 1);
+      wall_from.resize(n + 1);
+      wall_to.resize(n + 1);
     }
+    // A step is located to within the window: of two candidates closer than W points, only
+    // the larger is a step (the largest within W points on either side; ties to the first).
+    // First the neighbours' test, branch-free (the noise makes it unpredictable), then the
+    // window's for the few left.
     std::size_t num_starts = 0, num_ends = 0;
     steps[W - 1] = steps[W];  // sentinels: the ends of the range compare with themselves
     steps[n - W + 1] = steps[n - W];
@@ -554,8 +603,83 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
       ends[num_ends] = static_cast<std::uint32_t>(k);
       num_ends += is_end;
     }
-    double best_t = 0.0, best_depth = 0.0, best_out = 0.0;
-    std::size_t best_k = 0, best_e = 0, first_end = 0;
+    auto largestWithin = [&](std::size_t k, double sign) {
+      const double sk = sign * steps[k];
+      const std::size_t lo = k >= 2 * W ? k - W : W, hi = std::min(k + W, n - W);
+      for (std::size_t j = lo; j <= hi; ++j) {
+        const double sj = sign * steps[j];
+        if (j < k ? sj >= sk : sj > sk) return false;
+      }
+      return true;
+    };
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < num_starts; ++i) {
+      if (largestWithin(starts[i], 1.0)) starts[kept++] = starts[i];
+    }
+    num_starts = kept;
+    kept = 0;
+    for (std::size_t i = 0; i < num_ends; ++i) {
+      if (largestWithin(ends[i], -1.0)) ends[kept++] = ends[i];
+    }
+    num_ends = kept;
+    // A wall may hold several doors: the candidates that pass are taken most significant
+    // first, each clear of those taken before (with a wall of door_min_wall_m and
+    // door_min_wall_points between).
+    candidates.clear();
+    leaves.clear();
+    auto clearOfLeaves = [&](std::size_t k, std::size_t e) {
+      for (const Leaf& l : leaves) {
+        const bool before = e + p.door_min_wall_points <= l.k && along(l.k) - along(e) >= p.door_min_wall_m;
+        const bool after = l.e + p.door_min_wall_points <= k && along(k) - along(l.e) >= p.door_min_wall_m;
+        if (!before && !after) return false;
+      }
+      return true;
+    };
+    // The wall beside a leaf is the door_min_wall_m of it on each side, not the whole run: a
+    // wall bent by a few centimetres over metres (a rough wall; a scan taken while turning,
+    // rolling shutter) puts a stretch of its middle behind the run's mean, but hardly
+    // behind the wall right beside it; a door's leaf steps back at its jambs. wall_from[i]:
+    // the first point within door_min_wall_m before the i-th start; wall_to[m]: one past the
+    // last point within door_min_wall_m after the m-th end's last leaf point (two pointers
+    // over the few steps, not over every point).
+    for (std::size_t i = 0, a = 0; i < num_starts; ++i) {
+      const std::size_t k = starts[i];
+      while (a < k && along(a) < along(k) - p.door_min_wall_m) ++a;
+      wall_from[i] = static_cast<std::uint32_t>(a);
+    }
+    for (std::size_t m = 0, b = 0; m < num_ends; ++m) {
+      const std::size_t e = ends[m];
+      b = std::max(b, e);
+      while (b < n && along(b) <= along(e - 1) + p.door_min_wall_m) ++b;
+      wall_to[m] = static_cast<std::uint32_t>(b);
+    }
+    // The leaf [k, e) against the wall beside it: its depth and t statistic, the leaf's mean
+    // judged with the pooled scatter of the three pieces (each about its own mean) or with
+    // its own, when that is larger (a far or rough stretch is noisier than the rest).
+    auto evaluate = [&](std::size_t ks, std::size_t m, Leaf& leaf) {
+      const std::size_t k = starts[ks], e = ends[m];
+      const std::size_t a = wall_from[ks], b = wall_to[m];
+      if (k - a < p.door_min_sparse_wall_points || b - e < p.door_min_sparse_wall_points) return false;
+      const double in_sum = sum[e] - sum[k];
+      const double w_in = weight[e] - weight[k];
+      const double wall_sum = (sum[k] - sum[a]) + (sum[b] - sum[e]);
+      const double w_wall = (weight[k] - weight[a]) + (weight[b] - weight[e]);
+      const double wall = wall_sum / w_wall;
+      const double level = in_sum / w_in;
+      const double depth = level - wall;
+      if (depth < p.door_shallow_min_recess_m || depth > p.door_shallow_max_recess_m) return false;
+      // Behind the wall on both sides: a stretch from one jamb to somewhere inside a wide
+      // leaf has the leaf itself on its far side.
+      if (level - mean(a, k) < p.door_shallow_min_recess_m || level - mean(e, b) < p.door_shallow_min_recess_m) {
+        return false;
+      }
+      const double ss_in = scatter(k, e);
+      const double var = (ss_in + scatter(a, k) + scatter(e, b)) / std::max(1.0, static_cast<double>(b - a) - 3.0);
+      const double var_in = std::max(var, ss_in / std::max(1.0, static_cast<double>(e - k) - 1.0));
+      leaf = {k, e, depth / std::sqrt(std::max(var_in / w_in + var / w_wall, 1e-24)), depth, wall};
+      return true;
+    };
+    std::size_t first_end = 0;
     for (std::size_t ks = 0; ks < num_starts; ++ks) {
       const std::size_t k = starts[ks];
       if (k < p.door_min_wall_points || along(k) - along(0) < p.door_min_wall_m) continue;
@@ -566,68 +690,72 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
         if (width > p.door_max_width_m) break;
         if (width < p.door_min_width_m || e - k < p.door_min_gap_beams) continue;
         if (n - e < p.door_min_wall_points || along(n - 1) - along(e) < p.door_min_wall_m) continue;
-        const double n_in = static_cast<double>(e - k), n_out = static_cast<double>(n - (e - k));
-        const double mean_out = (sum[k] + (sum[n] - sum[e])) / n_out;
-        const double depth = mean(k, e) - mean_out;
-        if (depth < p.door_min_recess_m || depth > p.door_shallow_max_recess_m) continue;
-        // Pooled scatter about the two levels (each side of the leaf about its own mean).
-        const double ss = scatter(0, k) + scatter(e, n) + scatter(k, e);
-        const double var = ss / std::max(1.0, static_cast<double>(n) - 3.0);
-        const double tstat = depth / std::sqrt(std::max(var, 1e-12) * (1.0 / n_in + 1.0 / n_out));
-        if (tstat >= p.door_shallow_min_sigmas && tstat > best_t) {
-          best_t = tstat;
-          best_depth = depth;
-          best_out = mean_out;
-          best_k = k;
-          best_e = e;
-        }
+        Leaf c;
+        if (evaluate(ks, m, c) && c.t >= p.door_shallow_min_sigmas) candidates.push_back(c);
       }
     }
-    if (best_t <= 0.0) continue;
-    // A leaf deep enough to be its own segment was found between its walls already.
-    const Eigen::Vector2d mid = segmentation.points[beam_of[(best_k + best_e) / 2]];
-    bool known = false;
-    for (std::size_t d = 0; d < doors_before && !known; ++d) {
-      known = (out[d].position - mid).norm() < 0.5 * out[d].width_m + p.door_reveal_tolerance_m;
+    std::sort(candidates.begin(), candidates.end(), [](const Leaf& a, const Leaf& b) { return a.t > b.t; });
+    for (const Leaf& c : candidates) {
+      if (clearOfLeaves(c.k, c.e)) leaves.push_back(c);
     }
-    if (known) continue;
-    // Seen too obliquely, a step is smeared over few, far-apart points: its jambs are unsure.
-    const Eigen::Vector2d centre = 0.5 * (segmentation.points[beam_of[best_k]] + segmentation.points[beam_of[best_e - 1]]);
-    const double cos_incidence = std::abs(s.normal.dot(centre.normalized()));
-    if (cos_incidence < cos_shallow_incidence_) continue;
-    // Ranges on a grid of step q leave steps up to q cos(incidence) on a plain wall (a run of
-    // beams reading the same range), correlated over many points: the t-test cannot see
-    // through them, so the leaf must be deeper than that.
-    const std::size_t from = beam_of[best_k > W ? best_k - W : 0];
-    const std::size_t to = beam_of[std::min(n - 1, best_e + W)];
-    const double quantum = rangeQuantum(segmentation, from, (to + num_beams - from) % num_beams + 1);
-    if (best_depth < quantum * cos_incidence) continue;
-    // The wall's line is the segment's moved to the points beside the leaf; the jambs lie on
-    // it between the last wall point and the first leaf point of each step.
-    const double rho_wall = s.rho_m + best_out;
-    auto onWall = [&](const Eigen::Vector2d& q) -> Eigen::Vector2d { return q - (s.normal.dot(q) - rho_wall) * s.normal; };
-    const Eigen::Vector2d& q0 = segmentation.points[beam_of[best_k - 1]];
-    const Eigen::Vector2d& q1 = segmentation.points[beam_of[best_k]];
-    const Eigen::Vector2d& q2 = segmentation.points[beam_of[best_e - 1]];
-    const Eigen::Vector2d& q3 = segmentation.points[beam_of[best_e]];
-    Feature f;
-    f.type = FeatureType::kDoorClosed;
-    f.jamb_a = onWall(0.5 * (q0 + q1));
-    f.jamb_b = onWall(0.5 * (q2 + q3));
-    f.position = 0.5 * (f.jamb_a + f.jamb_b);
-    f.theta_rad = s.theta_rad;
-    f.width_m = (f.jamb_b - f.jamb_a).norm();
-    f.confidence = std::clamp(best_t / (2.0 * p.door_shallow_min_sigmas), 0.0, 1.0) *
-                   std::min(1.0, best_depth / (2.0 * p.door_min_recess_m));
-    // Covariance as for a door between two walls: each jamb uniform over its step's spacing.
-    const double var_a = (q1 - q0).squaredNorm() / 12.0 + s.covariance(0, 0);
-    const double var_b = (q3 - q2).squaredNorm() / 12.0 + s.covariance(0, 0);
-    const Eigen::Vector2d tn = tangentOf(s);
-    f.covariance = doorCovariance(s.normal, rho_wall, tn, f.position.dot(tn), s.covariance, var_a, var_b);
-    f.width_variance_m2 = var_a + var_b;
-    f.segment_a = static_cast<std::uint32_t>(si);
-    f.segment_b = static_cast<std::uint32_t>(last);
-    out.push_back(f);
+    for (const Leaf& leaf : leaves) {
+      // One opening holds one door: a leaf deep enough to be its own segment was found
+      // between its walls already, and a wall cut into two runs may show the same leaf
+      // twice. A leaf overlapping a door found before on the same wall (along it, and within
+      // a recess of its line) is that door.
+      const Eigen::Vector2d& first = segmentation.points[beam_of[leaf.k]];
+      const Eigen::Vector2d& end_point = segmentation.points[beam_of[leaf.e - 1]];
+      const double s0 = std::min(first.dot(t), end_point.dot(t)), s1 = std::max(first.dot(t), end_point.dot(t));
+      const double tol = p.door_reveal_tolerance_m;
+      bool known = false;
+      for (std::size_t d = 0; d < out.size() && !known; ++d) {
+        if (!isDoor(out[d].type)) continue;
+        const double a0 = out[d].jamb_a.dot(t), b0 = out[d].jamb_b.dot(t);
+        known = std::abs(normal.dot(out[d].position) - rho_line) <= p.door_max_recess_m + tol &&
+                s0 < std::max(a0, b0) + tol && std::min(a0, b0) - tol < s1;
+      }
+      if (known) continue;
+      // Seen too obliquely, a step is smeared over few, far-apart points: its jambs are unsure.
+      const Eigen::Vector2d centre =
+          0.5 * (segmentation.points[beam_of[leaf.k]] + segmentation.points[beam_of[leaf.e - 1]]);
+      const double cos_incidence = std::abs(normal.dot(centre.normalized()));
+      if (cos_incidence < cos_shallow_incidence_) continue;
+      // Ranges on a grid of step q leave steps up to q cos(incidence) on a plain wall (a run
+      // of beams reading the same range), correlated over many points: the t-test cannot see
+      // through them, so the leaf must be deeper than that.
+      const std::size_t from = beam_of[leaf.k > W ? leaf.k - W : 0];
+      const std::size_t to = beam_of[std::min(n - 1, leaf.e + W)];
+      const double quantum = rangeQuantum(segmentation, from, (to + num_beams - from) % num_beams + 1);
+      if (leaf.depth < quantum * cos_incidence) continue;
+      // The wall's line is the run's moved to the wall beside the leaf; the jambs lie on it
+      // between the last wall point and the first leaf point of each step.
+      const double rho_wall = rho_line + leaf.wall;
+      auto onWall = [&](const Eigen::Vector2d& q) -> Eigen::Vector2d {
+        return q - (normal.dot(q) - rho_wall) * normal;
+      };
+      const Eigen::Vector2d& q0 = segmentation.points[beam_of[leaf.k - 1]];
+      const Eigen::Vector2d& q1 = segmentation.points[beam_of[leaf.k]];
+      const Eigen::Vector2d& q2 = segmentation.points[beam_of[leaf.e - 1]];
+      const Eigen::Vector2d& q3 = segmentation.points[beam_of[leaf.e]];
+      Feature f;
+      f.type = FeatureType::kDoorClosed;
+      f.jamb_a = onWall(0.5 * (q0 + q1));
+      f.jamb_b = onWall(0.5 * (q2 + q3));
+      f.position = 0.5 * (f.jamb_a + f.jamb_b);
+      f.theta_rad = theta_line;
+      f.width_m = (f.jamb_b - f.jamb_a).norm();
+      f.confidence = std::clamp(leaf.t / (2.0 * p.door_shallow_min_sigmas), 0.0, 1.0) *
+                     std::min(1.0, leaf.depth / (2.0 * p.door_min_recess_m));
+      // Covariance as for a door between two walls: each jamb uniform over its step's spacing.
+      const double var_a = (q1 - q0).squaredNorm() / 12.0 + s.covariance(0, 0);
+      const double var_b = (q3 - q2).squaredNorm() / 12.0 + s.covariance(0, 0);
+      const Eigen::Vector2d tn(-normal.y(), normal.x());
+      f.covariance = doorCovariance(normal, rho_wall, tn, f.position.dot(tn), s.covariance, var_a, var_b);
+      f.width_variance_m2 = var_a + var_b;
+      f.segment_a = static_cast<std::uint32_t>(si);
+      f.segment_b = static_cast<std::uint32_t>(last);
+      out.push_back(f);
+    }
   }
 }
 

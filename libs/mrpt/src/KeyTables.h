@@ -176,6 +176,7 @@ struct FeatureKeys {
     visit("door_reveal_tolerance_m", p.door_reveal_tolerance_m);
     visit("door_shallow_window", p.door_shallow_window);
     visit("door_shallow_min_sigmas", p.door_shallow_min_sigmas);
+    visit("door_shallow_min_recess_m", p.door_shallow_min_recess_m);
     visit("door_shallow_max_recess_m", p.door_shallow_max_recess_m);
     visit("door_shallow_max_incidence_deg", p.door_shallow_max_incidence_deg);
     visit("corner_door_exclusion_m", p.corner_door_exclusion_m);

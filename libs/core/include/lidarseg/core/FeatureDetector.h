@@ -99,13 +99,20 @@ struct FeatureDetectorParams {
   /// (m). 3 sigma of the range noise plus the jamb's placement error.
   double door_reveal_tolerance_m = 0.06;
   /// Shallow closed doors: a leaf recessed by less than the segmenter's split threshold
-  /// (a few range sigmas) stays inside its wall's segment. Within one segment, a run of
-  /// points door width long (between two steps found with door_shallow_window points on
-  /// each side) lying [door_min_recess_m, door_max_recess_m] behind the points on both
-  /// sides, by at least door_shallow_min_sigmas standard errors of the difference of the
-  /// two means (the scatter measured on the points themselves), is a closed door. 0: off.
+  /// (a few range sigmas) stays inside its wall's segment. Within one run of collinear
+  /// segments, a run of points door width long (between two steps found with
+  /// door_shallow_window points on each side) lying [door_shallow_min_recess_m,
+  /// door_shallow_max_recess_m] behind the wall points beside it, by at least
+  /// door_shallow_min_sigmas standard errors of the difference of the two means (the
+  /// scatter measured on the points themselves), is a closed door; one wall may hold
+  /// several. door_shallow_min_sigmas 0: off.
   std::size_t door_shallow_window = 5;
   double door_shallow_min_sigmas = 5.0;
+  /// Shallower offsets between two stretches of one wall are what a finished wall may do
+  /// over a door's width and the walls beside it (building tolerances for the flatness of
+  /// plastered walls: about 5 mm over 1 m and 10 mm over 4 m, DIN 18202 table 3), however
+  /// significant the step is statistically (m).
+  double door_shallow_min_recess_m = 0.01;
   /// Deeper steps are split off by the segmenter (its threshold is a few range sigmas, 5 cm
   /// at most for the profiles here) and found between two walls; a deeper "leaf" inside one
   /// segment is something else (m).
