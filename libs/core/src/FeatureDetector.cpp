@@ -487,11 +487,14 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
   };
   // Per-thread scratch: no allocation once grown.
   thread_local std::vector<double> tl_weight, tl_sum, tl_sum_sq, tl_plain, tl_along, tl_steps;
+  thread_local std::vector<double> tl_before_mean, tl_before_ss, tl_after_mean, tl_after_ss;
   thread_local std::vector<std::uint32_t> tl_beam_of, tl_starts, tl_ends, tl_wall_from, tl_wall_to;
   thread_local std::vector<Leaf> tl_leaves, tl_candidates;
   // Bound once: every use of a thread_local may look its address up again.
   std::vector<double>&weight = tl_weight, &sum = tl_sum, &sum_sq = tl_sum_sq, &steps = tl_steps;
   std::vector<double>&plain = tl_plain, &along_of = tl_along;
+  std::vector<double>&before_mean = tl_before_mean, &before_ss = tl_before_ss, &after_mean = tl_after_mean,
+                      &after_ss = tl_after_ss;
   std::vector<std::uint32_t>&beam_of = tl_beam_of, &starts = tl_starts, &ends = tl_ends;
   std::vector<std::uint32_t>&wall_from = tl_wall_from, &wall_to = tl_wall_to;
   std::vector<Leaf>&leaves = tl_leaves, &candidates = tl_candidates;
@@ -586,6 +589,10 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
       ends.resize(n + 1);
       wall_from.resize(n + 1);
       wall_to.resize(n + 1);
+      before_mean.resize(n + 1);
+      before_ss.resize(n + 1);
+      after_mean.resize(n + 1);
+      after_ss.resize(n + 1);
     }
     // A step is located to within the window: of two candidates closer than W points, only
     // the larger is a step (the largest within W points on either side; ties to the first).
@@ -603,25 +610,42 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
       ends[num_ends] = static_cast<std::uint32_t>(k);
       num_ends += is_end;
     }
-    auto largestWithin = [&](std::size_t k, double sign) {
-      const double sk = sign * steps[k];
+    // (The window split at k: no test of j against k per point, and an end's test compares
+    // the steps themselves, not their negatives: negation is exact, so the same outcome.)
+    auto largestWithin = [&](std::size_t k) {
+      const double sk = steps[k];
       const std::size_t lo = k >= 2 * W ? k - W : W, hi = std::min(k + W, n - W);
-      for (std::size_t j = lo; j <= hi; ++j) {
-        const double sj = sign * steps[j];
-        if (j < k ? sj >= sk : sj > sk) return false;
+      for (std::size_t j = lo; j < k; ++j) {
+        if (steps[j] >= sk) return false;
+      }
+      for (std::size_t j = k + 1; j <= hi; ++j) {
+        if (steps[j] > sk) return false;
+      }
+      return true;
+    };
+    auto smallestWithin = [&](std::size_t k) {
+      const double sk = steps[k];
+      const std::size_t lo = k >= 2 * W ? k - W : W, hi = std::min(k + W, n - W);
+      for (std::size_t j = lo; j < k; ++j) {
+        if (steps[j] <= sk) return false;
+      }
+      for (std::size_t j = k + 1; j <= hi; ++j) {
+        if (steps[j] < sk) return false;
       }
       return true;
     };
     std::size_t kept = 0;
     for (std::size_t i = 0; i < num_starts; ++i) {
-      if (largestWithin(starts[i], 1.0)) starts[kept++] = starts[i];
+      if (largestWithin(starts[i])) starts[kept++] = starts[i];
     }
     num_starts = kept;
     kept = 0;
     for (std::size_t i = 0; i < num_ends; ++i) {
-      if (largestWithin(ends[i], -1.0)) ends[kept++] = ends[i];
+      if (smallestWithin(ends[i])) ends[kept++] = ends[i];
     }
     num_ends = kept;
+    // No leaf without both a start and an end: nothing below would be found.
+    if (num_starts == 0 || num_ends == 0) continue;
     // A wall may hold several doors: the candidates that pass are taken most significant
     // first, each clear of those taken before (with a wall of door_min_wall_m and
     // door_min_wall_points between).
@@ -653,6 +677,20 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
       while (b < n && along(b) <= along(e - 1) + p.door_min_wall_m) ++b;
       wall_to[m] = static_cast<std::uint32_t>(b);
     }
+    // The wall's mean and scatter on each side depend on one step only: computed once per
+    // step (the same expressions, so the same values), not once per pair of steps.
+    for (std::size_t i = 0; i < num_starts; ++i) {
+      const std::size_t a = wall_from[i], k = starts[i];
+      if (k - a < p.door_min_sparse_wall_points) continue;  // never evaluated
+      before_mean[i] = mean(a, k);
+      before_ss[i] = scatter(a, k);
+    }
+    for (std::size_t m = 0; m < num_ends; ++m) {
+      const std::size_t e = ends[m], b = wall_to[m];
+      if (b - e < p.door_min_sparse_wall_points) continue;  // never evaluated
+      after_mean[m] = mean(e, b);
+      after_ss[m] = scatter(e, b);
+    }
     // The leaf [k, e) against the wall beside it: its depth and t statistic, the leaf's mean
     // judged with the pooled scatter of the three pieces (each about its own mean) or with
     // its own, when that is larger (a far or rough stretch is noisier than the rest).
@@ -662,19 +700,21 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
       if (k - a < p.door_min_sparse_wall_points || b - e < p.door_min_sparse_wall_points) return false;
       const double in_sum = sum[e] - sum[k];
       const double w_in = weight[e] - weight[k];
+      const double level = in_sum / w_in;
+      // Behind the wall on both sides: a stretch from one jamb to somewhere inside a wide
+      // leaf has the leaf itself on its far side. (Tested first: it needs no division of its
+      // own and rejects most pairs of noise steps; the tests are pure, so their order does
+      // not change which pairs pass.)
+      if (level - before_mean[ks] < p.door_shallow_min_recess_m || level - after_mean[m] < p.door_shallow_min_recess_m) {
+        return false;
+      }
       const double wall_sum = (sum[k] - sum[a]) + (sum[b] - sum[e]);
       const double w_wall = (weight[k] - weight[a]) + (weight[b] - weight[e]);
       const double wall = wall_sum / w_wall;
-      const double level = in_sum / w_in;
       const double depth = level - wall;
       if (depth < p.door_shallow_min_recess_m || depth > p.door_shallow_max_recess_m) return false;
-      // Behind the wall on both sides: a stretch from one jamb to somewhere inside a wide
-      // leaf has the leaf itself on its far side.
-      if (level - mean(a, k) < p.door_shallow_min_recess_m || level - mean(e, b) < p.door_shallow_min_recess_m) {
-        return false;
-      }
       const double ss_in = scatter(k, e);
-      const double var = (ss_in + scatter(a, k) + scatter(e, b)) / std::max(1.0, static_cast<double>(b - a) - 3.0);
+      const double var = (ss_in + before_ss[ks] + after_ss[m]) / std::max(1.0, static_cast<double>(b - a) - 3.0);
       const double var_in = std::max(var, ss_in / std::max(1.0, static_cast<double>(e - k) - 1.0));
       leaf = {k, e, depth / std::sqrt(std::max(var_in / w_in + var / w_wall, 1e-24)), depth, wall};
       return true;
