@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -253,6 +255,23 @@ TEST(OutputFiles, AManifestMustBeNamedAsOne) {
   const std::string dir = freshFolder("manifest-name");
   OutputSet set;
   EXPECT_THROW(set.addManifest(dir + "/results.json", manifestOf, kOwnNames), std::invalid_argument);
+}
+
+// A batch job inherits its runner's lock without close-on-exec (so that it survives the
+// job's exec); once claimed, the job sets close-on-exec again, so that the programs it
+// starts (gnuplot) do not keep the folder locked after the runner and the job died (review
+// finding: a restart was refused while an orphaned gnuplot held the lock).
+TEST(OutputFiles, AnInheritedFolderLockIsNotPassedOnToWhatTheJobStarts) {
+  const std::string dir = freshFolder("inherited-lock");
+  const int fd = ::open((dir + "/.lidarseg.lock").c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  ASSERT_EQ(::fcntl(fd, F_SETFD, 0), 0);  // as the runner leaves it for its job
+  {
+    OutputSet job;
+    job.claimInheritedFolder(dir, fd);
+    EXPECT_NE(::fcntl(fd, F_GETFD) & FD_CLOEXEC, 0);
+  }
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "lidarseg/vision/RegionTable.h"
 #include "lidarseg/core/ScanSegmenter.h"
 #include "lidarseg/eval/FeatureEvaluation.h"
+#include "lidarseg/mrpt/ExceptionMessage.h"
 #include "lidarseg/mrpt/SegmentationConfig.h"
 #include "lidarseg/sim/RayCaster.h"
 #include "lidarseg/sim/WorldFile.h"
@@ -68,6 +69,17 @@ TEST(FuzzFindings, AnIniEvalErrorGivesMrptsMessageInOneLineNotItsBanner) {
   EXPECT_GT(e.size(), prefix.size() + 3) << e;
   EXPECT_EQ(e.find("MRPT exception"), std::string::npos) << e;
   EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+}
+
+// The one-line form of an MRPT exception is never empty and never MRPT's banner, whatever
+// the text after "Message:" (review finding).
+TEST(FuzzFindings, AnMrptExceptionsOneLineIsNeitherEmptyNorItsBanner) {
+  EXPECT_EQ(mrpt_adapter::exceptionMessage("==== MRPT exception ====\nFile: a.cpp:1\nMessage: bad key 'x'\n"), "bad key 'x'");
+  EXPECT_EQ(mrpt_adapter::exceptionMessage("==== MRPT exception ====\nFile: a.cpp:1\nMessage:"), "File: a.cpp:1");
+  EXPECT_EQ(mrpt_adapter::exceptionMessage("\nplain failure\n"), "plain failure");
+  EXPECT_EQ(mrpt_adapter::exceptionMessage(""), "unknown error");
+  EXPECT_EQ(mrpt_adapter::exceptionMessage("\n\n"), "unknown error");
+  EXPECT_EQ(mrpt_adapter::exceptionMessage("one line"), "one line");
 }
 
 // F3 (fuzz_tables): a true-features CSV with scan = 6.7e22 was converted to size_t

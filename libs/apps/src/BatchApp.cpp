@@ -99,7 +99,10 @@ void BatchApp::runOne(const BatchJob& job) {
     folder.claimInheritedFolder(job.out_dir, job.folder_lock_fd);
   } else {
     folder.claimFolderShared(job.out_dir);
-    // Jobs sharing the folder record or check its experiment one at a time.
+  }
+  {
+    // Jobs sharing the folder record or check its experiment one at a time (a runner's own
+    // job too: a descriptor opened by hand on the lock file passes while no one holds it).
     const pipeline::FileLock record((fs::path(job.out_dir) / ".locks" / "experiment.lock").string());
     pipeline::claimExperiment(job.out_dir, experimentOf(job));
   }

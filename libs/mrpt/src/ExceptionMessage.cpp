@@ -1,5 +1,7 @@
 #include "lidarseg/mrpt/ExceptionMessage.h"
 
+#include <algorithm>
+
 namespace lidarseg::mrpt_adapter {
 
 std::string exceptionMessage(const std::string& what) {
@@ -9,7 +11,20 @@ std::string exceptionMessage(const std::string& what) {
   const auto first = message.find_first_not_of(" \t\n");
   message = first == std::string::npos ? std::string() : message.substr(first);
   message = message.substr(0, message.find('\n'));
-  if (message.empty()) message = what.substr(0, what.find('\n'));
+  if (message.empty()) {
+    // No text after "Message:": the first line that is neither blank nor MRPT's banner.
+    std::size_t at = 0;
+    while (at < what.size()) {
+      const std::size_t end = std::min(what.find('\n', at), what.size());
+      const std::string line = what.substr(at, end - at);
+      if (line.find_first_not_of(" \t\r") != std::string::npos && line.find("MRPT exception") == std::string::npos &&
+          line.find("Message:") == std::string::npos) {
+        return line.substr(line.find_first_not_of(" \t\r"));
+      }
+      at = end + 1;
+    }
+    message = "unknown error";
+  }
   return message;
 }
 

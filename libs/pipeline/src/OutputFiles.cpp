@@ -252,6 +252,9 @@ void OutputSet::claimInheritedFolder(const std::string& folder, int fd) {
     throw std::runtime_error("descriptor " + std::to_string(fd) + " is not the held lock '" + lock +
                              "' of a run writing into '" + folder + "'; another run may be writing there");
   }
+  // The runner cleared close-on-exec for this job only: set it again, so that what the job
+  // starts (gnuplot) does not keep the folder locked after the runner and the job die.
+  ::fcntl(fd, F_SETFD, ::fcntl(fd, F_GETFD) | FD_CLOEXEC);
   const std::string key = folderKey(folder);
   const std::lock_guard<std::mutex> guard(g_locks_mutex);
   if (g_locks.count(key) != 0) throw std::logic_error("this process already holds the lock of '" + folder + "'");
