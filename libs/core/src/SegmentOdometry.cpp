@@ -134,7 +134,7 @@ SegmentOdometry::PriorGate SegmentOdometry::priorGate(double dt, const std::opti
   double sigma_m = 0.0, sigma_rad = 0.0;
   if (odometry_increment) {
     // Wheel odometry can be wrong by any amount (slip, a bad calibration): no gate unless set.
-    if (!(params_.odometry_error_ratio > 0.0)) return {kUnbounded, kUnbounded};
+    if (!(params_.odometry_error_ratio > 0.0)) return {kUnbounded, kUnbounded, kUnbounded, kUnbounded, true};
     sigma_m = params_.odometry_error_ratio * std::hypot(odometry_increment->x, odometry_increment->y);
     sigma_rad = params_.odometry_error_ratio * std::abs(odometry_increment->yaw);
   } else {
@@ -143,7 +143,8 @@ SegmentOdometry::PriorGate SegmentOdometry::priorGate(double dt, const std::opti
     sigma_rad = params_.prior_angular_accel_rad_s2 * t2;
   }
   return {std::max(params_.refiner.max_distance_m, params_.prior_gate_sigmas * sigma_m),
-          std::max(params_.prior_gate_floor_rad, params_.prior_gate_sigmas * sigma_rad)};
+          std::max(params_.prior_gate_floor_rad, params_.prior_gate_sigmas * sigma_rad), sigma_m, sigma_rad,
+          odometry_increment.has_value()};
 }
 
 Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const PriorGate& gate, OdometryStep& step) {
@@ -179,10 +180,28 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
   };
   const auto replaces = [&](const RefineResult& r, bool gated) {
     if (!reference || reference->status == RefineStatus::kFailed) return better(r, best);
-    return r.status != RefineStatus::kFailed && (!gated || plausible(r)) &&
-           static_cast<double>(r.inliers) > (1.0 + params_.prior_preference) * static_cast<double>(reference->inliers);
+    if (r.status == RefineStatus::kFailed || (gated && !plausible(r))) return false;
+    // A constant-velocity prior comes from the last estimates: a reference refined from it
+    // whose iterations ran out while it still moved does not hold against one that came to
+    // rest (it was sliding away along a corridor, and the next prior would start from there:
+    // the error feeds itself). Wheel odometry does not depend on the estimates.
+    if (!gate.wheel_odometry && !reference->converged && r.converged) return true;
+    return static_cast<double>(r.inliers) > (1.0 + params_.prior_preference) * static_cast<double>(reference->inliers);
   };
-  if (!matched || far || doubtful(best) || !best.converged) {
+  // The match's refinement and the prior disagree beyond both their uncertainties (a
+  // corridor whose walls pair as well one pillar face further, with a prior known to a few
+  // millimetres): the prior's refinement is the reference then too.
+  const auto disagrees = [&](const RefineResult& r) {
+    if (!params_.check_match_against_prior || r.status == RefineStatus::kFailed) return false;
+    const double k2 = params_.prior_gate_sigmas * params_.prior_gate_sigmas;
+    const Eigen::Vector2d d(r.T_key_curr.x - prior.x, r.T_key_curr.y - prior.y);
+    const double dist = d.norm();
+    const double along = dist > 0.0 ? (d / dist).dot(r.covariance.topLeftCorner<2, 2>() * (d / dist)) : 0.0;
+    const double dyaw = wrapAngle(r.T_key_curr.yaw - prior.yaw);
+    return dist * dist > k2 * (gate.sigma_m * gate.sigma_m + along) ||
+           dyaw * dyaw > k2 * (gate.sigma_rad * gate.sigma_rad + r.covariance(2, 2));
+  };
+  if (!matched || far || doubtful(best) || !best.converged || disagrees(best)) {
     reference = refiner_.refine(refine_keyframe_, cur, prior);
     if (!matched || !replaces(best, false)) best = *reference;
   }

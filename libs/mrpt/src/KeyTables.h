@@ -76,6 +76,7 @@ struct OdometryKeys {
     visit("doubtful_ratio", p.doubtful_ratio);
     visit("prior_preference", p.prior_preference);
     visit("search_when_doubtful", p.search_when_doubtful);
+    visit("check_match_against_prior", p.check_match_against_prior);
     visit("prior_gate_sigmas", p.prior_gate_sigmas);
     visit("prior_accel_m_s2", p.prior_accel_m_s2);
     visit("prior_angular_accel_rad_s2", p.prior_angular_accel_rad_s2);

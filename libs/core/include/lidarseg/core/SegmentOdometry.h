@@ -40,6 +40,14 @@ struct OdometryParams {
   double prior_preference = 0.15;
   /// Whether a doubtful (not only a failed) refinement also runs the search.
   bool search_when_doubtful = true;
+  /// Whether the segment match's refinement is also refined from the prior when the two
+  /// disagree by more than prior_gate_sigmas standard deviations of the prior's error (below)
+  /// and of the refinement's own covariance along their difference, in translation or in
+  /// yaw. A corridor's walls pair about as well one pillar face or door jamb further along,
+  /// and the match may lock onto that; the prior's refinement is then the reference, as
+  /// when the match moved beyond max_distance_m (decision 75). With wheel odometry it acts
+  /// only when odometry_error_ratio is set (otherwise the prior's error is unbounded).
+  bool check_match_against_prior = true;
   /// How far the prior may plausibly be wrong, which bounds how far from it the correlative
   /// search's hypothesis may replace the prior's own refinement while that one holds:
   /// prior_gate_sigmas standard deviations of the prior's error, and never less than
@@ -184,6 +192,11 @@ class SegmentOdometry {
   /// The gate of the prior (translation m, rotation rad): see OdometryParams::prior_gate_sigmas.
   struct PriorGate {
     double translation_m = 0.0, rotation_rad = 0.0;
+    /// Standard deviation of the prior's error (m, rad): infinite when unknown.
+    double sigma_m = 0.0, sigma_rad = 0.0;
+    /// The prior is wheel odometry (independent of the poses estimated so far), not the
+    /// constant velocity of the last estimates.
+    bool wheel_odometry = false;
   };
   PriorGate priorGate(double dt, const std::optional<Pose2D>& odometry_increment) const;
   Pose2D refineWithKeyframe(int slot, const Pose2D& prior, const PriorGate& gate, OdometryStep& step);
