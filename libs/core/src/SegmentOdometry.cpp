@@ -181,6 +181,10 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
   const auto replaces = [&](const RefineResult& r, bool gated) {
     if (!reference || reference->status == RefineStatus::kFailed) return better(r, best);
     if (r.status == RefineStatus::kFailed || (gated && !plausible(r))) return false;
+    // A degenerate hypothesis is free along its weak direction (a corridor's axis): the
+    // points it pairs there say nothing about the position, so it does not replace a
+    // reference that is constrained (decision 76).
+    if (r.status == RefineStatus::kDegenerate && reference->status == RefineStatus::kOk) return false;
     // A constant-velocity prior comes from the last estimates: a reference refined from it
     // whose iterations ran out while it still moved does not hold against one that came to
     // rest (it was sliding away along a corridor, and the next prior would start from there:
