@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include <gtest/gtest.h>
+#include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/poses/CPose3DPDFGaussian.h>
@@ -14,6 +15,8 @@
 #include <vector>
 
 #include "SyntheticScenes.h"
+#include "lidarseg/mrpt/OdometryConfig.h"
+#include "lidarseg/mrpt/PoseConversion.h"
 #include "lidarseg/mrpt/RawlogScanReader.h"
 #include "lidarseg/mrpt/ScanConverter.h"
 #include "lidarseg/mrpt/SegmentAlignment.h"
@@ -32,6 +35,17 @@ mrpt::maps::CSimplePointsMap mapAt(const Pose2D& pose, std::uint64_t seed) {
   map.insertionOptions.minDistBetweenLaserPoints = 0.0f;
   map.loadFromRangeScan(*obs);
   return map;
+}
+
+// What loading `section` throws as std::invalid_argument; empty when it loads.
+template <typename Params>
+std::string loadError(Params& params, const mrpt::config::CConfigFileBase& cfg, const std::string& section) {
+  try {
+    params.loadFromConfigFile(cfg, section);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return {};
 }
 
 TEST(SegmentAlignment, RecoversTheMotionBetweenTwoScansWithItsCovariance) {
@@ -127,12 +141,8 @@ TEST(SegmentAlignment, ParametersLoadLikeCicpsAndRejectBadKeys) {
   EXPECT_EQ(text.find("9999999"), std::string::npos) << text;
   // Unknown key, bad level.
   cfg.setContent(std::string("[align]\nwd_treshold_m = 0.03\n"));
-  try {
-    p.loadFromConfigFile(cfg, "align");
-    FAIL() << "misspelt key accepted";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("wd_treshold_m"), std::string::npos) << e.what();
-  }
+  const std::string misspelt = loadError(p, cfg, "align");
+  EXPECT_NE(misspelt.find("wd_treshold_m"), std::string::npos) << "misspelt key: '" << misspelt << "'";
   cfg.setContent(std::string("[align]\nlevel = 7\n"));
   EXPECT_THROW(p.loadFromConfigFile(cfg, "align"), std::invalid_argument);
 }
@@ -297,6 +307,166 @@ TEST(SegmentAlignment, AgreesWithCicpOnPairsOfTheRealTelecomLog) {
             << agree_segments << " with segments only\n";
   EXPECT_GE(agree_refined, agree_segments);
   EXPECT_GE(static_cast<double>(agree_refined), 0.85 * static_cast<double>(pairs));  // measured: 28 of 31
+}
+
+// The tracking the tools run: over the first scans of the real Telecom log, with its wheel
+// odometry as the prior, track() gives exactly the poses of the core SegmentOdometry it
+// wraps, moved from the laser to the robot (T_odom_robot = S T_odom_sensor S^-1).
+TEST(SegmentAlignment, TrackingTheTelecomLogGivesTheCoreOdometrysPoses) {
+  const std::string telecom =
+      std::string(LIDARSEG_MRPT_DATASETS_DIR) + "/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog";
+  if (!std::filesystem::exists(telecom)) GTEST_SKIP() << "missing " << telecom << " (Debian mrpt-common)";
+  SegmentAlignment align;
+  SegmentOdometry core(align.trackingOptions);
+  ScanConverter converter;
+  RawlogScanReader reader(telecom);
+  std::optional<mrpt::poses::CPose2D> last_odometry;
+  std::size_t scans = 0, keyframes = 0;
+  while (auto record = reader.next()) {
+    const auto& obs = *record->observation;
+    std::optional<mrpt::poses::CPose2D> increment;
+    if (record->odometry && last_odometry) increment = *record->odometry - *last_odometry;
+    last_odometry = record->odometry;
+    const auto got = align.track(obs, increment);
+
+    const Pose2D S = sensorOnRobot(obs);
+    Scan scan = converter.convert(obs);
+    scan.stamp_s = mrpt::Clock::toDouble(obs.timestamp);
+    std::optional<Pose2D> sensor_prior;
+    if (increment) sensor_prior = compose(compose(inverse(S), toPose2D(*increment)), S);
+    const OdometryStep expected = core.process(scan, sensor_prior);
+    const std::string where = "scan " + std::to_string(scans);
+    EXPECT_EQ(got.core.status, expected.status) << where;
+    EXPECT_EQ(got.core.keyframe, expected.keyframe) << where;
+    EXPECT_EQ(got.core.T_odom_sensor.x, expected.T_odom_sensor.x) << where;
+    EXPECT_EQ(got.core.T_odom_sensor.y, expected.T_odom_sensor.y) << where;
+    EXPECT_EQ(got.core.T_odom_sensor.yaw, expected.T_odom_sensor.yaw) << where;
+    const Pose2D robot = compose(compose(S, expected.T_odom_sensor), inverse(S));
+    EXPECT_NEAR(got.robot_pose.mean.x(), robot.x, 1e-12) << where;
+    EXPECT_NEAR(got.robot_pose.mean.y(), robot.y, 1e-12) << where;
+    EXPECT_NEAR(got.robot_pose.mean.phi(), robot.yaw, 1e-12) << where;
+    keyframes += expected.keyframe ? 1 : 0;
+    if (++scans == 60) break;
+  }
+  ASSERT_EQ(scans, 60u);
+  EXPECT_GT(keyframes, 2u);  // the keyframe was renewed: more than one pair was tracked
+  // The core behind the tracking is the one that processed the last scan.
+  EXPECT_EQ(align.trackingCore().lastSegmentation().levels[0].segments.size(),
+            core.lastSegmentation().levels[0].segments.size());
+}
+
+// trackingOptions are read at the first track() after a reset: a reset starts a new
+// odometry frame with the options it then holds, and the pairwise options are not used.
+TEST(SegmentAlignment, ResetTrackingStartsAgainWithTheOptionsThenHeld) {
+  const auto sensor = lidarseg::testing::makeSensor(361, 270.0, 0.005);
+  const auto world = lidarseg::testing::officeScene();
+  std::vector<Scan> scans;
+  Pose2D robot{1.0, 1.0, 0.0};
+  for (std::size_t k = 0; k < 8; ++k) {
+    scans.push_back(lidarseg::testing::simulate(world, sensor, robot, 20 + k));
+    scans.back().stamp_s = 10.0 + 0.1 * static_cast<double>(k);
+    robot = compose(robot, Pose2D{0.05, 0.0, 0.5 * kDeg});
+  }
+  SegmentAlignment align;
+  EXPECT_THROW(align.trackingCore(), std::logic_error);
+  align.options.refiner.enabled = false;  // pairwise only: tracking must not see it
+  // A pairwise alignment in the middle of the sequence does not disturb the tracking: the
+  // poses equal those of an object that only tracked.
+  const auto m1 = mapAt({1.0, 1.0, 0.0}, 1), m2 = mapAt({1.25, 1.08, 4 * kDeg}, 2);
+  SegmentAlignment tracking_only;
+  std::vector<SegmentAlignment::TTrackResult> first_run;
+  for (std::size_t k = 0; k < scans.size(); ++k) {
+    if (k == 4) align.AlignPDF(&m1, &m2, mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D()));
+    first_run.push_back(align.track(scans[k], Pose2D{}));
+    const auto alone = tracking_only.track(scans[k], Pose2D{});
+    EXPECT_EQ(first_run.back().robot_pose.mean.x(), alone.robot_pose.mean.x()) << "scan " << k;
+    EXPECT_EQ(first_run.back().robot_pose.mean.y(), alone.robot_pose.mean.y()) << "scan " << k;
+    EXPECT_EQ(first_run.back().robot_pose.mean.phi(), alone.robot_pose.mean.phi()) << "scan " << k;
+  }
+  EXPECT_TRUE(first_run.front().core.first);
+  EXPECT_GT(first_run.back().core.refine.iterations, 0u);  // refined: trackingOptions' refiner
+  EXPECT_NEAR(first_run.back().robot_pose.mean.x(), 0.05 * 7, 0.03);
+  std::size_t keyframes = 0;
+  for (std::size_t k = 1; k < first_run.size(); ++k) keyframes += first_run[k].core.keyframe ? 1 : 0;
+  EXPECT_LT(keyframes, first_run.size() - 1);  // 0.35 m in all: not every scan a keyframe
+
+  // Options changed while tracking wait for the reset.
+  align.trackingOptions.keyframe_distance_m = 0.0;
+  align.trackingOptions.keyframe_angle_rad = 0.0;
+  align.resetTracking();
+  EXPECT_THROW(align.trackingCore(), std::logic_error);
+  for (std::size_t k = 0; k < scans.size(); ++k) {
+    const auto step = align.track(scans[k], Pose2D{});
+    EXPECT_EQ(step.core.first, k == 0);
+    if (k > 0) {
+      EXPECT_TRUE(step.core.keyframe) << "scan " << k;  // scan to scan now
+    }
+  }
+  // A fresh start from the first scan: the first pose is the origin again.
+  align.trackingOptions = SegmentAlignment::TTrackingParams{};
+  align.resetTracking();
+  const auto again = align.track(scans[0], Pose2D{});
+  EXPECT_EQ(again.robot_pose.mean.x(), 0.0);
+  EXPECT_EQ(again.robot_pose.mean.phi(), 0.0);
+  EXPECT_EQ(align.track(scans[1], Pose2D{}).robot_pose.mean.x(), first_run[1].robot_pose.mean.x());
+
+  // Invalid options are refused at the constructor and at the first track() after a reset.
+  OdometryParams bad;
+  bad.keyframe_distance_m = -1.0;
+  EXPECT_THROW(SegmentAlignment(SegmentAlignment::TConfigParams{}, bad), std::invalid_argument);
+  align.trackingOptions.keyframe_distance_m = -1.0;
+  align.resetTracking();
+  EXPECT_THROW(align.track(scans[0], Pose2D{}), std::invalid_argument);
+}
+
+// The tracking's options load like the alignment's: one section (a tool's [odometry]
+// section loads as it is), absent section = values kept, save-then-load round trip, a
+// misspelt key named.
+TEST(SegmentAlignment, TrackingOptionsLoadFromAToolsOdometrySection) {
+  const std::string path = std::string(LIDARSEG_CONFIG_DIR) + "/default.ini";
+  mrpt::config::CConfigFile file(path);
+  SegmentAlignment::TTrackingParams p;
+  p.loadFromConfigFile(file, "odometry");
+  // The [odometry] keys read as the tools read them.
+  const OdometryParams tools = loadOdometryParamsFile(path);
+  EXPECT_EQ(p.keyframe_distance_m, tools.keyframe_distance_m);
+  EXPECT_EQ(p.keyframe_angle_rad, tools.keyframe_angle_rad);
+  EXPECT_EQ(p.local_map_keyframes, tools.local_map_keyframes);
+  EXPECT_EQ(p.level, tools.level);
+  EXPECT_EQ(p.deskew, tools.deskew);
+  EXPECT_EQ(p.doubtful_ratio, tools.doubtful_ratio);
+
+  mrpt::config::CConfigFileMemory cfg;
+  cfg.setContent(std::string("[track]\nkeyframe_distance_m = 0.5\nwd_threshold_m = 0.03\n"
+                             "refine_max_iterations = 7\nsearch_resolution_m = 0.04\nlevel = fused\n"));
+  SegmentAlignment::TTrackingParams q;
+  q.loadFromConfigFile(cfg, "track");
+  EXPECT_EQ(q.keyframe_distance_m, 0.5);
+  EXPECT_EQ(q.segmentation.wall_danielsson.threshold_m, 0.03);
+  EXPECT_EQ(q.refiner.max_iterations, 7u);
+  EXPECT_EQ(q.search.resolution_m, 0.04);
+  EXPECT_EQ(q.level, CascadeLevel::kFused);
+  // Round trip: every key written, read back equal.
+  mrpt::config::CConfigFileMemory saved;
+  q.saveToConfigFile(saved, "copy");
+  SegmentAlignment::TTrackingParams r;
+  r.loadFromConfigFile(saved, "copy");
+  mrpt::config::CConfigFileMemory resaved;
+  r.saveToConfigFile(resaved, "copy");
+  std::string a, b;
+  saved.getContent(a);
+  resaved.getContent(b);
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a.find("keyframe_distance_m = 0.5\n"), std::string::npos) << a;
+  EXPECT_NE(a.find("refine_max_iterations = 7\n"), std::string::npos) << a;
+  // Absent section: kept.
+  r.loadFromConfigFile(mrpt::config::CConfigFileMemory(), "track");
+  EXPECT_EQ(r.keyframe_distance_m, 0.5);
+  // A misspelt key is named, and nothing changes.
+  cfg.setContent(std::string("[track]\nkeyframe_distance_m = 2\nkeyframe_distanse_m = 0.5\n"));
+  const std::string misspelt = loadError(r, cfg, "track");
+  EXPECT_NE(misspelt.find("keyframe_distanse_m"), std::string::npos) << "misspelt key: '" << misspelt << "'";
+  EXPECT_EQ(r.keyframe_distance_m, 0.5);
 }
 
 }  // namespace

@@ -30,9 +30,18 @@ const char* prefixedKey(const char* prefix, const char* key) {
   return names.insert(std::string(prefix) + key).first->c_str();
 }
 
+// The [refiner] and [search] keys in a section that also holds the [matcher] and
+// [odometry] keys: prefixed refine_ and search_ (their names overlap: level, max_points).
+struct PrefixedStageKeys {
+  template <typename Params, typename Visitor>
+  void operator()(Params& p, Visitor&& visit) const {
+    detail::RefinerKeys{}(p.refiner, [&](const char* key, auto& field) { visit(prefixedKey("refine_", key), field); });
+    detail::SearchKeys{}(p.search, [&](const char* key, auto& field) { visit(prefixedKey("search_", key), field); });
+  }
+};
+
 // The [segmentation] keys, the [matcher] keys and the level in one section, as CICP keeps
-// its keys in one; the [refiner] and [search] keys with the prefixes refine_ and search_
-// (their names overlap: level, max_points).
+// its keys in one, then the prefixed [refiner] and [search] keys.
 struct AlignmentKeys {
   template <typename Params, typename Visitor>
   void operator()(Params& p, Visitor&& visit) const {
@@ -40,8 +49,19 @@ struct AlignmentKeys {
     detail::MatcherKeys{}(p.matcher, visit);
     visit("level", p.level);
     visit("recovery", p.recovery);
-    detail::RefinerKeys{}(p.refiner, [&](const char* key, auto& field) { visit(prefixedKey("refine_", key), field); });
-    detail::SearchKeys{}(p.search, [&](const char* key, auto& field) { visit(prefixedKey("search_", key), field); });
+    PrefixedStageKeys{}(p, visit);
+  }
+};
+
+// The tracking's section: the alignment's stage keys, then the [odometry] keys under their
+// own names (level and recovery among them), so that a tool's [odometry] section loads.
+struct TrackingKeys {
+  template <typename Params, typename Visitor>
+  void operator()(Params& p, Visitor&& visit) const {
+    detail::SegmentationKeys{}(p.segmentation, visit);
+    detail::MatcherKeys{}(p.matcher, visit);
+    PrefixedStageKeys{}(p, visit);
+    detail::OdometryKeys{}(p, visit);
   }
 };
 
@@ -138,7 +158,46 @@ void SegmentAlignment::TConfigParams::saveToConfigFile(mrpt::config::CConfigFile
   detail::saveKeys(*this, target, section, AlignmentKeys{});
 }
 
+void SegmentAlignment::TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+                                                           const std::string& section) {
+  if (!source.sectionExists(section)) return;  // CICP's contract, as TConfigParams'
+  detail::loadKeys(*this, source, section, "configuration", {}, TrackingKeys{});
+}
+
+void SegmentAlignment::TTrackingParams::saveToConfigFile(mrpt::config::CConfigFileBase& target,
+                                                         const std::string& section) const {
+  detail::saveKeys(*this, target, section, TrackingKeys{});
+}
+
 SegmentAlignment::SegmentAlignment(const TConfigParams& params) : options(params) { options.validate(); }
+
+SegmentAlignment::SegmentAlignment(const TConfigParams& params, const OdometryParams& tracking)
+    : options(params), trackingOptions(tracking) {
+  options.validate();
+  trackingOptions.validate();
+}
+
+SegmentAlignment::TTrackResult SegmentAlignment::track(const Scan& scan, const Pose2D& T_robot_sensor,
+                                                       const std::optional<Pose2D>& robot_odometry_increment) {
+  // Made here rather than at construction so that options set after it count; validated
+  // by LaserOdometry's constructor.
+  if (!tracker_) tracker_.emplace(trackingOptions);
+  return tracker_->process(scan, T_robot_sensor, robot_odometry_increment);
+}
+
+SegmentAlignment::TTrackResult SegmentAlignment::track(
+    const mrpt::obs::CObservation2DRangeScan& scan,
+    const std::optional<mrpt::poses::CPose2D>& robot_odometry_increment, std::optional<double> stamp_s) {
+  if (!tracker_) tracker_.emplace(trackingOptions);
+  return tracker_->process(scan, robot_odometry_increment, stamp_s);
+}
+
+void SegmentAlignment::resetTracking() { tracker_.reset(); }
+
+const SegmentOdometry& SegmentAlignment::trackingCore() const {
+  if (!tracker_) throw std::logic_error("SegmentAlignment::trackingCore: no scan tracked since the last reset");
+  return tracker_->core();
+}
 
 mrpt::poses::CPosePDF::Ptr SegmentAlignment::AlignPDF(
     const mrpt::maps::CMetricMap* m1, const mrpt::maps::CMetricMap* m2,

@@ -12,7 +12,9 @@ namespace lidarseg::pipeline {
 using mrpt_adapter::toMrpt;
 using mrpt_adapter::toPose2D;
 
-LidarsegMethod::LidarsegMethod(const OdometryParams& params) : OdometryMethod("lidarseg"), odometry_(params) {}
+// The pairwise options stay the defaults: the tools only track.
+LidarsegMethod::LidarsegMethod(const OdometryParams& params)
+    : OdometryMethod("lidarseg"), alignment_(mrpt_adapter::SegmentAlignment::TConfigParams{}, params) {}
 
 void LidarsegMethod::process(const ScanInput& scan) {
   // The core reads the motion model's clock from the scan's stamp. While the stamp policy
@@ -26,7 +28,7 @@ void LidarsegMethod::process(const ScanInput& scan) {
     timed_.stamp_s = scan.time.model_stamp_s;
     timed = &timed_;
   }
-  last_ = odometry_.process(*timed, scan.record.sensor_on_robot, scan.prior);
+  last_ = alignment_.track(*timed, scan.record.sensor_on_robot, scan.prior);
   record(scan);
 }
 

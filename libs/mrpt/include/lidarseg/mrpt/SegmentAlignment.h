@@ -9,6 +9,8 @@
 #include <vector>
 
 #include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/poses/CPose2D.h>
 #include <mrpt/slam/CMetricMapsAlignmentAlgorithm.h>
 
 #include "lidarseg/core/CorrelativeSearch.h"
@@ -16,6 +18,7 @@
 #include "lidarseg/core/ScanSegmenter.h"
 #include "lidarseg/core/SegmentMatcher.h"
 #include "lidarseg/core/SegmentOdometry.h"
+#include "lidarseg/mrpt/LaserOdometry.h"
 
 namespace lidarseg::mrpt_adapter {
 
@@ -35,6 +38,12 @@ namespace lidarseg::mrpt_adapter {
 /// when both fail, the correlative recovery search, so an MRPT program gets what the
 /// tools compute. O(beams) for the segmentation and the refinement plus the matcher's
 /// O(segments x band) per iteration.
+///
+/// For a sequence of scans it also tracks, as the lidarseg tools do (they all run this
+/// class): track() gives each scan's robot pose in the odometry frame against a keyframe
+/// and a local map kept between calls, with the velocity for the constant-velocity prior
+/// and the rolling-shutter correction. The pairwise AlignPDF() and the tracking are
+/// independent: each has its own options (`options`, `trackingOptions`) and its own state.
 class SegmentAlignment : public mrpt::slam::CMetricMapsAlignmentAlgorithm {
  public:
   /// Parameters, loadable like CICP::TConfigParams: one section holding the
@@ -106,13 +115,78 @@ class SegmentAlignment : public mrpt::slam::CMetricMapsAlignmentAlgorithm {
     double goodness = 0.0;
   };
 
+  /// Parameters of the tracking (track()): the laser odometry's, lidarseg::OdometryParams
+  /// (segmentation, matcher, refiner, search, keyframes, deskew, priors), loadable from one
+  /// section like TConfigParams.
+  struct TTrackingParams : public OdometryParams, public mrpt::config::CLoadableOptions {
+    /// The defaults of OdometryParams.
+    TTrackingParams() = default;
+    /// The given odometry parameters (not validated here: track() and the constructor do).
+    explicit TTrackingParams(const OdometryParams& params) : OdometryParams(params) {}
+
+    /// Reads the keys present in `section`: the [odometry] keys of config/default.ini
+    /// under their own names, and TConfigParams' keys (the [segmentation] and [matcher]
+    /// keys, `refine_`- and `search_`-prefixed [refiner] and [search] keys); `level` and
+    /// `recovery` are the odometry's. So the [odometry] section of a tool's file loads as
+    /// it is. Absent keys and an absent section keep the current values (CICP's contract);
+    /// the fields only change when the whole section is valid.
+    /// @throws std::invalid_argument naming the section and key for an unknown key, a
+    /// value that is not a number, or one out of range.
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+                            const std::string& section) override;
+    /// Writes every key to `section`, full precision (loading it back gives equal fields).
+    void saveToConfigFile(mrpt::config::CConfigFileBase& target,
+                          const std::string& section) const override;
+  };
+
+  /// One tracked scan: the core step (sensor frame, matching details, stage timings in
+  /// µs), the robot pose in the odometry frame (the robot frame at the first scan since
+  /// the last reset, m and rad) with its accumulated covariance, and the robot's motion
+  /// since the previous scan (robot frame) with its covariance.
+  using TTrackResult = LaserOdometryStep;
+
   /// Default parameters (the defaults of SegmentationParams and MatcherParams).
   SegmentAlignment() = default;
   /// @throws std::invalid_argument for invalid parameters.
   explicit SegmentAlignment(const TConfigParams& params);
+  /// Pairwise and tracking parameters.
+  /// @throws std::invalid_argument for invalid parameters of either.
+  SegmentAlignment(const TConfigParams& params, const OdometryParams& tracking);
 
   /// Parameters used by the next call; validated at every call.
   TConfigParams options;
+
+  /// Parameters of the tracking. Read (and validated) by the first track() after
+  /// construction or resetTracking(); changes made while tracking take effect at the next
+  /// resetTracking().
+  TTrackingParams trackingOptions;
+
+  /// Tracks the next scan of a sequence: its pose against the current keyframe and local
+  /// map, from the prior, then the keyframe renewed when the robot moved far enough.
+  /// @param scan the laser's scan in the sensor frame; `scan.stamp_s` (s) is the motion
+  ///        model's clock (velocity, deskew).
+  /// @param T_robot_sensor the laser's pose on the robot (m, rad).
+  /// @param robot_odometry_increment the robot's motion since the previous scan (robot
+  ///        frame, m and rad), e.g. wheel odometry, used as the prior; empty: constant
+  ///        velocity.
+  /// Never throws on a scan that matches badly: its status says so (TrackStatus).
+  /// @throws std::invalid_argument for invalid trackingOptions (first call after a reset)
+  ///         or a scan that cannot be used (fewer than 2 beams); the tracking state is then
+  ///         unchanged.
+  TTrackResult track(const Scan& scan, const Pose2D& T_robot_sensor,
+                     const std::optional<Pose2D>& robot_odometry_increment = {});
+  /// The same for an MRPT observation: the laser's pose on the robot from its
+  /// `sensorPose`, the stamp from `stamp_s` (s) when given, else its timestamp.
+  TTrackResult track(const mrpt::obs::CObservation2DRangeScan& scan,
+                     const std::optional<mrpt::poses::CPose2D>& robot_odometry_increment = {},
+                     std::optional<double> stamp_s = {});
+  /// Forgets the tracked scans: the next track() starts a new odometry frame, with the
+  /// trackingOptions it then holds.
+  void resetTracking();
+  /// The core odometry behind track() (the last scan's segmentation, the keyframe, the
+  /// velocity), sensor frame.
+  /// @throws std::logic_error when no scan was tracked since the last reset.
+  const SegmentOdometry& trackingCore() const;
 
   /// Pose of m2's frame in m1's (T_m1_m2), starting from the mean of
   /// `initialEstimationPDF` (its covariance is not used). Never throws on data: a failed
@@ -137,6 +211,8 @@ class SegmentAlignment : public mrpt::slam::CMetricMapsAlignmentAlgorithm {
   /// The odometry that aligns each pair, kept while `options` stay the same (key values).
   std::optional<SegmentOdometry> odometry_;
   std::vector<double> odometry_key_;
+  /// The tracking odometry, made from trackingOptions at the first track() after a reset.
+  std::optional<LaserOdometry> tracker_;
 };
 
 }  // namespace lidarseg::mrpt_adapter

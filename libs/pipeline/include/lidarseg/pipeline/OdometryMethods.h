@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// lidarseg::pipeline: the odometry methods a run compares, behind one interface.
-/// lidarseg (through the MRPT adapter's LaserOdometry) and MRPT's ICP, keyframed with
+/// lidarseg (through the MRPT adapter's SegmentAlignment) and MRPT's ICP, keyframed with
 /// lidarseg's policy or scan to scan. A new baseline is one more class.
 
 #include <memory>
@@ -14,7 +14,7 @@
 #include "lidarseg/pipeline/RunReport.h"
 #include "lidarseg/core/StampPolicy.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
-#include "lidarseg/mrpt/LaserOdometry.h"
+#include "lidarseg/mrpt/SegmentAlignment.h"
 
 namespace lidarseg::pipeline {
 
@@ -44,23 +44,26 @@ class OdometryMethod {
   MethodReport report_;
 };
 
-/// lidarseg: segmentation, segment match, refinement, search (SegmentOdometry through the
-/// MRPT adapter, which accounts for the laser's mounting on the robot).
+/// lidarseg: segmentation, segment match, refinement, search, run by the MRPT-facing
+/// mrpt_adapter::SegmentAlignment's tracking (which accounts for the laser's mounting on
+/// the robot), so that the class an MRPT program uses is the one the tools run.
 class LidarsegMethod : public OdometryMethod {
  public:
+  /// @throws std::invalid_argument for invalid parameters.
   explicit LidarsegMethod(const OdometryParams& params);
   /// The record's scan goes to the odometry on the stamp policy's clock (StampStep's model
   /// stamp): as it is when that is the log's stamp, otherwise through a buffer reused across
   /// scans. The record is not changed.
   void process(const ScanInput& scan) override;
   /// The last processed scan's step (robot pose, increment, core details).
-  const mrpt_adapter::LaserOdometryStep& lastStep() const { return last_; }
-  const SegmentOdometry& core() const { return odometry_.core(); }
+  const mrpt_adapter::SegmentAlignment::TTrackResult& lastStep() const { return last_; }
+  /// The tracking core (the last scan's segmentation, sensor frame); only after a process().
+  const SegmentOdometry& core() const { return alignment_.trackingCore(); }
 
  private:
   void record(const ScanInput& scan);
-  mrpt_adapter::LaserOdometry odometry_;
-  mrpt_adapter::LaserOdometryStep last_;
+  mrpt_adapter::SegmentAlignment alignment_;
+  mrpt_adapter::SegmentAlignment::TTrackResult last_;
   Scan timed_;  // a record's scan with a repaired stamp (model clock); reused across scans
 };
 
