@@ -63,15 +63,22 @@ void FrameSource::skip(const std::string& message) {
 // with this one on a packet FFmpeg drops).
 bool FrameSource::nextMotionJpeg(cv::Mat& frame) {
   cv::Mat packet;
-  while (undecoded_.read(packet) && !packet.empty()) {
+  // grab() then retrieve(): read() would take an empty packet (a dropped frame) for the end.
+  while (undecoded_.grab()) {
     const std::size_t number = video_frame_++;
     const std::string where = "'" + input_ + "', frame " + std::to_string(number);
-    if (packet.type() != CV_8UC1) {
-      if (number > 0) throw std::runtime_error(where + ": OpenCV did not give the frame's undecoded bytes");
+    packet.release();
+    const bool bytes = undecoded_.retrieve(packet) && !packet.empty() && packet.type() == CV_8UC1;
+    if (!bytes && number == 0) {
       undecoded_.release();  // no raw mode after all: video_ decodes from the first frame
       video_frame_ = 0;
       return false;
     }
+    if (packet.empty()) {
+      skip(where + ": an empty frame; frame skipped");
+      continue;
+    }
+    if (!bytes) throw std::runtime_error(where + ": OpenCV did not give the frame's undecoded bytes");
     ImageHeader header;
     try {
       header = readJpegHeader(std::string(reinterpret_cast<const char*>(packet.data), packet.total()), input_);
