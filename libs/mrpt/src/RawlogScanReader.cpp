@@ -6,6 +6,10 @@
 #include <fstream>
 #include <stdexcept>
 
+#include <cstdio>  // before jpeglib.h, which needs FILE
+
+#include <dlfcn.h>
+#include <jpeglib.h>
 #include <zlib.h>
 
 #include <mrpt/io/CFileGZInputStream.h>
@@ -15,6 +19,33 @@
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
+
+// MRPT decodes a rawlog's JPEG-compressed camera images with libjpeg and its default error
+// handler, which prints one line and calls exit(1): a corrupt image ended every tool without
+// the file's name and left its temporary files. Every error manager libjpeg sets up in this
+// process (MRPT's; OpenCV, libtiff and GDAL install their own handler afterwards) now throws
+// instead, and the reader reports the entry: "rawlog 'F', entry N: truncated or corrupt
+// (a corrupt JPEG image: ...)". The decoder's state is abandoned (libjpeg never frees it).
+namespace {
+constexpr const char* kJpegErrorPrefix = "a corrupt JPEG image: ";
+[[noreturn]] void throwJpegError(j_common_ptr cinfo) {
+  char message[JMSG_LENGTH_MAX] = {};
+  (*cinfo->err->format_message)(cinfo, message);
+  throw std::runtime_error(std::string(kJpegErrorPrefix) + message);
+}
+}  // namespace
+
+extern "C" struct jpeg_error_mgr* jpeg_std_error(struct jpeg_error_mgr* err) {
+  using StdError = struct jpeg_error_mgr* (*)(struct jpeg_error_mgr*);
+  static const auto libjpeg = reinterpret_cast<StdError>(dlsym(RTLD_NEXT, "jpeg_std_error"));
+  if (libjpeg == nullptr) {
+    std::fputs("lidarseg: libjpeg's jpeg_std_error not found\n", stderr);
+    std::abort();
+  }
+  libjpeg(err);
+  err->error_exit = throwJpegError;
+  return err;
+}
 
 namespace lidarseg::mrpt_adapter {
 
@@ -240,6 +271,9 @@ std::optional<RawlogScan> RawlogScanReader::next() {
         return std::nullopt;
       }
       std::string what = e.what();
+      // A corrupt JPEG image (throwJpegError) is the cause whatever MRPT wrapped around it.
+      const auto jpeg = what.find(kJpegErrorPrefix);
+      if (jpeg != std::string::npos) what = "Message: " + what.substr(jpeg);
       // MRPT's messages carry a stack trace; the line after "Message:" says what failed.
       const auto m = what.find("Message:");
       if (m != std::string::npos) what = what.substr(m + 8);
