@@ -69,6 +69,13 @@ int main(int argc, char** argv) {
                                                              {{"--sensor", "--sensor-model"}})) {
       return *status;
     }
+    // The runner's own flag for its jobs: on `run` it would do nothing, and a negative
+    // descriptor would silently make the job one started by hand (decision 78).
+    if (lock_fd.isSet() && (command != "one" || lock_fd.getValue() < 0)) {
+      std::cerr << "lidarseg-batch " << command << ": usage error: --folder-lock-fd is set by 'lidarseg-batch run' "
+                << "for its own 'one' jobs (a descriptor >= 0); not for use by hand\n";
+      return lidarseg::apps::kUsageError;
+    }
 
     lidarseg::apps::BatchJob job;
     job.world_path = world.getValue();

@@ -51,7 +51,9 @@ int main(int argc, char** argv) {
     options.draw_dir = draw.getValue();
     options.draw_every = draw_every.getValue();
     lidarseg::apps::PeopleApp app(options);
-    lidarseg::apps::PeopleApp::print(app.run(), std::cout);
+    const lidarseg::apps::PeopleReport result = app.run();
+    lidarseg::apps::PeopleApp::print(result, std::cout);
+    lidarseg::apps::PeopleApp::printWarnings(result, std::cerr);
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "lidarseg-people: error: " << lidarseg::apps::describeError(e) << "\n";

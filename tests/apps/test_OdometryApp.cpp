@@ -332,8 +332,13 @@ TEST(OdometryApp, WarningsAreSummarisedApartFromTheResults) {
   OdometryReport r;
   r.frames = 500;
   r.time_gaps = 449;
-  for (int i = 0; i < 100; ++i) r.warnings.push_back("log.clf:" + std::to_string(1130 + i) + ": time gap of 1.6 s; restart");
+  for (int i = 0; i < 449; ++i) {
+    const std::string w = "log.clf:" + std::to_string(1130 + i) + ": time gap of 1.6 s; restart";
+    if (i < 100) r.warnings.push_back(w);
+    r.warning_kinds.add(w);
+  }
   r.warnings.push_back("log.clf:2000: the laser's geometry changes: 180 beams, then 181");
+  r.warning_kinds.add(r.warnings.back());
   r.skipped_count = 3;
   r.skipped = {"log.clf:12: bad FLASER line"};
   std::ostringstream out, err;

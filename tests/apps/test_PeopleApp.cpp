@@ -3,8 +3,10 @@
 #include <iterator>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
+#include <opencv2/videoio.hpp>
 
 #include "ErrorOf.h"
 #include "lidarseg/apps/FeaturesApp.h"
@@ -108,6 +110,52 @@ TEST(PeopleApp, PeopleInsideCommandLineRegionsAreStillFoundOnARealVideo) {
   EXPECT_EQ(rows, r.people_full + r.people_rois);
   EXPECT_TRUE(fs::exists(p.draw_dir + "/people_000000.png"));
   EXPECT_TRUE(fs::exists(p.draw_dir + "/people_000120.png"));
+}
+
+// Issue 16: a corrupt frame of a Motion-JPEG video is skipped and counted with its number in
+// people.json and on stderr; the frames after it keep their numbers (their drawings' names).
+TEST(PeopleApp, ACorruptMotionJpegFrameIsSkippedAndCountedInTheReport) {
+  const std::string dir = testDir();
+  const std::string path = dir + "/corrupt.avi";
+  {
+    cv::VideoWriter out(path, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10.0, cv::Size(160, 240));
+    if (!out.isOpened()) GTEST_SKIP() << "this OpenCV cannot write an MJPEG video";
+    for (int k = 0; k < 5; ++k) out.write(cv::Mat(240, 160, CV_8UC3, cv::Scalar(30.0 * k, 90, 150)));
+  }
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  std::vector<std::size_t> soi;
+  for (std::size_t i = 0; i + 1 < bytes.size(); ++i) {
+    if (static_cast<unsigned char>(bytes[i]) == 0xFF && static_cast<unsigned char>(bytes[i + 1]) == 0xD8) soi.push_back(i);
+  }
+  ASSERT_EQ(soi.size(), 5u);
+  bytes[soi[2] + 1] = 0x00;  // frame 2 is no JPEG image
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+
+  PeopleOptions p;
+  p.input = path;
+  p.rois = {"0,0,79,119"};
+  p.progress = false;
+  p.report_dir = dir + "/report";
+  p.draw_dir = dir + "/frames";
+  p.draw_every = 1;
+  const PeopleReport r = PeopleApp(p).run();
+  EXPECT_EQ(r.frames, 4u);
+  EXPECT_EQ(r.frames_skipped, 1u);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_EQ(r.warnings[0].rfind("'" + path + "', frame 2: not a Motion-JPEG frame", 0), 0u) << r.warnings[0];
+  std::ifstream json_in(p.report_dir + "/people.json");
+  const std::string json((std::istreambuf_iterator<char>(json_in)), {});
+  EXPECT_NE(json.find("\"frames_skipped\": 1"), std::string::npos) << json;
+  EXPECT_NE(json.find("frame 2: not a Motion-JPEG frame"), std::string::npos) << json;
+  EXPECT_TRUE(fs::exists(p.draw_dir + "/people_000003.png"));
+  EXPECT_FALSE(fs::exists(p.draw_dir + "/people_000002.png")) << "frame 3 drawn under the number of the frame skipped";
+  std::ostringstream err;
+  PeopleApp::printWarnings(r, err);
+  EXPECT_EQ(err.str(), "lidarseg-people: warning: 1 frames skipped, the first: " + r.warnings[0] + "\n");
 }
 
 // Issue 16: a camera image whose header declares 20000 x 20000 pixels is refused before

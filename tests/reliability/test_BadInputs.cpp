@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -17,6 +18,7 @@
 #include <unistd.h>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <zlib.h>
 
 #include "SyntheticScenes.h"
@@ -301,6 +303,90 @@ TEST(BadInputs, WrongMagicAndGzipCorruptionNameTheFile) {
   std::tie(n, e) = readAll(bad_log);
   EXPECT_NE(e.find(bad_log + ":"), std::string::npos) << e;
   EXPECT_NE(e.find("corrupt or truncated compressed data"), std::string::npos) << e;
+}
+
+// --- Row: more warnings than the list keeps ------------------------------------------------
+// 150 time gaps and 120 clock jumps: summary.json lists the first 100 warnings and counts
+// every kind in full (`warning_kinds`), and stderr gives the full counts (issue 16).
+TEST(BadInputs, EveryWarningKindIsCountedInFullWhenItsMessagesAreCapped) {
+  std::ostringstream log;
+  double x = 0.0, t = 1000.0;
+  for (int k = 0; k < 151; ++k, x += 0.01, t += 2.0) log << flaser(x, t) << "\n";  // 150 gaps of 2 s
+  t -= 2.0 + 1.5;
+  for (int k = 0; k < 120; ++k, x += 0.01, t -= 1.5) log << flaser(x, t) << "\n";  // 120 jumps back
+  const std::string path = put("many_warnings.log", log.str());
+  OdometryOptions o = optionsFor(path, "out_many_warnings");
+  fs::remove_all(o.out_dir);
+  const OdometryReport r = OdometryApp(o).run();
+  ASSERT_EQ(r.time_gaps, 150u);
+  ASSERT_EQ(r.clock_jumps, 120u);
+  const auto summary = nlohmann::json::parse(slurp(o.out_dir + "/summary.json"));
+  EXPECT_EQ(summary.at("warnings").size(), 100u) << "the list keeps the first 100";
+  std::map<std::string, std::size_t> kinds;
+  for (const auto& k : summary.at("warning_kinds")) kinds[k.at("kind").get<std::string>()] = k.at("count").get<std::size_t>();
+  std::size_t gaps = 0, jumps = 0, all = 0;
+  for (const auto& [kind, n] : kinds) {
+    if (kind.rfind("time gap of ", 0) == 0) gaps += n;
+    if (kind.rfind("the clock jumps back by ", 0) == 0) jumps += n;
+    all += n;
+  }
+  EXPECT_EQ(gaps, r.time_gaps) << summary.at("warning_kinds").dump();
+  EXPECT_EQ(jumps, r.clock_jumps) << summary.at("warning_kinds").dump();
+  EXPECT_EQ(kinds.size(), 2u) << "one kind each, whatever the numbers in the messages";
+  EXPECT_GT(all, summary.at("warnings").size());
+  std::ostringstream err;
+  pipeline::printRunWarnings(r, "lidarseg-odometry", err);
+  EXPECT_NE(err.str().find("lidarseg-odometry: warning: 150 x, the first: " + path + ":2: time gap of 2"),
+            std::string::npos) << err.str();
+  EXPECT_NE(err.str().find("lidarseg-odometry: warning: " + std::to_string(r.clock_jumps) + " x, the first: " + path +
+                           ":152: the clock jumps back by "),
+            std::string::npos) << err.str();
+}
+
+// --- Row: a gzip log whose trailer is wrong ----------------------------------------------
+// The gzip trailer's CRC-32 (bytes -8..-5) or size (-4..-1) changed, or the trailer cut short:
+// every one is an error naming the file (and entry or line), for a rawlog and a CARMEN log,
+// after the scans before the damage; never a clean end that passes for the whole log.
+TEST(BadInputs, AGzipTrailerThatDoesNotMatchItsDataIsAnErrorNamingTheFile) {
+  const std::string rawlog = slurp(smallRun() + ".rawlog");
+  const std::string carmen = gzip(slurp(smallRun() + ".carmen.log"));
+  const std::size_t rawlog_scans = readAll(put("trailer_whole.rawlog", rawlog)).first;
+  const std::size_t carmen_scans = readAll(put("trailer_whole.log.gz", carmen)).first;
+  ASSERT_GE(rawlog_scans, 5u);
+  ASSERT_GE(carmen_scans, 5u);
+  EXPECT_EQ(readAll(put("trailer_whole.rawlog", rawlog)).second, "");
+  EXPECT_EQ(readAll(put("trailer_whole.log.gz", carmen)).second, "");
+  for (const auto& [bytes, name] : {std::pair{rawlog, std::string("trailer.rawlog")}, {carmen, std::string("trailer.log.gz")}}) {
+    const bool is_rawlog = name == "trailer.rawlog";
+    struct Damage {
+      std::string what, bytes, reason;  // reason: zlib's words, in the message
+    };
+    std::vector<Damage> damaged;
+    for (std::size_t k = 1; k <= 8; ++k) {
+      std::string b = bytes;
+      b[b.size() - k] = static_cast<char>(b[b.size() - k] ^ 0x01);
+      damaged.push_back({(k > 4 ? "CRC-32 byte " : "size byte ") + std::to_string(8 - k), b,
+                         k > 4 ? "incorrect data check" : "incorrect length check"});
+      damaged.push_back({"trailer cut by " + std::to_string(k) + " bytes", bytes.substr(0, bytes.size() - k),
+                         "unexpected end of file"});
+    }
+    for (const Damage& d : damaged) {
+      const std::string path = put(name, d.bytes);
+      const auto [n, error] = readAll(path);
+      EXPECT_NE(error, "") << name << ", " << d.what << ": read as a whole log";
+      EXPECT_NE(error.find(is_rawlog ? "rawlog '" + path + "', entry " : path + ":"), std::string::npos)
+          << name << ", " << d.what << ": " << error;
+      EXPECT_NE(error.find(d.reason), std::string::npos) << name << ", " << d.what << ": " << error;
+      EXPECT_LE(n, is_rawlog ? rawlog_scans : carmen_scans) << d.what;
+    }
+  }
+  // Through the tool: the default refuses the log and writes nothing.
+  std::string b = rawlog;
+  b[b.size() - 6] = static_cast<char>(b[b.size() - 6] ^ 0x01);
+  OdometryOptions o = optionsFor(put("trailer_crc.rawlog", b), "out_trailer_crc");
+  fs::remove_all(o.out_dir);
+  EXPECT_NE(errorOf(o).find("'" + o.input + "', entry "), std::string::npos);
+  EXPECT_FALSE(fs::exists(o.out_dir + "/summary.json"));
 }
 
 // --- Rows: field counts, NaN/inf/negative/huge ranges, 0 / 1 / 100000 beams ------------

@@ -4,15 +4,21 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <sys/stat.h>
 
 #include <gtest/gtest.h>
+#include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/io/CFileOutputStream.h>
+#include <mrpt/obs/CObservationImage.h>
+#include <opencv2/core.hpp>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
@@ -341,6 +347,65 @@ TEST(InputPlumbing, AMalformedFirstCarmenLaserLineIsSkippedWithItsLineAndTheLogR
   EXPECT_EQ(report.skipped_count, 1u);
 
   EXPECT_THROW(mrpt_adapter::LaserLogReader(path, "NOPE"), std::invalid_argument);
+}
+
+// A camera image MRPT stored as JPEG (its serialisation with JPEG compression on) whose JPEG
+// data is corrupt: libjpeg's default handler ended the process (exit 1, one line without the
+// file's name, temporaries left). It is now the reader's error naming file and entry, after
+// the scans before it (issue 16).
+TEST(RecordValidation, ACorruptJpegCameraImageInARawlogIsAnErrorNamingItsEntry) {
+  fs::create_directories(kTmp);
+  const std::string path = kTmp + "/jpeg_images.rawlog";
+  const bool before = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
+  mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(false);
+  {
+    mrpt::io::CFileOutputStream out(path);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    double t = 100.0;
+    for (int k = 0; k < 4; ++k, t += 0.1) {
+      mrpt::obs::CSensoryFrame frame;
+      ScanSpec sp;
+      sp.x = 0.05 * k;
+      frame.insert(scanAt(sp, t));
+      auto image = mrpt::obs::CObservationImage::Create();
+      image->sensorLabel = "CAMERA";
+      image->timestamp = mrpt::Clock::fromDouble(t);
+      image->image = mrpt::img::CImage(cv::Mat(48, 64, CV_8UC3, cv::Scalar(40.0 * k, 80, 120)), mrpt::img::DEEP_COPY);
+      frame.insert(image);
+      archive << frame;
+    }
+  }
+  mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(before);
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  std::vector<std::size_t> sos;  // each image's start-of-scan marker
+  for (std::size_t i = 0; i + 1 < bytes.size(); ++i) {
+    if (static_cast<unsigned char>(bytes[i]) == 0xFF && static_cast<unsigned char>(bytes[i + 1]) == 0xDA) sos.push_back(i);
+  }
+  ASSERT_EQ(sos.size(), 4u) << "the images are not stored as JPEG";
+  std::size_t whole = 0;
+  {
+    mrpt_adapter::LaserLogReader reader(path);
+    while (reader.next()) ++whole;
+  }
+  ASSERT_EQ(whole, 4u);
+  bytes[sos[1] + 1] = static_cast<char>(0xD9);  // image 1 ends before its scan
+  const std::string bad = kTmp + "/jpeg_images_corrupt.rawlog";
+  std::ofstream(bad, std::ios::binary) << bytes;
+  std::size_t n = 0;
+  std::string error;
+  try {
+    mrpt_adapter::LaserLogReader reader(bad);
+    while (reader.next()) ++n;
+  } catch (const std::runtime_error& e) {
+    error = e.what();
+  }
+  EXPECT_EQ(n, 1u) << "the scan before the corrupt image";
+  EXPECT_NE(error.find("rawlog '" + bad + "', entry 1: truncated or corrupt ("), std::string::npos) << error;
+  EXPECT_NE(error.find("a corrupt JPEG image: "), std::string::npos) << error;
 }
 
 }  // namespace

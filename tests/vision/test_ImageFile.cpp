@@ -220,6 +220,80 @@ TEST(ImageFile, AMotionJpegFrameBeyondTheCapIsRefusedFromItsHeaderBeforeItIsDeco
                 "8192 x 8192 pixels");
 }
 
+// The bytes of a Motion-JPEG video of `n` frames of 64 x 48, frame k of blue 40 k, and where
+// each frame's markers `marker` (FF xx) are.
+std::string mjpegFrames(const std::string& name, int n, unsigned char marker, std::vector<std::size_t>& at) {
+  fs::create_directories(kTmp);
+  const std::string path = kTmp + "/" + name;
+  {
+    cv::VideoWriter out(path, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10.0, cv::Size(64, 48));
+    if (!out.isOpened()) return {};
+    for (int k = 0; k < n; ++k) out.write(cv::Mat(48, 64, CV_8UC3, cv::Scalar(40.0 * k, 80, 120)));
+  }
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  for (std::size_t i = 0; i + 1 < bytes.size(); ++i) {
+    if (static_cast<unsigned char>(bytes[i]) == 0xFF && static_cast<unsigned char>(bytes[i + 1]) == marker) at.push_back(i);
+  }
+  return bytes;
+}
+
+// A corrupt Motion-JPEG frame is skipped and counted with its number; the frames after it
+// are the right ones, under their own numbers (issue 16: a corrupt packet could put the
+// header check one frame behind the decoder, and FFmpeg's decoder ended the video there).
+TEST(ImageFile, ACorruptMotionJpegFrameIsSkippedAndCountedAndTheNextFramesStayInStep) {
+  std::vector<std::size_t> soi, sos;
+  std::string bytes = mjpegFrames("corrupt.avi", 5, 0xD8, soi);
+  if (bytes.empty()) GTEST_SKIP() << "this OpenCV cannot write an MJPEG video";
+  mjpegFrames("corrupt.avi", 5, 0xDA, sos);
+  ASSERT_EQ(soi.size(), 5u);
+  ASSERT_EQ(sos.size(), 5u);
+  bytes[soi[1] + 1] = 0x00;                       // frame 1: no JPEG start: not a JPEG image
+  bytes[sos[3] + 1] = static_cast<char>(0xD9);    // frame 3: the image ends before its scan
+  const std::string path = kTmp + "/corrupt-frames.avi";
+  std::ofstream(path, std::ios::binary) << bytes;
+
+  FrameSource frames(path);
+  cv::Mat frame;
+  std::string file;
+  std::vector<std::size_t> numbers;
+  while (frames.next(frame, file)) {
+    numbers.push_back(frames.frameIndex());
+    ASSERT_EQ(frame.cols, 64);
+    ASSERT_EQ(frame.rows, 48);
+    // The frame's own colour: blue 40 k for frame k (JPEG moves it by a few levels).
+    EXPECT_NEAR(cv::mean(frame)[0], 40.0 * static_cast<double>(frames.frameIndex()), 6.0) << frames.frameIndex();
+  }
+  EXPECT_EQ(numbers, (std::vector<std::size_t>{0, 2, 4}));
+  EXPECT_EQ(frames.skippedFrameCount(), 2u);
+  ASSERT_EQ(frames.skippedFrames().size(), 2u);
+  EXPECT_EQ(frames.skippedFrames()[0].rfind("'" + path + "', frame 1: not a Motion-JPEG frame", 0), 0u)
+      << frames.skippedFrames()[0];
+  EXPECT_EQ(frames.skippedFrames()[1], "'" + path + "', frame 3: its JPEG data cannot be decoded; frame skipped");
+}
+
+// A corrupt frame before one beyond the cap: the oversize frame is refused under its own number.
+TEST(ImageFile, AnOversizeFrameAfterACorruptOneIsRefusedUnderItsOwnNumber) {
+  std::vector<std::size_t> soi, sof;
+  std::string bytes = mjpegFrames("corrupt-then-wide.avi", 4, 0xD8, soi);
+  if (bytes.empty()) GTEST_SKIP() << "this OpenCV cannot write an MJPEG video";
+  mjpegFrames("corrupt-then-wide.avi", 4, 0xC0, sof);
+  ASSERT_EQ(sof.size(), 4u);
+  bytes[soi[1] + 1] = 0x00;  // frame 1 corrupt
+  bytes[sof[2] + 5] = 0, bytes[sof[2] + 6] = 16;  // frame 2 declares 8200 x 16
+  bytes[sof[2] + 7] = static_cast<char>(8200 / 256), bytes[sof[2] + 8] = static_cast<char>(8200 % 256);
+  const std::string path = kTmp + "/corrupt-then-wide-frames.avi";
+  std::ofstream(path, std::ios::binary) << bytes;
+  FrameSource frames(path);
+  cv::Mat frame;
+  std::string file;
+  ASSERT_TRUE(frames.next(frame, file));
+  EXPECT_EQ(frames.frameIndex(), 0u);
+  EXPECT_EQ(errorOf([&] { frames.next(frame, file); }),
+            "'" + path + "', frame 2: video frame of 8200 x 16 pixels; images are read from 1 x 1 up to 8192 x 8192 pixels");
+  EXPECT_EQ(frames.skippedFrameCount(), 1u);
+}
+
 TEST(ImageFile, TheCapIsOneToMaxOnEachSide) {
   EXPECT_NO_THROW(requireImageSize(1, 1, "w", "x"));
   EXPECT_NO_THROW(requireImageSize(kMaxImageSidePx, kMaxImageSidePx, "w", "x"));

@@ -252,6 +252,7 @@ void readLog(const FeaturesOptions& o, const mrpt_adapter::LidarsegConfig& confi
   report.skipped_count += counts.skipped_count;
   report.stamps = counts;
   report.log_warnings = counts.warnings;
+  report.log_warning_kinds = counts.warning_kinds;
   if (o.figure_scan && !pass.figureMet()) {
     report.warnings.push_back("no figure " + o.figure_path + ": no scan " + std::to_string(*o.figure_scan) +
                               " among the " + std::to_string(report.scans) + " scans read");
@@ -277,7 +278,7 @@ void FeaturesApp::print(const FeaturesReport& report, std::ostream& os) { os << 
 
 void FeaturesApp::printWarnings(const FeaturesReport& report, std::ostream& err) {
   const std::string tool = "lidarseg-features: warning: ";
-  pipeline::printRecordWarnings(report.log_warnings, report.stamps, "lidarseg-features", err);
+  pipeline::printRecordWarnings(report.log_warning_kinds, "lidarseg-features", err);
   for (const std::string& w : report.warnings) err << tool << w << '\n';
   if (!report.skipped.empty()) {
     err << tool << report.skipped_count << " scans or images skipped, the first: " << report.skipped.front() << '\n';

@@ -108,6 +108,8 @@ class FramePass {
 Json reportJson(const PeopleReport& report) {
   return Json{{"input", report.input},
               {"frames", report.frames},
+              {"frames_skipped", report.frames_skipped},
+              {"warnings", report.warnings},
               {"full_ms_median", finiteOrNull(report.full_ms.median)},
               {"rois_ms_median", finiteOrNull(report.rois_ms.median)},
               {"analysed_fraction_median", finiteOrNull(report.analysed_fraction.median)},
@@ -165,14 +167,21 @@ void readFrames(const PeopleOptions& o, const vision::RegionTable& regions, Fram
   std::size_t expected = (source.expectedFrames() + o.every - 1) / o.every;
   if (o.max_frames > 0 && (expected == 0 || expected > o.max_frames)) expected = o.max_frames;
   Progress progress("lidarseg-people", o.progress, expected);
-  for (std::size_t index = 0; source.next(frame, file); ++index) {
+  while (source.next(frame, file)) {
+    // The frame's own number: a frame skipped as undecodable does not shift the regions.
+    const std::size_t index = source.frameIndex();
     if (index % o.every != 0) continue;
     if (o.max_frames > 0 && report.frames >= o.max_frames) break;
     pass.addFrame(index, frame, regions.of(index, file));
     progress.update(report.frames);
   }
   progress.done(report.frames);
-  if (report.frames == 0) throw std::runtime_error("'" + o.input + "': no frame read");
+  report.frames_skipped = source.skippedFrameCount();
+  report.warnings = source.skippedFrames();
+  if (report.frames == 0) {
+    throw std::runtime_error("'" + o.input + "': no frame read" +
+                             (report.warnings.empty() ? std::string() : " (" + report.warnings.front() + ")"));
+  }
 }
 
 }  // namespace
@@ -209,9 +218,19 @@ std::string PeopleApp::markdown(const PeopleReport& r) {
      << "; still found by the detection inside the regions: " << r.people_still_found << " (recall "
      << fixed(r.recallInRegions(), 3) << "). Detections inside the regions that the whole frame also has: "
      << r.people_rois_confirmed << " of " << r.people_rois << ".\n";
+  if (r.frames_skipped > 0) {
+    os << "\nFrames skipped (could not be decoded): " << r.frames_skipped << ", the first: "
+       << (r.warnings.empty() ? std::string("?") : r.warnings.front()) << ".\n";
+  }
   return os.str();
 }
 
 void PeopleApp::print(const PeopleReport& report, std::ostream& os) { os << markdown(report); }
+
+void PeopleApp::printWarnings(const PeopleReport& report, std::ostream& err) {
+  if (report.frames_skipped == 0) return;
+  err << "lidarseg-people: warning: " << report.frames_skipped << " frames skipped, the first: "
+      << (report.warnings.empty() ? std::string("?") : report.warnings.front()) << "\n";
+}
 
 }  // namespace lidarseg::apps

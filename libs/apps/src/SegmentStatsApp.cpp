@@ -104,6 +104,7 @@ void readLog(const SegmentStatsOptions& o, const StampPolicyParams& stamps, Scan
   report.skipped_count = counts.skipped_count;
   report.stamps = counts;
   report.warnings = counts.warnings;
+  report.warning_kinds = counts.warning_kinds;
 }
 
 }  // namespace
@@ -129,7 +130,7 @@ void SegmentStatsApp::print(const SegmentStatsReport& r, std::ostream& os) {
 }
 
 void SegmentStatsApp::printWarnings(const SegmentStatsReport& r, std::ostream& err) {
-  pipeline::printRecordWarnings(r.warnings, r.stamps, "lidarseg-segment", err);
+  pipeline::printRecordWarnings(r.warning_kinds, "lidarseg-segment", err);
   if (r.skipped.empty()) return;
   err << "lidarseg-segment: warning: " << r.skipped_count << " scans skipped, the first: " << r.skipped.front()
       << "\n";

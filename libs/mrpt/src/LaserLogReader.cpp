@@ -120,6 +120,21 @@ std::vector<std::string> LaserLogReader::warnings() const {
 
 void LaserLogReader::warn(const std::string& message) {
   if (warnings_.size() < 100) warnings_.push_back(message);
+  tally_.add(message);
+}
+
+WarningTally LaserLogReader::warningTally() const {
+  WarningTally out = tally_;
+  if (rawlog_) {
+    out.merge(rawlog_->droppedOdometryTally());
+    if (rawlog_->droppedCompanions() > 0) {
+      out.add(path_ + ": " + std::to_string(rawlog_->droppedCompanions()) + " observations not kept: more than " +
+              std::to_string(RawlogScanReader::kMaxCompanions) + " came between two scans of '" +
+              rawlog_->sensorLabel() + "' (only the latest are kept)");
+    }
+  }
+  for (const auto& m : unknownTypes()) out.add(m);
+  return out;
 }
 
 LogFormat detectLogFormat(const std::string& path) {

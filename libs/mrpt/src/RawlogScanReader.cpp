@@ -6,6 +6,10 @@
 #include <fstream>
 #include <stdexcept>
 
+#include <cstdio>  // before jpeglib.h, which needs FILE
+
+#include <dlfcn.h>
+#include <jpeglib.h>
 #include <zlib.h>
 
 #include <mrpt/io/CFileGZInputStream.h>
@@ -16,6 +20,33 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 
+// MRPT decodes a rawlog's JPEG-compressed camera images with libjpeg and its default error
+// handler, which prints one line and calls exit(1): a corrupt image ended every tool without
+// the file's name and left its temporary files. Every error manager libjpeg sets up in this
+// process (MRPT's; OpenCV, libtiff and GDAL install their own handler afterwards) now throws
+// instead, and the reader reports the entry: "rawlog 'F', entry N: truncated or corrupt
+// (a corrupt JPEG image: ...)". The decoder's state is abandoned (libjpeg never frees it).
+namespace {
+constexpr const char* kJpegErrorPrefix = "a corrupt JPEG image: ";
+[[noreturn]] void throwJpegError(j_common_ptr cinfo) {
+  char message[JMSG_LENGTH_MAX] = {};
+  (*cinfo->err->format_message)(cinfo, message);
+  throw std::runtime_error(std::string(kJpegErrorPrefix) + message);
+}
+}  // namespace
+
+extern "C" struct jpeg_error_mgr* jpeg_std_error(struct jpeg_error_mgr* err) {
+  using StdError = struct jpeg_error_mgr* (*)(struct jpeg_error_mgr*);
+  static const auto libjpeg = reinterpret_cast<StdError>(dlsym(RTLD_NEXT, "jpeg_std_error"));
+  if (libjpeg == nullptr) {
+    std::fputs("lidarseg: libjpeg's jpeg_std_error not found\n", stderr);
+    std::abort();
+  }
+  libjpeg(err);
+  err->error_exit = throwJpegError;
+  return err;
+}
+
 namespace lidarseg::mrpt_adapter {
 
 // Forwards reads to the file and counts the bytes, so that an end of file met before the
@@ -23,12 +54,20 @@ namespace lidarseg::mrpt_adapter {
 // truncated log). A read that comes back short throws: MRPT 2.5 does not check the count
 // of every read, and a log cut inside a length field left that length's bytes
 // uninitialised, so the deserialiser sized a vector from them (gigabytes, seconds to tens of
-// seconds per attempt; found by BadInputs.RawlogTruncatedAtEveryByte under load).
+// seconds per attempt; found by BadInputs.RawlogTruncatedAtEveryByte under load). It also
+// keeps the CRC-32 of the bytes read, for the gzip trailer's check at the end.
 class RawlogScanReader::CountingStream : public mrpt::io::CStream {
  public:
   explicit CountingStream(mrpt::io::CFileGZInputStream& in) : in_(in) {}
   size_t Read(void* buffer, size_t count) override {
     const size_t n = in_.Read(buffer, count);
+    if (n > count) {
+      // zlib's gzread returned -1 (the data or the trailer's check is wrong), which MRPT
+      // passes on as a size: nothing was read, and this is no end of file.
+      damaged_ = true;
+      throw std::runtime_error("the compressed data is damaged");
+    }
+    crc_ = crc32_z(crc_, static_cast<const Bytef*>(buffer), n);
     bytes_ += n;
     if (n < count) {
       throw std::runtime_error("the file ends inside an entry (" + std::to_string(n) + " of " +
@@ -45,10 +84,16 @@ class RawlogScanReader::CountingStream : public mrpt::io::CStream {
   uint64_t getTotalBytesCount() const override { return in_.getTotalBytesCount(); }
   uint64_t getPosition() const override { return in_.getPosition(); }
   std::uint64_t bytes() const { return bytes_; }
+  /// CRC-32 (gzip's) of the bytes read so far.
+  std::uint32_t crc() const { return static_cast<std::uint32_t>(crc_); }
+  /// zlib reported damaged data (not an end of file).
+  bool damaged() const { return damaged_; }
 
  private:
   mrpt::io::CFileGZInputStream& in_;
   std::uint64_t bytes_ = 0;
+  uLong crc_ = crc32(0L, Z_NULL, 0);
+  bool damaged_ = false;
 };
 
 RawlogScanReader::RawlogScanReader(const std::string& path, std::string sensor_label)
@@ -90,23 +135,9 @@ double RawlogScanReader::fractionRead() const {
   return std::clamp(static_cast<double>(counter_->bytes()) / expected_bytes_, 0.0, 1.0);
 }
 
-void RawlogScanReader::checkCompressedEnd() const {
-  if (!gzip_) return;
-  // The gzip trailer holds the uncompressed size modulo 2^32: equal to what was read, the
-  // stream is complete (the common case, one read of 4 bytes).
-  std::ifstream raw(path_, std::ios::binary | std::ios::ate);
-  const std::streamoff size = raw.tellg();
-  if (size >= 18) {
-    std::array<unsigned char, 4> b{};
-    raw.seekg(size - 4);
-    raw.read(reinterpret_cast<char*>(b.data()), 4);
-    const std::uint32_t isize = b[0] | (b[1] << 8) | (b[2] << 16) | (static_cast<std::uint32_t>(b[3]) << 24);
-    if (raw && isize == static_cast<std::uint32_t>(counter_->bytes())) return;
-  }
-  // Otherwise (a cut stream, or a file of several gzip members) zlib decides, reading the
-  // whole stream once more: MRPT's stream reports a cut stream as a normal end.
+std::string RawlogScanReader::compressedStreamError() const {
   gzFile g = gzopen(path_.c_str(), "rb");
-  if (g == nullptr) return;
+  if (g == nullptr) return "cannot open the file again";
   std::array<char, 1 << 16> buffer{};
   int n = 0;
   while ((n = gzread(g, buffer.data(), static_cast<unsigned>(buffer.size()))) > 0) {
@@ -114,9 +145,34 @@ void RawlogScanReader::checkCompressedEnd() const {
   int code = Z_OK;
   const std::string message = gzerror(g, &code);
   gzclose(g);
-  if (n < 0 || (code != Z_OK && code != Z_STREAM_END)) {
+  if (n < 0 || (code != Z_OK && code != Z_STREAM_END)) return message.empty() ? "zlib error" : message;
+  return {};
+}
+
+void RawlogScanReader::checkCompressedEnd() const {
+  if (!gzip_) return;
+  // The gzip trailer holds the CRC-32 of the uncompressed data and its size modulo 2^32:
+  // both equal to what was read, the stream is whole (the common case, one read of 8 bytes).
+  std::ifstream raw(path_, std::ios::binary | std::ios::ate);
+  const std::streamoff size = raw.tellg();
+  if (size >= 18) {
+    std::array<unsigned char, 8> b{};
+    raw.seekg(size - 8);
+    raw.read(reinterpret_cast<char*>(b.data()), 8);
+    const auto word = [&](int at) {
+      return static_cast<std::uint32_t>(b[at] | (b[at + 1] << 8) | (b[at + 2] << 16)) |
+             (static_cast<std::uint32_t>(b[at + 3]) << 24);
+    };
+    if (raw && word(4) == static_cast<std::uint32_t>(counter_->bytes()) && word(0) == counter_->crc()) return;
+  }
+  // Otherwise (a cut stream, a trailer that does not match its data, or a file of several
+  // gzip members) zlib decides, reading the whole stream once more: MRPT's stream reports a
+  // cut stream as a normal end.
+  const std::string error = compressedStreamError();
+  if (!error.empty()) {
     throw std::runtime_error("rawlog '" + path_ + "', entry " + std::to_string(entries_read_) +
-                             ": truncated or corrupt (the compressed data ends early: " + message + ")");
+                             ": truncated or corrupt (the compressed data ends early or fails its check: " + error +
+                             ")");
   }
 }
 
@@ -124,10 +180,10 @@ RawlogScanReader::~RawlogScanReader() = default;
 
 void RawlogScanReader::dropOdometry(const char* what) {
   ++dropped_odometry_count_;
-  if (dropped_odometry_.size() < 100) {
-    dropped_odometry_.push_back("rawlog '" + path_ + "', entry " + std::to_string(entries_read_ - 1) + ": " + what +
-                                " is not finite; not used");
-  }
+  const std::string message =
+      "rawlog '" + path_ + "', entry " + std::to_string(entries_read_ - 1) + ": " + what + " is not finite; not used";
+  if (dropped_odometry_.size() < 100) dropped_odometry_.push_back(message);
+  dropped_odometry_tally_.add(message);
 }
 
 bool RawlogScanReader::accept(const mrpt::obs::CObservation2DRangeScan::Ptr& scan) {
@@ -208,19 +264,29 @@ std::optional<RawlogScan> RawlogScanReader::next() {
       auto archive = mrpt::serialization::archiveFrom(*counter_);
       object = archive.ReadObject();
     } catch (const std::exception& e) {
-      if (counter_->bytes() == before) {  // nothing left: the log ends between entries
+      if (counter_->bytes() == before && !counter_->damaged()) {  // nothing left: the log ends between entries
         at_end_ = true;
         checkCompressedEnd();
         if (label_requested_ && scans_returned_ == 0 && !labels_seen_.empty()) throwLabelAbsent();
         return std::nullopt;
       }
       std::string what = e.what();
+      // A corrupt JPEG image (throwJpegError) is the cause whatever MRPT wrapped around it.
+      const auto jpeg = what.find(kJpegErrorPrefix);
+      if (jpeg != std::string::npos) what = "Message: " + what.substr(jpeg);
       // MRPT's messages carry a stack trace; the line after "Message:" says what failed.
       const auto m = what.find("Message:");
       if (m != std::string::npos) what = what.substr(m + 8);
       const auto first = what.find_first_not_of(' ');
       what = first == std::string::npos ? std::string() : what.substr(first);
       what = what.substr(0, what.find('\n'));
+      // A gzip rawlog: zlib says what is wrong with the compressed data (a cut, a check that
+      // fails), when something is; zlib drops the bytes of a damaged block, so the entry
+      // named is where the loss begins.
+      if (gzip_) {
+        const std::string error = compressedStreamError();
+        if (!error.empty()) what += "; gzip: " + error;
+      }
       throw std::runtime_error("rawlog '" + path_ + "', entry " + std::to_string(entries_read_) +
                                ": truncated or corrupt (" + what + ")");
     }

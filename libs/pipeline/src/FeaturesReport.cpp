@@ -41,7 +41,8 @@ Json reportJson(const FeaturesReport& report) {
             {"non_increasing_stamps", report.stamps.non_increasing_stamps},
             {"time_gaps", report.stamps.time_gaps},
             {"clock_jumps", report.stamps.clock_jumps},
-            {"warnings", report.log_warnings}};
+            {"warnings", report.log_warnings},
+            {"warning_kinds", warningKindsJson(report.log_warning_kinds)}};
   if (!report.evaluation) return json;
   const auto& ev = *report.evaluation;
   json["gate_m"] = finiteOrNull(ev.gate());

@@ -1,7 +1,5 @@
 #include "lidarseg/pipeline/RawlogWriter.h"
 
-#include <cerrno>
-#include <cstring>
 #include <stdexcept>
 
 #include <mrpt/obs/CActionCollection.h>
@@ -20,9 +18,14 @@ namespace lidarseg::pipeline {
 using mrpt_adapter::toMrpt;
 
 RawlogWriter::RawlogWriter(const std::string& path, OutputSet& outputs, bool landmarks)
-    : path_(path), landmarks_(landmarks) {
-  const std::string tmp = outputs.addWritten(path);
-  if (!out_.open(tmp, 1)) throw std::runtime_error("cannot write '" + tmp + "'");
+    : path_(path), landmarks_(landmarks), out_(outputs.addWritten(path), path, 1) {}
+
+void RawlogWriter::close() {
+  try {
+    out_.close();
+  } catch (const std::exception&) {
+    throw std::runtime_error("cannot write the rawlog '" + path_ + "': " + out_.failure());
+  }
 }
 
 void RawlogWriter::write(const mrpt_adapter::LaserRecord& record,
@@ -52,15 +55,13 @@ void RawlogWriter::write(const mrpt_adapter::LaserRecord& record,
     landmarks->timestamp = obs.timestamp;
     frame.insert(landmarks);
   }
-  // MRPT says only "Cannot write bytes to stream!" (no file) when the disk is full or the
-  // file size limit is reached.
-  errno = 0;
+  // The stream's own failure says why (disk full, file size limit); MRPT's archive may
+  // wrap it in its banner and backtrace.
   try {
     archive << actions << frame;
   } catch (const std::exception& e) {
-    const int why = errno;
-    throw std::runtime_error("cannot write the rawlog '" + path_ + "': " + mrpt_adapter::exceptionMessage(e.what()) +
-                             (why != 0 ? std::string(" (") + std::strerror(why) + ")" : std::string()));
+    throw std::runtime_error("cannot write the rawlog '" + path_ + "': " +
+                             (out_.failure().empty() ? mrpt_adapter::exceptionMessage(e.what()) : out_.failure()));
   }
 }
 

@@ -31,6 +31,7 @@ RecordGate::RecordGate(const StampPolicyParams& params) : stamps_(params) {}
 
 void RecordGate::warn(const std::string& message) {
   if (counts_.warnings.size() < kKeptMessages) counts_.warnings.push_back(message);
+  counts_.warning_kinds.add(message);
 }
 
 std::string RecordGate::skip(const ScanRecord& record, const std::string& why) {
@@ -88,47 +89,18 @@ void addReaderCounts(const mrpt_adapter::LaserLogReader& reader, RecordCounts& c
   counts.skipped_count += reader.skipped();
   for (const auto& s : reader.unknownTypes()) counts.warnings.push_back(s);
   for (const auto& s : reader.warnings()) counts.warnings.push_back(s);
+  counts.warning_kinds.merge(reader.warningTally());
 }
 
-namespace {
-// A warning's kind: its text after the place ("FILE:LINE: " or "FILE, entry N: ") up to
-// the first digit, e.g. "time gap of ".
-std::string warningKind(const std::string& w) {
-  std::size_t start = w.find(": ");
-  start = start == std::string::npos ? 0 : start + 2;
-  const std::size_t digit = w.find_first_of("0123456789", start);
-  return w.substr(start, (digit == std::string::npos ? w.size() : digit) - start);
-}
-}  // namespace
-
-void printWarningKinds(const std::vector<std::string>& warnings,
-                       const std::vector<std::pair<std::string, std::size_t>>& counted, const std::string& tool_name,
-                       std::ostream& err) {
-  // One line per kind: how many, and the first in full (its place in the log).
-  std::vector<std::pair<std::string, std::size_t>> kinds;
-  std::vector<std::string> first;
-  for (const auto& w : warnings) {
-    const std::string kind = warningKind(w);
-    auto it = std::find_if(kinds.begin(), kinds.end(), [&](const auto& k) { return k.first == kind; });
-    if (it == kinds.end()) {
-      kinds.emplace_back(kind, 0);
-      first.push_back(w);
-      it = kinds.end() - 1;
-    }
-    ++it->second;
-  }
-  // The list keeps the first 100 warnings; the run counts the frequent kinds in full.
-  for (std::size_t k = 0; k < kinds.size(); ++k) {
-    std::size_t n = kinds[k].second;
-    for (const auto& [kind, count] : counted) n = kinds[k].first == kind ? std::max(n, count) : n;
-    err << tool_name << ": warning: " << n << " x, the first: " << first[k] << "\n";
+void printWarningKinds(const WarningTally& warnings, const std::string& tool_name, std::ostream& err) {
+  // One line per kind: how many in full, and the first in full (its place in the log).
+  for (const WarningTally::Kind& k : warnings.kinds()) {
+    err << tool_name << ": warning: " << k.count << " x, the first: " << (k.first.empty() ? k.kind : k.first) << "\n";
   }
 }
 
-void printRecordWarnings(const std::vector<std::string>& warnings, const StampCounts& stamps,
-                         const std::string& tool_name, std::ostream& err) {
-  printWarningKinds(warnings, {{kTimeGapWarning, stamps.time_gaps}, {kClockJumpWarning, stamps.clock_jumps}},
-                    tool_name, err);
+void printRecordWarnings(const WarningTally& warnings, const std::string& tool_name, std::ostream& err) {
+  printWarningKinds(warnings, tool_name, err);
 }
 
 std::string recordCountsLine(std::size_t skipped_count, const StampCounts& stamps) {

@@ -129,6 +129,7 @@ Json summaryObject(const OdometryReport& r) {
          {"odometry_jumps", r.odometry_jumps}};
   if (!r.log_error.empty()) j["log_error"] = r.log_error;
   j["warnings"] = r.warnings;
+  j["warning_kinds"] = warningKindsJson(r.warning_kinds);
   if (!r.gt_path.empty()) j["ground_truth"] = r.gt_path;
   if (!r.relations_path.empty()) j["relations"] = r.relations_path;
   j["methods"] = Json::object();
@@ -339,9 +340,7 @@ void printRunSummary(const OdometryReport& r, std::ostream& os) {
 
 void printRunWarnings(const OdometryReport& r, const std::string& tool_name, std::ostream& err) {
   const std::string tool = tool_name + ": warning: ";
-  printWarningKinds(r.warnings, {{kTimeGapWarning, r.time_gaps}, {kClockJumpWarning, r.clock_jumps},
-                                 {"wheel odometry jumps by ", r.odometry_jumps}},
-                    tool_name, err);
+  printWarningKinds(r.warning_kinds, tool_name, err);
   if (r.skipped_count > 0) {
     err << tool << r.skipped_count << " scans or lines skipped, the first: "
         << (r.skipped.empty() ? std::string("?") : r.skipped.front()) << " (all in summary.json)\n";

@@ -58,7 +58,9 @@ void evaluateRun(const OdometryRun& run, RunReferences& refs, bool log_reference
   refs.gt_tolerance_s = std::max(1e-6, 0.25 * run.medianStep());
   if (log_reference) {
     if (run.logPoses().size() < 2) {
-      report.warnings.push_back("--log-reference: the log has no poses beside its scans");
+      const std::string warning = "--log-reference: the log has no poses beside its scans";
+      report.warnings.push_back(warning);
+      report.warning_kinds.add(warning);
     } else {
       refs.log_relations = eval::relationsFrom(run.logPoses(), 0.0, 0.0, 1);
     }

@@ -104,8 +104,7 @@ SimulationFiles::SimulationFiles(const std::string& prefix, const sim::Simulatio
       rois_(prefix_ + ".rois.csv"),
       carmen_(write_carmen ? std::make_unique<PendingFile>(prefix_ + ".carmen.log") : nullptr),
       rawlog_tmp_(uniqueTemporary(prefix_ + ".rawlog")),
-      rawlog_(rawlog_tmp_) {
-  if (!rawlog_.fileOpenCorrectly()) throw std::runtime_error("cannot write '" + rawlog_tmp_ + "'");
+      rawlog_(rawlog_tmp_, prefix_ + ".rawlog", 1) {
   gt_.out() << "# timestamp x y z qx qy qz qw (true robot pose, world frame)\n";
   odom_.out() << "# timestamp x y z qx qy qz qw (wheel odometry, drifting)\n";
   features_.out() << "scan,t,type,x,y,theta,width,id,resolvable,seen_as\n";
@@ -185,8 +184,7 @@ void SimulationFiles::publishImages() {
 // A run that did not commit leaves no rawlog temporary behind.
 SimulationFiles::~SimulationFiles() {
   if (committed_) return;
-  rawlog_.close();
-  std::error_code ec;
+  std::error_code ec;  // the stream's file is closed, unchecked, with it
   fs::remove(rawlog_tmp_, ec);
   releaseTemporary(rawlog_tmp_);
 }

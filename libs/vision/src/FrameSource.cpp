@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cctype>
 #include <filesystem>
 #include <stdexcept>
@@ -49,24 +50,59 @@ void FrameSource::openUndecoded() {
                      fourcc == cv::VideoWriter::fourcc('m', 'j', 'p', 'g');
   if (!mjpeg || video_.getBackendName() != "FFMPEG") return;
   undecoded_.open(input_, cv::CAP_FFMPEG, {cv::CAP_PROP_FORMAT, -1});
+  // Without the raw mode (an older FFmpeg backend), video_ decodes each frame as another codec's.
 }
 
-// The next frame's JPEG header, read undecoded, held to the cap before video_ decodes it.
-void FrameSource::requireNextFrameSize() {
-  if (!undecoded_.isOpened()) return;
+void FrameSource::skip(const std::string& message) {
+  ++skipped_count_;
+  if (skipped_.size() < kKeptSkips) skipped_.push_back(message);
+}
+
+// One packet is one frame: a packet that cannot be decoded is skipped under its own number,
+// so the next packet is the next frame (a second, decoding capture could fall out of step
+// with this one on a packet FFmpeg drops).
+bool FrameSource::nextMotionJpeg(cv::Mat& frame) {
   cv::Mat packet;
-  if (!undecoded_.read(packet) || packet.empty() || packet.type() != CV_8UC1) {
-    undecoded_.release();  // out of step: each decoded frame is still checked
-    return;
+  // grab() then retrieve(): read() would take an empty packet (a dropped frame) for the end.
+  while (undecoded_.grab()) {
+    const std::size_t number = video_frame_++;
+    const std::string where = "'" + input_ + "', frame " + std::to_string(number);
+    packet.release();
+    const bool bytes = undecoded_.retrieve(packet) && !packet.empty() && packet.type() == CV_8UC1;
+    if (!bytes && number == 0) {
+      undecoded_.release();  // no raw mode after all: video_ decodes from the first frame
+      video_frame_ = 0;
+      return false;
+    }
+    if (packet.empty()) {
+      skip(where + ": an empty frame; frame skipped");
+      continue;
+    }
+    if (!bytes) throw std::runtime_error(where + ": OpenCV did not give the frame's undecoded bytes");
+    ImageHeader header;
+    try {
+      header = readJpegHeader(std::string(reinterpret_cast<const char*>(packet.data), packet.total()), input_);
+    } catch (const std::runtime_error& e) {
+      skip(where + ": not a Motion-JPEG frame (" + e.what() + "); frame skipped");
+      continue;
+    }
+    requireImageSize(header.width, header.height, where, "video frame");
+    cv::Mat decoded;
+    try {
+      decoded = cv::imdecode(packet, cv::IMREAD_COLOR);
+    } catch (const cv::Exception&) {
+      decoded.release();
+    }
+    if (decoded.empty() || static_cast<std::uint64_t>(decoded.cols) != header.width ||
+        static_cast<std::uint64_t>(decoded.rows) != header.height) {
+      skip(where + ": its JPEG data cannot be decoded; frame skipped");
+      continue;
+    }
+    frame = decoded;
+    frame_index_ = number;
+    return true;
   }
-  const std::string where = "'" + input_ + "', frame " + std::to_string(video_frame_);
-  ImageHeader header;
-  try {
-    header = readJpegHeader(std::string(reinterpret_cast<const char*>(packet.data), packet.total()), input_);
-  } catch (const std::runtime_error& e) {
-    throw std::runtime_error(where + ": not a Motion-JPEG frame (" + e.what() + ")");
-  }
-  requireImageSize(header.width, header.height, where, "video frame");
+  return false;
 }
 
 // The size the video's container declares, checked before any frame is decoded; a container
@@ -85,16 +121,21 @@ std::size_t FrameSource::expectedFrames() const {
 }
 
 bool FrameSource::next(cv::Mat& frame, std::string& file) {
+  if (undecoded_.isOpened()) {
+    file.clear();
+    if (nextMotionJpeg(frame)) return true;
+    if (undecoded_.isOpened()) return false;
+  }
   if (video_.isOpened()) {
     file.clear();
-    requireNextFrameSize();
     if (!video_.read(frame) || frame.empty()) return false;
     requireImageSize(static_cast<std::uint64_t>(frame.cols), static_cast<std::uint64_t>(frame.rows),
                      "'" + input_ + "', frame " + std::to_string(video_frame_), "video frame");
-    ++video_frame_;
+    frame_index_ = video_frame_++;
     return true;
   }
   if (next_file_ >= files_.size()) return false;
+  frame_index_ = next_file_;
   const std::string& path = files_[next_file_++];
   frame = readImage(path);
   file = fs::path(path).filename().string();

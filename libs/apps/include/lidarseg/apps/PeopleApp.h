@@ -61,6 +61,9 @@ class PeopleApp {
 
   static std::string markdown(const PeopleReport& report);
   static void print(const PeopleReport& report, std::ostream& os);
+  /// The frames skipped as undecodable, on `err` (stderr): how many, and the first with its
+  /// place; nothing when none was.
+  static void printWarnings(const PeopleReport& report, std::ostream& err);
 
  private:
   PeopleOptions options_;

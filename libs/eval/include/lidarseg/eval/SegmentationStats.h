@@ -13,6 +13,7 @@
 #include "lidarseg/core/ScanSegmenter.h"
 #include "lidarseg/core/StampPolicy.h"
 #include "lidarseg/core/Statistics.h"
+#include "lidarseg/core/WarningTally.h"
 
 namespace lidarseg::eval {
 
@@ -43,6 +44,8 @@ struct SegmentStatsReport {
   /// What the log reader and the stamp policy warned about, with its place in the log (the
   /// first 100): gaps, clock jumps, a laser whose layout changes, ...
   std::vector<std::string> warnings;
+  /// The same warnings counted per kind in full.
+  WarningTally warning_kinds;
   std::size_t beams_per_scan = 0;
   double field_of_view_deg = 0.0;
   double max_range_m = 0.0;

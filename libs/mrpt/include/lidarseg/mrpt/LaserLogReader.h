@@ -12,6 +12,7 @@
 
 #include "lidarseg/core/Pose2D.h"
 #include "lidarseg/core/ScanRecord.h"
+#include "lidarseg/core/WarningTally.h"
 #include "lidarseg/mrpt/ScanConverter.h"
 
 namespace lidarseg::logs {
@@ -68,6 +69,9 @@ class LaserLogReader {
   /// What was read but is worth a word (non-finite odometry dropped, a laser whose beam
   /// count, aperture or mounting changes), with its place; the first 100.
   std::vector<std::string> warnings() const;
+  /// The warnings of warnings() and unknownTypes(), counted per kind in full (warnings()
+  /// keeps the first 100 messages).
+  WarningTally warningTally() const;
 
  private:
   void note(const std::string& message);
@@ -87,6 +91,7 @@ class LaserLogReader {
   std::optional<Geometry> geometry_;
   bool geometry_changed_ = false;
   std::vector<std::string> warnings_;
+  WarningTally tally_;  // every warn(), in full
   std::string path_;
   LogFormat format_ = LogFormat::kRawlog;
   std::unique_ptr<RawlogScanReader> rawlog_;

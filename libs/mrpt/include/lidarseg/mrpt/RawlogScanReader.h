@@ -11,6 +11,8 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose2D.h>
 
+#include "lidarseg/core/WarningTally.h"
+
 namespace mrpt::io {
 class CFileGZInputStream;
 }
@@ -62,7 +64,8 @@ class RawlogScanReader {
 
   /// The next scan, or std::nullopt at the end of the file.
   /// @throws std::runtime_error naming the file and entry index when the file is truncated
-  /// or holds data that is not a valid MRPT object; naming the file and the labels it has
+  /// or holds data that is not a valid MRPT object, or when a gzip rawlog's stream is cut or
+  /// fails its trailer's check (CRC-32 and size of the data, checked at the end); naming the file and the labels it has
   /// when it ends without a scan of the requested label.
   std::optional<RawlogScan> next();
 
@@ -83,12 +86,17 @@ class RawlogScanReader {
   /// the first 100, and how many.
   const std::vector<std::string>& droppedOdometry() const { return dropped_odometry_; }
   std::size_t droppedOdometryCount() const { return dropped_odometry_count_; }
+  /// The dropped odometry readings and movements as warnings counted per kind in full.
+  const WarningTally& droppedOdometryTally() const { return dropped_odometry_tally_; }
 
  private:
   class CountingStream;
   bool accept(const mrpt::obs::CObservation2DRangeScan::Ptr& scan);
-  /// At the end of a gzip-compressed rawlog: throws if the compressed stream was cut.
+  /// At the end of a gzip-compressed rawlog: throws if the compressed stream was cut or its
+  /// trailer (CRC-32, size) does not match the data read.
   void checkCompressedEnd() const;
+  /// zlib's reading of the whole gzip file: "" when the stream is whole, else what is wrong.
+  std::string compressedStreamError() const;
   bool gzip_ = false;
   double expected_bytes_ = 0;  // the uncompressed size, for fractionRead()
 
@@ -111,6 +119,7 @@ class RawlogScanReader {
   std::size_t scans_returned_ = 0;
   std::vector<std::string> dropped_odometry_;
   std::size_t dropped_odometry_count_ = 0;
+  WarningTally dropped_odometry_tally_;
   void dropOdometry(const char* what);
 };
 

@@ -12,6 +12,7 @@
 #include "lidarseg/core/Feature.h"
 #include "lidarseg/core/StampPolicy.h"
 #include "lidarseg/core/Statistics.h"
+#include "lidarseg/core/WarningTally.h"
 #include "lidarseg/eval/FeatureEvaluation.h"
 
 namespace lidarseg::pipeline {
@@ -45,6 +46,8 @@ struct FeaturesReport {
   /// What the log reader and the stamp policy warned about, with its place in the log (the
   /// first 100): gaps, clock jumps, a laser whose layout changes, ...
   std::vector<std::string> log_warnings;
+  /// The same warnings counted per kind in full (features.json's `warning_kinds`).
+  WarningTally log_warning_kinds;
   /// What the run could not do but did not fail for, one line each (no figure without
   /// gnuplot, a --figure-scan beyond the log): printed by the tool after its results.
   std::vector<std::string> warnings;

@@ -7,10 +7,9 @@
 #include <string>
 #include <vector>
 
-#include <mrpt/io/CFileGZOutputStream.h>
-
 #include "lidarseg/core/Feature.h"
 #include "lidarseg/core/Pose2D.h"
+#include "lidarseg/mrpt/GzipOutputStream.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/mrpt/LaserOdometry.h"
 #include "lidarseg/pipeline/OutputFiles.h"
@@ -21,7 +20,8 @@ namespace lidarseg::pipeline {
 /// `CActionRobotMovement2D` with its covariance, robot frame) then a sensory frame (the scan,
 /// the observations that came with it except the log's own odometry, and optionally the
 /// scan's doors and corners as a `CObservationBearingRange`). gzip level 1, as MRPT's own
-/// tools write rawlogs; under a temporary name that `outputs` puts in place.
+/// tools write rawlogs, through `GzipOutputStream` (every write and the end of the stream
+/// checked); under a temporary name that `outputs` puts in place.
 class RawlogWriter {
  public:
   /// @param landmarks add each scan's features as landmarks (for MRPT's EKF SLAM).
@@ -35,13 +35,17 @@ class RawlogWriter {
   void write(const mrpt_adapter::LaserRecord& record, const mrpt_adapter::LaserOdometryStep& step,
              double stamp_s, const std::vector<Feature>& features);
 
-  /// Flushes and closes the file (before `outputs` commits).
-  void close() { out_.close(); }
+  /// Ends the gzip stream (its last blocks and trailer), syncs and closes the file; call it
+  /// before `outputs` commits.
+  /// @throws std::runtime_error "cannot write the rawlog 'PATH': why" when the end of the
+  /// file cannot be written (the disk fills, or the file size limit is reached, within its
+  /// last kilobytes): the run then fails and the temporary file is removed, never published.
+  void close();
 
  private:
   std::string path_;
   bool landmarks_;
-  mrpt::io::CFileGZOutputStream out_;
+  mrpt_adapter::GzipOutputStream out_;
   Pose2D last_pose_;  // robot pose of the previous scan, odometry frame
 };
 

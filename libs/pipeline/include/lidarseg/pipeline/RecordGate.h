@@ -17,6 +17,7 @@
 
 #include "lidarseg/core/ScanRecord.h"
 #include "lidarseg/core/StampPolicy.h"
+#include "lidarseg/core/WarningTally.h"
 
 namespace lidarseg::mrpt_adapter {
 class LaserLogReader;
@@ -40,6 +41,10 @@ struct RecordCounts : StampCounts {
   std::size_t skipped_count = 0;
   /// What was read or repaired but is worth a word, with its place in the log (the first 100).
   std::vector<std::string> warnings;
+  /// Every warning of the run and of its reader, counted per kind in full (at most
+  /// WarningTally::kMaxKinds kinds, the rest as "(other kinds)"): `warnings` lists the first
+  /// 100 only.
+  WarningTally warning_kinds;
 };
 
 /// The stamp policy and the counts of one run, record after record (in the log's order).
@@ -112,18 +117,13 @@ std::string readRecords(mrpt_adapter::LaserLogReader& reader, const RecordCounts
 void addReaderCounts(const mrpt_adapter::LaserLogReader& reader, RecordCounts& counts);
 
 /// Warnings for stderr, one line per kind, "TOOL: warning: N x, the first: WHERE: what"
-/// ("449 x, the first: FILE:1130: time gap of 1.6 s; ..."): a kind is a warning's text
-/// after its place up to the first digit. `warnings` keeps the first 100 of a run; for the
-/// kinds in `counted` (kind, count in full) the count in full is given.
-void printWarningKinds(const std::vector<std::string>& warnings,
-                       const std::vector<std::pair<std::string, std::size_t>>& counted, const std::string& tool,
-                       std::ostream& err);
+/// ("449 x, the first: FILE:1130: time gap of 1.6 s; ..."), N counted in full
+/// (WarningTally::kindOf() says what a kind is); at most WarningTally::kMaxKinds + 1 lines.
+void printWarningKinds(const WarningTally& warnings, const std::string& tool, std::ostream& err);
 
-/// A run's record warnings (the reader's and the stamp policy's, the first 100), gaps and
-/// clock jumps counted in full by `stamps`, as every tool reading a log prints them on
-/// stderr (printWarningKinds()).
-void printRecordWarnings(const std::vector<std::string>& warnings, const StampCounts& stamps, const std::string& tool,
-                         std::ostream& err);
+/// A run's record warnings (the reader's and the stamp policy's), as every tool reading a
+/// log prints them on stderr (printWarningKinds()).
+void printRecordWarnings(const WarningTally& warnings, const std::string& tool, std::ostream& err);
 
 /// "skipped: N, non-increasing stamps: N, time gaps: N, clock jumps: N": the counts every
 /// tool reading a log prints in its summary.

@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include "lidarseg/mrpt/GzipOutputStream.h"
 #include "lidarseg/pipeline/OutputFiles.h"
 #include "lidarseg/sim/Simulation.h"
 #include "lidarseg/sim/World.h"
@@ -48,8 +48,10 @@ class SimulationFiles {
   /// Renames every output to its final name: removes the PREFIX.rawlog it replaces, then puts
   /// PREFIX_Images/, the text files and `companions` (e.g. a generated building's files) in
   /// place, and the rawlog last. A reader who finds PREFIX.rawlog finds its images beside it.
-  /// @throws std::runtime_error (std::filesystem::filesystem_error) naming the file that
-  ///         could not be replaced; the folder then holds no PREFIX.rawlog.
+  /// @throws std::runtime_error "cannot write 'PREFIX.rawlog': why" when the end of the
+  ///         rawlog's gzip stream cannot be written (nothing is then published), or
+  ///         (std::filesystem::filesystem_error) naming the file that could not be replaced;
+  ///         the folder then holds no PREFIX.rawlog.
   void commit(const std::vector<PendingFile*>& companions = {});
   /// What was written so far.
   const SimulationCounts& counts() const { return counts_; }
@@ -71,8 +73,8 @@ class SimulationFiles {
   PendingFile gt_, odom_, features_, rois_;
   std::unique_ptr<PendingFile> carmen_;
   std::string rawlog_tmp_;  // registered for the SIGINT/SIGTERM cleanup
-  mrpt::io::CFileGZOutputStream rawlog_;
-  mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZOutputStream> archive_{rawlog_};
+  mrpt_adapter::GzipOutputStream rawlog_;  // every write and the stream's end checked
+  mrpt::serialization::CArchiveStreamBase<mrpt_adapter::GzipOutputStream> archive_{rawlog_};
 };
 
 }  // namespace lidarseg::pipeline

@@ -17,6 +17,12 @@ namespace lidarseg::vision {
 /// the same cap, from the size its container declares before any is decoded, and each frame:
 /// a Motion-JPEG frame from its JPEG header before it is decoded (its size may change from
 /// frame to frame), a frame of another codec once decoded.
+///
+/// A Motion-JPEG video (on OpenCV's FFmpeg backend) is read as its undecoded packets, one per
+/// frame, each decoded by OpenCV's JPEG decoder (`cv::imdecode`): a packet that is not a JPEG
+/// image or does not decode is skipped and counted with its frame number (skippedFrames()),
+/// and the frames after it keep their own numbers (frameIndex()), so a corrupt frame neither
+/// ends the video nor shifts the frames after it.
 class FrameSource {
  public:
   /// @throws std::runtime_error naming `input` when it does not exist, a folder holds no
@@ -33,19 +39,34 @@ class FrameSource {
   /// video and the frame's number (from 0) for an oversized frame.
   bool next(cv::Mat& frame, std::string& file);
 
+  /// The number (from 0) of the frame next() returned last: its place in the video, counting
+  /// the frames skipped before it, or the image's in the folder's name order.
+  std::size_t frameIndex() const { return frame_index_; }
+  /// Frames skipped because they could not be decoded, "'VIDEO', frame N: why; frame
+  /// skipped" (the first kKeptSkips), and how many in all.
+  const std::vector<std::string>& skippedFrames() const { return skipped_; }
+  std::size_t skippedFrameCount() const { return skipped_count_; }
+
+  /// Messages of skipped frames kept (the count goes on).
+  static constexpr std::size_t kKeptSkips = 100;
+
  private:
   std::string input_;
   cv::VideoCapture video_;
-  // A Motion-JPEG video read again undecoded (FFmpeg's raw packets), one frame ahead of
-  // video_: each frame's JPEG header is checked before video_ decodes it.
+  // A Motion-JPEG video read undecoded (FFmpeg's raw packets, one per frame): each frame's
+  // JPEG header is checked before imdecode decodes it; video_ then only declares sizes.
   cv::VideoCapture undecoded_;
   std::vector<std::string> files_;
   std::size_t next_file_ = 0;
-  std::size_t video_frame_ = 0;  // frames of the video read so far
+  std::size_t video_frame_ = 0;  // frames of the video read so far (skipped ones too)
+  std::size_t frame_index_ = 0;
+  std::vector<std::string> skipped_;
+  std::size_t skipped_count_ = 0;
 
   void requireDeclaredSize() const;
   void openUndecoded();
-  void requireNextFrameSize();
+  bool nextMotionJpeg(cv::Mat& frame);
+  void skip(const std::string& message);
 };
 
 }  // namespace lidarseg::vision

@@ -19,6 +19,10 @@ namespace lidarseg::vision {
 struct PeopleReport {
   std::string input;
   std::size_t frames = 0;  ///< analysed
+  /// Frames of the input skipped because they could not be decoded (a corrupt Motion-JPEG
+  /// frame), and the first of them with their place ("'VIDEO', frame N: why; frame skipped").
+  std::size_t frames_skipped = 0;
+  std::vector<std::string> warnings;
   cv::Size frame_size;
   /// Time per frame of the detector (ms): whole frame and inside the regions.
   Summary full_ms;
