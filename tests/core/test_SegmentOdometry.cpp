@@ -130,37 +130,6 @@ TEST(SegmentOdometry, TurnReversalAndUnpredictedJumpAreRecovered) {
   EXPECT_EQ(lost, 0u);
 }
 
-// The first 6 m of the maze's corridor with the 181-beam, 75 Hz SICK (seed 1): as the robot
-// leaves the keyframe, fewer points pair and the refinement turns doubtful; the correlative
-// search then finds a pose about 1 m back along the corridor that pairs more points. The
-// constant-velocity prior cannot be 1 m wrong after 13 ms, and its own refinement holds: the
-// gate of the prior keeps it. That hypothesis is also degenerate along the corridor, so
-// since decision 76 it is refused twice: without the gate (an unbounded acceleration) the
-// run no longer jumps either (0.96 m before decision 76). Both must hold.
-double corridorRunError(double accel_m_s2) {
-  MazeRun maze(1, ScanStamp::kFirst, sim::SensorModel::sick180());
-  OdometryParams params;
-  params.prior_accel_m_s2 = accel_m_s2;
-  SegmentOdometry odometry(params);
-  Pose2D gt0, gt_last;
-  for (std::size_t i = 0; i < 520; ++i) {
-    const sim::SimulatedFrame f = maze.simulation.next();
-    odometry.process(f.scan);
-    if (i == 0) gt0 = f.T_world_robot;
-    gt_last = f.T_world_robot;
-  }
-  const Pose2D truth = relative(gt_last, gt0);
-  return std::hypot(odometry.pose().x - truth.x, odometry.pose().y - truth.y);
-}
-
-TEST(SegmentOdometry, ASearchResultOneCorridorBayAwayDoesNotReplaceAPriorThatHolds) {
-  const double gated = corridorRunError(OdometryParams{}.prior_accel_m_s2);
-  const double ungated = corridorRunError(1e9);
-  std::cout << "error after 520 scans: " << gated << " m with the prior's gate, " << ungated << " m without\n";
-  EXPECT_LT(gated, 0.05);
-  EXPECT_LT(ungated, 0.05);  // measured 0.022 m, as gated; 0.96 m with neither defence
-}
-
 // The position error after the first `scans` scans of a simulated run (world "maze" or
 // "hospital" of config/worlds), first poses made equal.
 double runError(const char* world_name, const sim::SensorModel& sensor, std::uint64_t seed, std::size_t scans,
@@ -179,6 +148,27 @@ double runError(const char* world_name, const sim::SensorModel& sensor, std::uin
   }
   const Pose2D truth = relative(gt_last, gt0);
   return std::hypot(odometry.pose().x - truth.x, odometry.pose().y - truth.y);
+}
+
+// The first 6 m of the maze's corridor with the 181-beam, 75 Hz SICK (seed 1): as the robot
+// leaves the keyframe, fewer points pair and the refinement turns doubtful; the correlative
+// search then finds a pose about 1 m back along the corridor that pairs more points. The
+// constant-velocity prior cannot be 1 m wrong after 13 ms, and its own refinement holds: the
+// gate of the prior keeps it. That hypothesis is also degenerate along the corridor, so
+// since decision 76 it is refused twice: without the gate (an unbounded acceleration) the
+// run no longer jumps either (0.96 m before decision 76). Both must hold.
+double corridorRunError(double accel_m_s2) {
+  OdometryParams params;
+  params.prior_accel_m_s2 = accel_m_s2;
+  return runError("maze", sim::SensorModel::sick180(), 1, 520, params);
+}
+
+TEST(SegmentOdometry, ASearchResultOneCorridorBayAwayDoesNotReplaceAPriorThatHolds) {
+  const double gated = corridorRunError(OdometryParams{}.prior_accel_m_s2);
+  const double ungated = corridorRunError(1e9);
+  std::cout << "error after 520 scans: " << gated << " m with the prior's gate, " << ungated << " m without\n";
+  EXPECT_LT(gated, 0.05);
+  EXPECT_LT(ungated, 0.05);  // measured 0.022 m, as gated; 0.96 m with neither defence
 }
 
 // The hospital's y = 12 m corridor with the UTM-30LX (seed 2): after the square pillar the
