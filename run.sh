@@ -100,6 +100,7 @@ case "$cmd" in
     configure_build "$ROOT/build/test" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLIDARSEG_SANITIZE=ON \
       -DLIDARSEG_BUILD_TESTS=ON -DLIDARSEG_BUILD_BENCHMARKS=ON
     export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}"
+    export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$ROOT/tests/sanitizers/lsan.supp}"
     export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
     ctest --test-dir "$ROOT/build/test" --output-on-failure --parallel "$JOBS" --timeout 600
     ;;

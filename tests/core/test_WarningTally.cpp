@@ -30,6 +30,28 @@ TEST(WarningTally, AKindIsTheTextAfterThePlaceWithItsNumbersAsHashes) {
   EXPECT_LE(WarningTally::kindOf("F:1: " + std::string(10000, 'x')).size(), 120u);
 }
 
+// The cut at 120 bytes never splits a UTF-8 character (a sensor label or line type in
+// another script): the JSON writers refuse an invalid sequence.
+TEST(WarningTally, AKindIsNeverCutInsideAUtf8Character) {
+  const std::string e_acute = "\xC3\xA9", han = "\xE6\xBC\xA2";
+  for (std::size_t pad = 110; pad < 125; ++pad) {
+    for (const std::string& ch : {e_acute, han}) {
+      std::string text;
+      for (int i = 0; i < 20; ++i) text += ch;
+      const std::string kind = WarningTally::kindOf("F:1: " + std::string(pad, 'x') + text);
+      ASSERT_LE(kind.size(), 121u);
+      // Every character whole: lead bytes followed by their continuation bytes.
+      std::size_t i = 0;
+      while (i < kind.size()) {
+        const unsigned char b = static_cast<unsigned char>(kind[i]);
+        const std::size_t n = b < 0x80 ? 1 : b >= 0xE0 ? 3 : 2;
+        ASSERT_LE(i + n, kind.size()) << "pad " << pad << ": a character cut at the end";
+        i += n;
+      }
+    }
+  }
+}
+
 TEST(WarningTally, EveryKindIsCountedInFullWhileTheMessagesAreCapped) {
   WarningTally t;
   for (int i = 0; i < 1000; ++i) t.add("log:" + std::to_string(i) + ": time gap of 2." + std::to_string(i) + " s");

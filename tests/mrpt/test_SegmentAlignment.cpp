@@ -417,6 +417,17 @@ TEST(SegmentAlignment, ResetTrackingStartsAgainWithTheOptionsThenHeld) {
   align.trackingOptions.keyframe_distance_m = -1.0;
   align.resetTracking();
   EXPECT_THROW(align.track(scans[0], Pose2D{}), std::invalid_argument);
+
+  // A first scan that cannot be processed leaves no tracker behind: options set after it
+  // still count, and the next scan is the first.
+  align.trackingOptions = SegmentAlignment::TTrackingParams{};
+  align.resetTracking();
+  Scan one_beam = scans[0];
+  one_beam.ranges_m.resize(1);
+  one_beam.valid.resize(1);
+  EXPECT_ANY_THROW(align.track(one_beam, Pose2D{}));
+  EXPECT_THROW(align.trackingCore(), std::logic_error);
+  EXPECT_TRUE(align.track(scans[0], Pose2D{}).core.first);
 }
 
 // The tracking's options load like the alignment's: one section (a tool's [odometry]

@@ -24,6 +24,17 @@ std::string WarningTally::kindOf(const std::string& message) {
     if (!digit) kind += message[i];
     in_number = digit;
   }
+  // Never cut inside a UTF-8 character (the JSON writers refuse an invalid sequence).
+  if (kind.size() >= kMaxKindChars) {
+    std::size_t end = kind.size();
+    while (end > 0 && (static_cast<unsigned char>(kind[end - 1]) & 0xC0) == 0x80) --end;
+    if (end > 0 && (static_cast<unsigned char>(kind[end - 1]) & 0x80) != 0) {
+      // kind[end - 1] leads a sequence: keep it only when all its continuation bytes are there.
+      const unsigned char lead = static_cast<unsigned char>(kind[end - 1]);
+      const std::size_t length = lead >= 0xF0 ? 4 : lead >= 0xE0 ? 3 : lead >= 0xC0 ? 2 : 1;
+      if (kind.size() - (end - 1) < length) kind.resize(end - 1);
+    }
+  }
   return kind;
 }
 

@@ -22,15 +22,31 @@
 
 // MRPT decodes a rawlog's JPEG-compressed camera images with libjpeg and its default error
 // handler, which prints one line and calls exit(1): a corrupt image ended every tool without
-// the file's name and left its temporary files. Every error manager libjpeg sets up in this
-// process (MRPT's; OpenCV, libtiff and GDAL install their own handler afterwards) now throws
-// instead, and the reader reports the entry: "rawlog 'F', entry N: truncated or corrupt
-// (a corrupt JPEG image: ...)". The decoder's state is abandoned (libjpeg never frees it).
+// the file's name and left its temporary files. While this reader deserialises an entry
+// (and only then, on that thread: other users of libjpeg in the process keep its default),
+// the error manager libjpeg sets up throws instead, and the reader reports the entry:
+// "rawlog 'F', entry N: truncated or corrupt (a corrupt JPEG image: ...)". The decoder's
+// memory is released before the throw (as jpeg_destroy does); MRPT does not touch it again.
 namespace {
 constexpr const char* kJpegErrorPrefix = "a corrupt JPEG image: ";
+thread_local int jpeg_errors_throw = 0;  // > 0 while RawlogScanReader deserialises an entry
+
+/// Makes libjpeg's errors throw on this thread for its lifetime (decision 78).
+struct JpegErrorsThrow {
+  JpegErrorsThrow() { ++jpeg_errors_throw; }
+  ~JpegErrorsThrow() { --jpeg_errors_throw; }
+  JpegErrorsThrow(const JpegErrorsThrow&) = delete;
+  JpegErrorsThrow& operator=(const JpegErrorsThrow&) = delete;
+};
+
 [[noreturn]] void throwJpegError(j_common_ptr cinfo) {
   char message[JMSG_LENGTH_MAX] = {};
   (*cinfo->err->format_message)(cinfo, message);
+  // What jpeg_destroy does, through the memory manager's own entry (libjpeg is MRPT's
+  // dependency, not linked here).
+  if (cinfo->mem != nullptr) (*cinfo->mem->self_destruct)(cinfo);
+  cinfo->mem = nullptr;
+  cinfo->global_state = 0;
   throw std::runtime_error(std::string(kJpegErrorPrefix) + message);
 }
 }  // namespace
@@ -43,7 +59,7 @@ extern "C" struct jpeg_error_mgr* jpeg_std_error(struct jpeg_error_mgr* err) {
     std::abort();
   }
   libjpeg(err);
-  err->error_exit = throwJpegError;
+  if (jpeg_errors_throw > 0) err->error_exit = throwJpegError;
   return err;
 }
 
@@ -262,6 +278,7 @@ std::optional<RawlogScan> RawlogScanReader::next() {
     const std::uint64_t before = counter_->bytes();
     try {
       auto archive = mrpt::serialization::archiveFrom(*counter_);
+      const JpegErrorsThrow jpeg_errors_throw_here;
       object = archive.ReadObject();
     } catch (const std::exception& e) {
       if (counter_->bytes() == before && !counter_->damaged()) {  // nothing left: the log ends between entries

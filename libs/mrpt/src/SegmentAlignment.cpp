@@ -181,15 +181,30 @@ SegmentAlignment::TTrackResult SegmentAlignment::track(const Scan& scan, const P
                                                        const std::optional<Pose2D>& robot_odometry_increment) {
   // Made here rather than at construction so that options set after it count; validated
   // by LaserOdometry's constructor.
-  if (!tracker_) tracker_.emplace(trackingOptions);
-  return tracker_->process(scan, T_robot_sensor, robot_odometry_increment);
+  if (tracker_) return tracker_->process(scan, T_robot_sensor, robot_odometry_increment);
+  // The first scan: the tracker is kept only when it was processed (a scan that throws
+  // leaves the tracking state unchanged, as documented). Not built aside and moved in: the
+  // core holds pointers to its own members.
+  tracker_.emplace(trackingOptions);
+  try {
+    return tracker_->process(scan, T_robot_sensor, robot_odometry_increment);
+  } catch (...) {
+    tracker_.reset();
+    throw;
+  }
 }
 
 SegmentAlignment::TTrackResult SegmentAlignment::track(
     const mrpt::obs::CObservation2DRangeScan& scan,
     const std::optional<mrpt::poses::CPose2D>& robot_odometry_increment, std::optional<double> stamp_s) {
-  if (!tracker_) tracker_.emplace(trackingOptions);
-  return tracker_->process(scan, robot_odometry_increment, stamp_s);
+  if (tracker_) return tracker_->process(scan, robot_odometry_increment, stamp_s);
+  tracker_.emplace(trackingOptions);  // kept only when the first scan was processed
+  try {
+    return tracker_->process(scan, robot_odometry_increment, stamp_s);
+  } catch (...) {
+    tracker_.reset();
+    throw;
+  }
 }
 
 void SegmentAlignment::resetTracking() { tracker_.reset(); }

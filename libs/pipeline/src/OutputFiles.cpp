@@ -145,6 +145,9 @@ void releaseTemporary(const std::string& temporary) {
 void installCleanupOnSignals() {
   std::signal(SIGINT, removeTemporariesAndDie);
   std::signal(SIGTERM, removeTemporariesAndDie);
+  // A file beyond the size limit (ulimit -f) fails its write with EFBIG, which the writers
+  // report naming the file, instead of killing the process with its temporaries left.
+  std::signal(SIGXFSZ, SIG_IGN);
 }
 
 void writeFileAtomically(const std::string& path, const std::string& content) {

@@ -60,7 +60,8 @@ struct OdometryParams {
   /// failed: pairing more points one corridor bay further is not evidence enough against a
   /// prior that holds. The segment match is not gated (decision 64: stamp jitter makes a
   /// constant-velocity prior wrong by more than the acceleration says, and the match, which
-  /// pairs whole segments, was right there).
+  /// pairs whole segments, was right there); it is only checked against the prior
+  /// (check_match_against_prior), which adds the prior's refinement as the reference.
   double prior_gate_sigmas = 3.0;
   double prior_accel_m_s2 = 2.0;
   double prior_angular_accel_rad_s2 = 4.0;

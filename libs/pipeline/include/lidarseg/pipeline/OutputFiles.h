@@ -22,8 +22,9 @@ void releaseTemporary(const std::string& temporary);
 /// and creates the folder, after registering it.
 void registerTemporaryFolder(const std::string& folder);
 /// SIGINT and SIGTERM remove every registered temporary file and folder, then end the process
-/// with the signal's default action. Idempotent; every tool calls it first thing (through
-/// parseCommandLine()).
+/// with the signal's default action; SIGXFSZ is ignored (a write beyond `ulimit -f` fails with
+/// EFBIG and is reported naming its file). Idempotent; every tool calls it first thing
+/// (through parseCommandLine()).
 void installCleanupOnSignals();
 
 /// Writes `content` to `path` through a unique temporary file and a rename, so that a
