@@ -94,6 +94,15 @@ bool onLineOf(const FeatureDetectorParams& p, double sigma, const Segment& a, co
   return d <= collinearToleranceOf(p, sigma, a, q);
 }
 
+// std::lround(v) without the library call, for the ranges in millimetres: below 2^52 a
+// non-negative double's truncation is exact and so is its fractional part, so a half rounds
+// up (away from zero) exactly as std::lround does; anything else goes to std::lround.
+long roundRangeMm(double v) {
+  if (!(v >= 0.0 && v < 4503599627370496.0)) return std::lround(v);
+  const long whole = static_cast<long>(v);
+  return v - static_cast<double>(whole) >= 0.5 ? whole + 1 : whole;
+}
+
 std::size_t beamsBetween(std::uint32_t last_of_a, std::uint32_t first_of_b, std::size_t num_beams) {
   // Beams strictly after last_of_a and strictly before first_of_b, in scan order (wrapping).
   const std::size_t n = num_beams;
@@ -241,26 +250,27 @@ double FeatureDetector::rangeQuantum(const Segmentation& segmentation, std::size
   // Residues of the ranges in millimetres modulo 10 cm; every grid tried divides 10 cm.
   std::uint32_t hist[100] = {};
   std::size_t n = 0;
-  for (std::size_t c = 0, beam = first_beam % num_beams; c < count && c < num_beams; ++c, beam = (beam + 1) % num_beams) {
+  for (std::size_t c = 0, beam = first_beam % num_beams; c < count && c < num_beams;
+       ++c, beam = beam + 1 == num_beams ? 0 : beam + 1) {
     const Eigen::Vector2d& q = pts[beam];
     if (!std::isfinite(q.x())) continue;
-    const long mm = std::lround(q.norm() * 1000.0);
+    const long mm = roundRangeMm(q.norm() * 1000.0);
     ++hist[static_cast<std::size_t>(((mm % 100) + 100) % 100)];
     ++n;
   }
   if (n < 8) return 0.0;
-  // Share of the ranges on the best grid of each step (any offset).
+  // Share of the ranges on the best grid of each step (any offset). The counts on each
+  // offset of the 50, 20 and 10 mm grids are folded from the 100 mm histogram (integer sums:
+  // the same counts as summing every tenth, fifth or second class).
   const int grids[4] = {10, 20, 50, 100};
+  std::uint32_t on50[50], on20[20], on10[10];
+  for (int o = 0; o < 50; ++o) on50[o] = hist[o] + hist[o + 50];
+  for (int o = 0; o < 20; ++o) on20[o] = hist[o] + hist[o + 20] + hist[o + 40] + hist[o + 60] + hist[o + 80];
+  for (int o = 0; o < 10; ++o) on10[o] = on20[o] + on20[o + 10];
+  const std::uint32_t best[4] = {*std::max_element(on10, on10 + 10), *std::max_element(on20, on20 + 20),
+                                 *std::max_element(on50, on50 + 50), *std::max_element(hist, hist + 100)};
   double share[4];
-  for (int g = 0; g < 4; ++g) {
-    std::size_t best = 0;
-    for (int o = 0; o < grids[g]; ++o) {
-      std::size_t on = 0;
-      for (int k = o; k < 100; k += grids[g]) on += hist[k];
-      best = std::max(best, on);
-    }
-    share[g] = static_cast<double>(best) / static_cast<double>(n);
-  }
+  for (int g = 0; g < 4; ++g) share[g] = static_cast<double>(best[g]) / static_cast<double>(n);
   // The largest step holding door_quantum_min_share of the ranges and nearly (80 %) as many
   // as each finer step that divides it: ranges on a 5 cm grid put half of them on each of
   // two 10 cm grids, which is no 10 cm grid.
@@ -488,11 +498,13 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
   // Per-thread scratch: no allocation once grown.
   thread_local std::vector<double> tl_weight, tl_sum, tl_sum_sq, tl_plain, tl_along, tl_steps;
   thread_local std::vector<double> tl_before_mean, tl_before_ss, tl_after_mean, tl_after_ss;
+  thread_local std::vector<double> tl_term_r, tl_term_w, tl_term_along;
   thread_local std::vector<std::uint32_t> tl_beam_of, tl_starts, tl_ends, tl_wall_from, tl_wall_to;
   thread_local std::vector<Leaf> tl_leaves, tl_candidates;
   // Bound once: every use of a thread_local may look its address up again.
   std::vector<double>&weight = tl_weight, &sum = tl_sum, &sum_sq = tl_sum_sq, &steps = tl_steps;
   std::vector<double>&plain = tl_plain, &along_of = tl_along;
+  std::vector<double>&term_r_v = tl_term_r, &term_w_v = tl_term_w, &term_along_v = tl_term_along;
   std::vector<double>&before_mean = tl_before_mean, &before_ss = tl_before_ss, &after_mean = tl_after_mean,
                       &after_ss = tl_after_ss;
   std::vector<std::uint32_t>&beam_of = tl_beam_of, &starts = tl_starts, &ends = tl_ends;
@@ -524,6 +536,9 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
       sum_sq.resize(span + 1);
       beam_of.resize(span);
       steps.resize(span);
+      term_r_v.resize(span);
+      term_w_v.resize(span);
+      term_along_v.resize(span);
     }
     // The wall's line: fitted (total least squares) to every point of the run. The first
     // segment's line would do for one segment, but a short first piece's direction is
@@ -541,7 +556,6 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
     Eigen::Vector2d normal(-std::sin(phi), std::cos(phi));
     if (normal.dot(s.normal) < 0.0) normal = -normal;
     const double rho_line = normal.x() * mx + normal.y() * my;
-    const double theta_line = std::atan2(normal.y(), normal.x());
     // Prefix sums of the points' distances behind that line (and of their squares), in scan
     // order, each weighted by 1 / cos^2 of its incidence: a range error moves a point along
     // its beam, so across the wall by cos(incidence) of it (the segments' noise model). The
@@ -552,23 +566,51 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
     weight[0] = sum[0] = sum_sq[0] = plain[0] = 0.0;
     const double nx = normal.x(), ny = normal.y(), rho = rho_line;
     double acc_w = 0.0, acc = 0.0, acc_sq = 0.0, acc_plain = 0.0;  // in registers: no store-to-load chain through the arrays
-    for (std::size_t c = 0, beam = s.first_beam; c < span; ++c, beam = beam + 1 == num_beams ? 0 : beam + 1) {
-      const Eigen::Vector2d& q = segmentation.points[beam];
-      if (!std::isfinite(q.x())) continue;
-      const double nq = nx * q.x() + ny * q.y();
-      const double r = nq - rho;
-      const double w = q.squaredNorm() / std::max(nq * nq, 1e-12 * q.squaredNorm());
-      acc_w += w;
-      acc += w * r;
-      acc_sq += w * r * r;
-      acc_plain += r;
-      ++n;
-      weight[n] = acc_w;
-      sum[n] = acc;
-      sum_sq[n] = acc_sq;
-      plain[n] = acc_plain;
-      along_of[n - 1] = q.dot(t);
-      beam_of[n - 1] = static_cast<std::uint32_t>(beam);
+    // The run's beams are one or (wrapping past the last beam) two contiguous ranges: no
+    // wrap test per point; raw pointers, as the stores cannot move the vectors. Each range
+    // in two passes: every beam's terms first (no branch, no dependency between beams: the
+    // divisions go two at a time), then the prefix sums over the valid beams, in scan order
+    // as before (the same operations on the same values, so the same sums).
+    const Eigen::Vector2d* const points = segmentation.points.data();
+    double *const weight_p = weight.data(), *const sum_p = sum.data(), *const sum_sq_p = sum_sq.data(),
+                  *const plain_p = plain.data(), *const along_p = along_of.data();
+    double *const term_r = term_r_v.data(), *const term_w = term_w_v.data(), *const term_along = term_along_v.data();
+    std::uint32_t* const beam_p = beam_of.data();
+    const double tx = t.x(), ty = t.y();
+    auto accumulate = [&](std::size_t from, std::size_t to) {
+      const Eigen::Vector2d* const q = points + from;
+      const std::size_t count = to - from;
+#pragma omp simd
+      for (std::size_t c = 0; c < count; ++c) {
+        const double x = q[c].x(), y = q[c].y();
+        const double nq = nx * x + ny * y;
+        const double sq = x * x + y * y;
+        term_r[c] = nq - rho;
+        term_w[c] = sq / std::max(nq * nq, 1e-12 * sq);
+        term_along[c] = x * tx + y * ty;
+      }
+      for (std::size_t c = 0; c < count; ++c) {
+        if (!std::isfinite(q[c].x())) continue;
+        const double r = term_r[c], w = term_w[c];
+        acc_w += w;
+        acc += w * r;
+        acc_sq += w * r * r;
+        acc_plain += r;
+        along_p[n] = term_along[c];
+        beam_p[n] = static_cast<std::uint32_t>(from + c);
+        ++n;
+        weight_p[n] = acc_w;
+        sum_p[n] = acc;
+        sum_sq_p[n] = acc_sq;
+        plain_p[n] = acc_plain;
+      }
+    };
+    const std::size_t first_beam = s.first_beam;
+    if (first_beam + span <= num_beams) {
+      accumulate(first_beam, first_beam + span);
+    } else {
+      accumulate(first_beam, num_beams);
+      accumulate(0, first_beam + span - num_beams);
     }
     if (n < 2 * p.door_min_wall_points + 2 * W) continue;
     auto along = [&](std::size_t k) { return along_of[k]; };
@@ -598,50 +640,58 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
     // the larger is a step (the largest within W points on either side; ties to the first).
     // First the neighbours' test, branch-free (the noise makes it unpredictable), then the
     // window's for the few left.
+    // The first and last steps have one neighbour only: tested apart, so that the loop over
+    // the others needs no test of k. (n >= 2 W + 4 here, so they are distinct.)
     std::size_t num_starts = 0, num_ends = 0;
-    steps[W - 1] = steps[W];  // sentinels: the ends of the range compare with themselves
-    steps[n - W + 1] = steps[n - W];
-    for (std::size_t k = W; k + W <= n; ++k) {
-      const double sk = steps[k], before = steps[k - 1], after = steps[k + 1];
-      const bool is_start = (sk >= edge) & ((k == W) | (before < sk)) & ((k + W == n) | (after <= sk));
-      const bool is_end = (sk <= -edge) & ((k == W) | (before > sk)) & ((k + W == n) | (after >= sk));
-      starts[num_starts] = static_cast<std::uint32_t>(k);
+    double* const step_p = steps.data();
+    std::uint32_t *const start_p = starts.data(), *const end_p = ends.data();
+    auto keepStep = [&](std::size_t k, bool is_start, bool is_end) {
+      start_p[num_starts] = static_cast<std::uint32_t>(k);
       num_starts += is_start;
-      ends[num_ends] = static_cast<std::uint32_t>(k);
+      end_p[num_ends] = static_cast<std::uint32_t>(k);
       num_ends += is_end;
+    };
+    keepStep(W, step_p[W] >= edge && step_p[W + 1] <= step_p[W], step_p[W] <= -edge && step_p[W + 1] >= step_p[W]);
+    for (std::size_t k = W + 1; k + W < n; ++k) {
+      const double sk = step_p[k], before = step_p[k - 1], after = step_p[k + 1];
+      keepStep(k, (sk >= edge) & (before < sk) & (after <= sk), (sk <= -edge) & (before > sk) & (after >= sk));
     }
+    const std::size_t k_last = n - W;
+    keepStep(k_last, step_p[k_last] >= edge && step_p[k_last - 1] < step_p[k_last],
+             step_p[k_last] <= -edge && step_p[k_last - 1] > step_p[k_last]);
     // (The window split at k: no test of j against k per point, and an end's test compares
     // the steps themselves, not their negatives: negation is exact, so the same outcome.)
+    // (Every step of the window compared, without an early exit: the windows have the same
+    // length but for the ends of the run, so the loops are predictable; the tests are pure,
+    // so the outcome is the same.)
     auto largestWithin = [&](std::size_t k) {
-      const double sk = steps[k];
+      const double sk = step_p[k];
       const std::size_t lo = k >= 2 * W ? k - W : W, hi = std::min(k + W, n - W);
-      for (std::size_t j = lo; j < k; ++j) {
-        if (steps[j] >= sk) return false;
-      }
-      for (std::size_t j = k + 1; j <= hi; ++j) {
-        if (steps[j] > sk) return false;
-      }
-      return true;
+      bool largest = true;
+      for (std::size_t j = lo; j < k; ++j) largest &= step_p[j] < sk;
+      for (std::size_t j = k + 1; j <= hi; ++j) largest &= step_p[j] <= sk;
+      return largest;
     };
     auto smallestWithin = [&](std::size_t k) {
-      const double sk = steps[k];
+      const double sk = step_p[k];
       const std::size_t lo = k >= 2 * W ? k - W : W, hi = std::min(k + W, n - W);
-      for (std::size_t j = lo; j < k; ++j) {
-        if (steps[j] <= sk) return false;
-      }
-      for (std::size_t j = k + 1; j <= hi; ++j) {
-        if (steps[j] < sk) return false;
-      }
-      return true;
+      bool smallest = true;
+      for (std::size_t j = lo; j < k; ++j) smallest &= step_p[j] > sk;
+      for (std::size_t j = k + 1; j <= hi; ++j) smallest &= step_p[j] >= sk;
+      return smallest;
     };
     std::size_t kept = 0;
     for (std::size_t i = 0; i < num_starts; ++i) {
-      if (largestWithin(starts[i])) starts[kept++] = starts[i];
+      const std::uint32_t k = start_p[i];
+      start_p[kept] = k;
+      kept += largestWithin(k);
     }
     num_starts = kept;
     kept = 0;
     for (std::size_t i = 0; i < num_ends; ++i) {
-      if (smallestWithin(ends[i])) ends[kept++] = ends[i];
+      const std::uint32_t k = end_p[i];
+      end_p[kept] = k;
+      kept += smallestWithin(k);
     }
     num_ends = kept;
     // No leaf without both a start and an end: nothing below would be found.
@@ -782,7 +832,7 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
       f.jamb_a = onWall(0.5 * (q0 + q1));
       f.jamb_b = onWall(0.5 * (q2 + q3));
       f.position = 0.5 * (f.jamb_a + f.jamb_b);
-      f.theta_rad = theta_line;
+      f.theta_rad = std::atan2(normal.y(), normal.x());  // only for a door found: most runs hold none
       f.width_m = (f.jamb_b - f.jamb_a).norm();
       f.confidence = std::clamp(leaf.t / (2.0 * p.door_shallow_min_sigmas), 0.0, 1.0) *
                      std::min(1.0, leaf.depth / (2.0 * p.door_min_recess_m));
