@@ -203,13 +203,16 @@ bool pairPoint(const KeyframeIndex& ix, const RefinerParams& P, const Eigen::Vec
   const long w = std::min(n, static_cast<long>(P.bearing_window * (ix.scans > 1 ? 2 : 1)));
   double best = P.max_distance_m;
   bool found = false;
-  int last = -1;
+  // A line already tried pairs the same way: the last two are skipped (a local map
+  // interleaves its keyframes' entries in bearing order).
+  int last = -1, before_last = -1;
   long k = pos - w;
   if (k < 0) k = ((k % n) + n) % n;  // the bearings wrap around (a full-turn scan)
   for (long c = 0; c < 2 * w; ++c, ++k) {
     if (k >= n) k -= n;
     const int id = ix.line_of[static_cast<std::size_t>(k)];
-    if (id == last) continue;
+    if (id == last || id == before_last) continue;
+    before_last = last;
     last = id;
     const FiniteLine& l = ix.lines[static_cast<std::size_t>(id)];
     if (l.length > 0.0) {

@@ -50,6 +50,7 @@ void OdometryParams::validate() const {
   detail::requireNonNegative("scanner_rotation_hz", scanner_rotation_hz);
   detail::requireInRange("doubtful_ratio", doubtful_ratio, 0.0, 1.0);
   detail::requireInRange("prior_preference", prior_preference, 0.0, 10.0);
+  detail::requireInRange("search_preference", search_preference, 0.0, 10.0);
   detail::requirePositive("prior_gate_sigmas", prior_gate_sigmas);
   detail::requireNonNegative("prior_accel_m_s2", prior_accel_m_s2);
   detail::requireNonNegative("prior_angular_accel_rad_s2", prior_angular_accel_rad_s2);
@@ -216,7 +217,13 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
     step.search = search_.search(search_grid_, cur.points, prior);
     if (step.search->found) {
       RefineResult r = refiner_.refine(refine_keyframe_, cur, step.search->T_key_curr);
-      if (replaces(r, true) && better(r, best)) {
+      // It must also clearly beat the hypothesis it would replace, when that one holds: the
+      // best of the prior's and the match's refinements is rarely wrong by a small margin,
+      // and a corridor pairs almost as many points one bay further (decision 81).
+      const bool clearly_better =
+          best.status == RefineStatus::kFailed ||
+          static_cast<double>(r.inliers) > (1.0 + params_.search_preference) * static_cast<double>(best.inliers);
+      if (replaces(r, true) && better(r, best) && clearly_better) {
         best = std::move(r);
         recovered = true;
       }

@@ -75,6 +75,7 @@ struct OdometryKeys {
     visit("recovery", p.recovery);
     visit("doubtful_ratio", p.doubtful_ratio);
     visit("prior_preference", p.prior_preference);
+    visit("search_preference", p.search_preference);
     visit("search_when_doubtful", p.search_when_doubtful);
     visit("check_match_against_prior", p.check_match_against_prior);
     visit("prior_gate_sigmas", p.prior_gate_sigmas);

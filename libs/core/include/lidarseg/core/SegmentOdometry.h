@@ -38,6 +38,10 @@ struct OdometryParams {
   /// (1 + this) times as many points: a corridor's walls pair almost as well one door
   /// further, and the prior is what tells the two apart.
   double prior_preference = 0.15;
+  /// A search hypothesis replaces the best refinement found from the prior and the segment
+  /// match, when that one holds, only if it pairs more than (1 + this) times as many points
+  /// (decision 81). 0 = any hypothesis that pairs more.
+  double search_preference = 0.15;
   /// Whether a doubtful (not only a failed) refinement also runs the search.
   bool search_when_doubtful = true;
   /// Whether the segment match's refinement is also refined from the prior when the two
