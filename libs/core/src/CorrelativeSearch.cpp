@@ -209,7 +209,8 @@ void CorrelativeSearch::prepare(const std::vector<Eigen::Vector2d>& key, SearchG
           &fine[static_cast<std::size_t>(j + pad.pad) * static_cast<std::size_t>(pad.w) + static_cast<std::size_t>(pad.pad)];
       const double ey = fy_factor[static_cast<std::size_t>(j - j0)] * SearchGrid::kCellMax;
       for (int i = i0; i <= i1; ++i) {
-        const auto v = static_cast<SearchGrid::Cell>(std::lround(fx_factor[static_cast<std::size_t>(i - i0)] * ey));
+        // Rounded to nearest (the product is in [0, kCellMax]): no library call per cell.
+        const auto v = static_cast<SearchGrid::Cell>(fx_factor[static_cast<std::size_t>(i - i0)] * ey + 0.5);
         row[i] = std::max(row[i], v);
       }
     }
