@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -156,6 +157,49 @@ TEST(PeopleApp, ACorruptMotionJpegFrameIsSkippedAndCountedInTheReport) {
   std::ostringstream err;
   PeopleApp::printWarnings(r, err);
   EXPECT_EQ(err.str(), "lidarseg-people: warning: 1 frames skipped, the first: " + r.warnings[0] + "\n");
+}
+
+// Issue 16: a Motion-JPEG frame whose JPEG data is cut (the second half of its scan, end of
+// image included, zeroed) is skipped and counted in people.json, not analysed grey-filled.
+TEST(PeopleApp, ATruncatedMotionJpegFrameIsSkippedAndCountedInTheReport) {
+  const std::string dir = testDir();
+  const std::string path = dir + "/truncated.avi";
+  {
+    cv::VideoWriter out(path, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10.0, cv::Size(160, 240));
+    if (!out.isOpened()) GTEST_SKIP() << "this OpenCV cannot write an MJPEG video";
+    for (int k = 0; k < 4; ++k) out.write(cv::Mat(240, 160, CV_8UC3, cv::Scalar(30.0 * k, 90, 150)));
+  }
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  std::vector<std::size_t> sos, eoi;
+  for (std::size_t i = 0; i + 1 < bytes.size(); ++i) {
+    if (static_cast<unsigned char>(bytes[i]) != 0xFF) continue;
+    if (static_cast<unsigned char>(bytes[i + 1]) == 0xDA) sos.push_back(i);
+    if (static_cast<unsigned char>(bytes[i + 1]) == 0xD9) eoi.push_back(i);
+  }
+  ASSERT_EQ(sos.size(), 4u);
+  ASSERT_EQ(eoi.size(), 4u);
+  const std::size_t half = sos[1] + (eoi[1] + 2 - sos[1]) / 2;
+  std::fill(bytes.begin() + static_cast<std::ptrdiff_t>(half), bytes.begin() + static_cast<std::ptrdiff_t>(eoi[1] + 2), '\0');
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+
+  PeopleOptions p;
+  p.input = path;
+  p.rois = {"0,0,79,119"};
+  p.progress = false;
+  p.report_dir = dir + "/report-truncated";
+  const PeopleReport r = PeopleApp(p).run();
+  EXPECT_EQ(r.frames, 3u);
+  EXPECT_EQ(r.frames_skipped, 1u);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_EQ(r.warnings[0], "'" + path + "', frame 1: its JPEG data is truncated; frame skipped");
+  std::ifstream json_in(p.report_dir + "/people.json");
+  const std::string json((std::istreambuf_iterator<char>(json_in)), {});
+  EXPECT_NE(json.find("\"frames_skipped\": 1"), std::string::npos) << json;
+  EXPECT_NE(json.find("frame 1: its JPEG data is truncated; frame skipped"), std::string::npos) << json;
 }
 
 // Issue 16: a camera image whose header declares 20000 x 20000 pixels is refused before

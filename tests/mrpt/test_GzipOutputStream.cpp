@@ -83,6 +83,31 @@ TEST(GzipOutputStream, WritesTheGzipFileZlibReadsBack) {
   EXPECT_EQ(error, "");
 }
 
+// A write after close() is refused naming the file, and leaves the stream closed and its
+// file whole: a second close() does nothing (it threw "the stream is closed", the write's
+// refusal recorded as the stream's failure; issue 16).
+TEST(GzipOutputStream, AWriteAfterCloseIsRefusedNamingTheFileAndASecondCloseDoesNothing) {
+  const std::string path = tmp("write_after_close.gz");
+  const std::string text = "the whole text";
+  GzipOutputStream out(path, "named.gz");
+  out.Write(text.data(), text.size());
+  out.close();
+  try {
+    out.Write("more", 4);
+    ADD_FAILURE() << "a write after close() was accepted";
+  } catch (const std::logic_error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("cannot write 'named.gz': the stream is closed", 0), 0u) << e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "not a std::logic_error: " << e.what();
+  }
+  EXPECT_NO_THROW(out.close()) << "a second close() does nothing";
+  EXPECT_TRUE(out.failure().empty()) << out.failure();
+  EXPECT_EQ(out.getTotalBytesCount(), text.size());
+  std::string error;
+  EXPECT_EQ(gunzipFile(path, error), text);
+  EXPECT_EQ(error, "");
+}
+
 TEST(GzipOutputStream, ARawlogWrittenThroughItIsReadBack) {
   const std::string path = tmp("odometry.rawlog");
   {

@@ -349,11 +349,34 @@ TEST(InputPlumbing, AMalformedFirstCarmenLaserLineIsSkippedWithItsLineAndTheLogR
   EXPECT_THROW(mrpt_adapter::LaserLogReader(path, "NOPE"), std::invalid_argument);
 }
 
+// Where each JPEG image of a rawlog starts its scan (its start-of-scan marker FF DA).
+std::vector<std::size_t> jpegScans(const std::string& bytes) {
+  std::vector<std::size_t> sos;
+  for (std::size_t i = 0; i + 1 < bytes.size(); ++i) {
+    if (static_cast<unsigned char>(bytes[i]) == 0xFF && static_cast<unsigned char>(bytes[i + 1]) == 0xDA) sos.push_back(i);
+  }
+  return sos;
+}
+
+std::string fileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+mrpt::obs::CObservationImage::Ptr cameraImage(double t, int k) {
+  auto image = mrpt::obs::CObservationImage::Create();
+  image->sensorLabel = "CAMERA";
+  image->timestamp = mrpt::Clock::fromDouble(t);
+  image->image = mrpt::img::CImage(cv::Mat(48, 64, CV_8UC3, cv::Scalar(40.0 * k, 80, 120)), mrpt::img::DEEP_COPY);
+  return image;
+}
+
 // A camera image MRPT stored as JPEG (its serialisation with JPEG compression on) whose JPEG
 // data is corrupt: libjpeg's default handler ended the process (exit 1, one line without the
-// file's name, temporaries left). It is now the reader's error naming file and entry, after
-// the scans before it (issue 16).
-TEST(RecordValidation, ACorruptJpegCameraImageInARawlogIsAnErrorNamingItsEntry) {
+// file's name, temporaries left); then the reader stopped there with an error naming the
+// entry, losing every scan after it. The entry is now skipped and listed with its place, its
+// laser scan kept, and the log read to its end (issue 16, decision 80).
+TEST(RecordValidation, ACorruptJpegCameraImageInARawlogIsSkippedWithItsEntryAndTheLogRead) {
   fs::create_directories(kTmp);
   const std::string path = kTmp + "/jpeg_images.rawlog";
   const bool before = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
@@ -367,24 +390,13 @@ TEST(RecordValidation, ACorruptJpegCameraImageInARawlogIsAnErrorNamingItsEntry) 
       ScanSpec sp;
       sp.x = 0.05 * k;
       frame.insert(scanAt(sp, t));
-      auto image = mrpt::obs::CObservationImage::Create();
-      image->sensorLabel = "CAMERA";
-      image->timestamp = mrpt::Clock::fromDouble(t);
-      image->image = mrpt::img::CImage(cv::Mat(48, 64, CV_8UC3, cv::Scalar(40.0 * k, 80, 120)), mrpt::img::DEEP_COPY);
-      frame.insert(image);
+      frame.insert(cameraImage(t, k));
       archive << frame;
     }
   }
   mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(before);
-  std::string bytes;
-  {
-    std::ifstream in(path, std::ios::binary);
-    bytes.assign(std::istreambuf_iterator<char>(in), {});
-  }
-  std::vector<std::size_t> sos;  // each image's start-of-scan marker
-  for (std::size_t i = 0; i + 1 < bytes.size(); ++i) {
-    if (static_cast<unsigned char>(bytes[i]) == 0xFF && static_cast<unsigned char>(bytes[i + 1]) == 0xDA) sos.push_back(i);
-  }
+  std::string bytes = fileBytes(path);
+  const std::vector<std::size_t> sos = jpegScans(bytes);
   ASSERT_EQ(sos.size(), 4u) << "the images are not stored as JPEG";
   std::size_t whole = 0;
   {
@@ -395,17 +407,80 @@ TEST(RecordValidation, ACorruptJpegCameraImageInARawlogIsAnErrorNamingItsEntry) 
   bytes[sos[1] + 1] = static_cast<char>(0xD9);  // image 1 ends before its scan
   const std::string bad = kTmp + "/jpeg_images_corrupt.rawlog";
   std::ofstream(bad, std::ios::binary) << bytes;
-  std::size_t n = 0;
-  std::string error;
-  try {
-    mrpt_adapter::LaserLogReader reader(bad);
-    while (reader.next()) ++n;
-  } catch (const std::runtime_error& e) {
-    error = e.what();
+
+  mrpt_adapter::RawlogScanReader raw(bad);
+  std::vector<std::size_t> entries;
+  std::size_t images = 0;
+  while (auto scan = raw.next()) {
+    entries.push_back(scan->entry_index);
+    for (const auto& c : scan->companions) {
+      auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(c);
+      ASSERT_TRUE(image);
+      EXPECT_EQ(image->image.getWidth(), 64u) << "a placeholder image reached the output";
+      ++images;
+    }
   }
-  EXPECT_EQ(n, 1u) << "the scan before the corrupt image";
-  EXPECT_NE(error.find("rawlog '" + bad + "', entry 1: truncated or corrupt ("), std::string::npos) << error;
-  EXPECT_NE(error.find("a corrupt JPEG image: "), std::string::npos) << error;
+  EXPECT_EQ(entries, (std::vector<std::size_t>{0, 1, 2, 3})) << "entry 1's laser scan is kept";
+  EXPECT_EQ(images, 2u) << "images 0 and 2 (image 3 follows the last scan); image 1 skipped";
+  EXPECT_EQ(raw.entriesRead(), 4u);
+  ASSERT_EQ(raw.skippedEntries().size(), 1u);
+  EXPECT_EQ(raw.skippedEntryCount(), 1u);
+  EXPECT_EQ(raw.skippedEntries()[0].rfind("rawlog '" + bad + "', entry 1: a corrupt JPEG image (", 0), 0u)
+      << raw.skippedEntries()[0];
+  EXPECT_NE(raw.skippedEntries()[0].find("the entry skipped but its 1 laser scan(s)"), std::string::npos)
+      << raw.skippedEntries()[0];
+
+  // Through the tools: the run processes every scan and says what it skipped.
+  const apps::OdometryReport report = runOn(bad, false);
+  EXPECT_EQ(report.frames, 4u);
+  EXPECT_TRUE(allFinite(report.lidarseg.trajectory));
+  bool named = false;
+  for (const auto& w : report.warnings) named = named || w.find("entry 1: a corrupt JPEG image") != std::string::npos;
+  EXPECT_TRUE(named) << "no warning names the corrupt image's entry";
+}
+
+// The observations layout (each observation its own entry), gzip-compressed, two corrupt
+// images: each is skipped with its entry number and the scans after it are read.
+TEST(RecordValidation, CorruptJpegImageEntriesOfAGzipRawlogAreSkippedAndTheScansAfterThemRead) {
+  fs::create_directories(kTmp);
+  const std::string plain = kTmp + "/jpeg_observations.rawlog";
+  const bool before = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
+  mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(false);
+  {
+    mrpt::io::CFileOutputStream out(plain);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    double t = 100.0;
+    for (int k = 0; k < 5; ++k, t += 0.1) {  // entries 2k: scan k, 2k + 1: image k
+      ScanSpec sp;
+      sp.x = 0.05 * k;
+      archive << *scanAt(sp, t);
+      archive << *cameraImage(t + 0.05, k);
+    }
+  }
+  mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(before);
+  std::string bytes = fileBytes(plain);
+  const std::vector<std::size_t> sos = jpegScans(bytes);
+  ASSERT_EQ(sos.size(), 5u) << "the images are not stored as JPEG";
+  bytes[sos[1] + 1] = static_cast<char>(0xD9);  // image 1, entry 3
+  bytes[sos[3] + 1] = static_cast<char>(0xD9);  // image 3, entry 7
+  const std::string bad = kTmp + "/jpeg_observations_corrupt.rawlog.gz";
+  {
+    mrpt::io::CFileGZOutputStream out(bad);
+    out.Write(bytes.data(), bytes.size());
+  }
+  mrpt_adapter::LaserLogReader reader(bad);
+  std::size_t n = 0;
+  while (reader.next()) ++n;
+  EXPECT_EQ(n, 5u) << "every scan, those after the corrupt images too";
+  std::vector<std::string> skipped;
+  for (const auto& w : reader.warnings()) {
+    if (w.find("a corrupt JPEG image") != std::string::npos) skipped.push_back(w);
+  }
+  ASSERT_EQ(skipped.size(), 2u);
+  EXPECT_EQ(skipped[0].rfind("rawlog '" + bad + "', entry 3: a corrupt JPEG image (", 0), 0u) << skipped[0];
+  EXPECT_EQ(skipped[1].rfind("rawlog '" + bad + "', entry 7: a corrupt JPEG image (", 0), 0u) << skipped[1];
+  EXPECT_NE(skipped[0].find("); entry skipped"), std::string::npos) << skipped[0];
+  EXPECT_EQ(reader.warningTally().total(), 2u);
 }
 
 }  // namespace

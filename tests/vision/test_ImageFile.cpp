@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -270,6 +271,38 @@ TEST(ImageFile, ACorruptMotionJpegFrameIsSkippedAndCountedAndTheNextFramesStayIn
   EXPECT_EQ(frames.skippedFrames()[0].rfind("'" + path + "', frame 1: not a Motion-JPEG frame", 0), 0u)
       << frames.skippedFrames()[0];
   EXPECT_EQ(frames.skippedFrames()[1], "'" + path + "', frame 3: its JPEG data cannot be decoded; frame skipped");
+}
+
+// A Motion-JPEG frame whose JPEG data is cut (here the second half of its scan, end-of-image
+// marker included, zeroed as a recorder stopped mid-frame leaves it) is skipped and counted: OpenCV's
+// imdecode filled the missing rows with grey and gave it as a whole frame (issue 16).
+TEST(ImageFile, ATruncatedMotionJpegFrameIsSkippedAndCountedNotGreyFilled) {
+  std::vector<std::size_t> sos, eoi;
+  std::string bytes = mjpegFrames("truncated.avi", 4, 0xDA, sos);
+  if (bytes.empty()) GTEST_SKIP() << "this OpenCV cannot write an MJPEG video";
+  mjpegFrames("truncated.avi", 4, 0xD9, eoi);
+  ASSERT_EQ(sos.size(), 4u);
+  ASSERT_EQ(eoi.size(), 4u);
+  ASSERT_LT(sos[2], eoi[2]);
+  const std::size_t half = sos[2] + (eoi[2] + 2 - sos[2]) / 2;  // within the image's scan
+  std::fill(bytes.begin() + static_cast<std::ptrdiff_t>(half), bytes.begin() + static_cast<std::ptrdiff_t>(eoi[2] + 2), '\0');
+  const std::string path = kTmp + "/truncated-frame.avi";
+  std::ofstream(path, std::ios::binary) << bytes;
+
+  FrameSource frames(path);
+  cv::Mat frame;
+  std::string file;
+  std::vector<std::size_t> numbers;
+  while (frames.next(frame, file)) {
+    numbers.push_back(frames.frameIndex());
+    ASSERT_EQ(frame.cols, 64);
+    ASSERT_EQ(frame.rows, 48);
+    EXPECT_NEAR(cv::mean(frame)[0], 40.0 * static_cast<double>(frames.frameIndex()), 6.0) << frames.frameIndex();
+  }
+  EXPECT_EQ(numbers, (std::vector<std::size_t>{0, 1, 3}));
+  EXPECT_EQ(frames.skippedFrameCount(), 1u);
+  ASSERT_EQ(frames.skippedFrames().size(), 1u);
+  EXPECT_EQ(frames.skippedFrames()[0], "'" + path + "', frame 2: its JPEG data is truncated; frame skipped");
 }
 
 // A corrupt frame before one beyond the cap: the oversize frame is refused under its own number.

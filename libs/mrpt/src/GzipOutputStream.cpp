@@ -77,7 +77,14 @@ void GzipOutputStream::drain(bool finish) {
 
 std::size_t GzipOutputStream::Write(const void* buffer, std::size_t count) {
   if (!failure_.empty()) fail(failure_);
-  if (fd_ < 0) fail("the stream is closed");
+  // A write after a successful close() is the caller's mistake, not a failure of the file:
+  // it is refused without touching the stream's state, so the file stays complete and a
+  // later close() does nothing (it used to record "closed" as the stream's failure, which
+  // that close() then threw).
+  if (fd_ < 0) {
+    throw std::logic_error("cannot write '" + name_ + "': the stream is closed (a write after close()); the file " +
+                           "is complete and unchanged");
+  }
   const auto* bytes = static_cast<const unsigned char*>(buffer);
   std::size_t left = count;
   while (left > 0) {

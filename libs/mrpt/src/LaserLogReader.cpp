@@ -105,6 +105,11 @@ void LaserLogReader::watchGeometry(LaserRecord& r) {
 std::vector<std::string> LaserLogReader::warnings() const {
   std::vector<std::string> out = warnings_;
   if (rawlog_) {
+    for (const auto& m : rawlog_->skippedEntries()) out.push_back(m);
+    if (rawlog_->skippedEntryCount() > rawlog_->skippedEntries().size()) {
+      out.push_back(path_ + ": " + std::to_string(rawlog_->skippedEntryCount()) +
+                    " entries skipped for a corrupt JPEG image in all");
+    }
     for (const auto& m : rawlog_->droppedOdometry()) out.push_back(m);
     if (rawlog_->droppedOdometryCount() > rawlog_->droppedOdometry().size()) {
       out.push_back(path_ + ": " + std::to_string(rawlog_->droppedOdometryCount()) + " non-finite odometry values in all");
@@ -126,6 +131,7 @@ void LaserLogReader::warn(const std::string& message) {
 WarningTally LaserLogReader::warningTally() const {
   WarningTally out = tally_;
   if (rawlog_) {
+    out.merge(rawlog_->skippedEntriesTally());
     out.merge(rawlog_->droppedOdometryTally());
     if (rawlog_->droppedCompanions() > 0) {
       out.add(path_ + ": " + std::to_string(rawlog_->droppedCompanions()) + " observations not kept: more than " +

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -12,7 +13,9 @@
 #include <jpeglib.h>
 #include <zlib.h>
 
+#include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/io/CMemoryStream.h>
 #include <mrpt/io/CStream.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
@@ -27,9 +30,13 @@
 // the error manager libjpeg sets up throws instead, and the reader reports the entry:
 // "rawlog 'F', entry N: truncated or corrupt (a corrupt JPEG image: ...)". The decoder's
 // memory is released before the throw (as jpeg_destroy does); MRPT does not touch it again.
+// MRPT reads an image's whole JPEG data (its length, then its bytes) before decoding it, so
+// the reader can then read the entry again with a placeholder image in place of the corrupt
+// one, and skip it (decision 80): see RawlogScanReader::next().
 namespace {
 constexpr const char* kJpegErrorPrefix = "a corrupt JPEG image: ";
 thread_local int jpeg_errors_throw = 0;  // > 0 while RawlogScanReader deserialises an entry
+thread_local int jpeg_errors_thrown = 0;  // counts throwJpegError's throws on this thread
 
 /// Makes libjpeg's errors throw on this thread for its lifetime (decision 78).
 struct JpegErrorsThrow {
@@ -47,6 +54,7 @@ struct JpegErrorsThrow {
   if (cinfo->mem != nullptr) (*cinfo->mem->self_destruct)(cinfo);
   cinfo->mem = nullptr;
   cinfo->global_state = 0;
+  ++jpeg_errors_thrown;
   throw std::runtime_error(std::string(kJpegErrorPrefix) + message);
 }
 }  // namespace
@@ -72,25 +80,65 @@ namespace lidarseg::mrpt_adapter {
 // uninitialised, so the deserialiser sized a vector from them (gigabytes, seconds to tens of
 // seconds per attempt; found by BadInputs.RawlogTruncatedAtEveryByte under load). It also
 // keeps the CRC-32 of the bytes read, for the gzip trailer's check at the end.
+//
+// While an entry is deserialised it also records the bytes it gives, and the places of the
+// last two reads, so that an entry whose JPEG image is corrupt can be given
+// again from memory with that image replaced (replayWithImage()), then from the file on.
 class RawlogScanReader::CountingStream : public mrpt::io::CStream {
  public:
+  /// Bytes of one entry recorded at most; a longer entry with a corrupt image is an error.
+  static constexpr std::size_t kMaxRecordedBytes = std::size_t{256} << 20;
+  /// Recording memory kept between entries.
+  static constexpr std::size_t kKeptCapacity = std::size_t{16} << 20;
+
   explicit CountingStream(mrpt::io::CFileGZInputStream& in) : in_(in) {}
   size_t Read(void* buffer, size_t count) override {
-    const size_t n = in_.Read(buffer, count);
-    if (n > count) {
-      // zlib's gzread returned -1 (the data or the trailer's check is wrong), which MRPT
-      // passes on as a size: nothing was read, and this is no end of file.
-      damaged_ = true;
-      throw std::runtime_error("the compressed data is damaged");
+    auto* out = static_cast<unsigned char*>(buffer);
+    const size_t replayed = std::min(count, replay_.size() - replay_at_);
+    if (replayed > 0) std::memcpy(out, replay_.data() + replay_at_, replayed);
+    replay_at_ += replayed;
+    if (replay_at_ == replay_.size()) {
+      replay_.clear();
+      replay_at_ = 0;
     }
-    crc_ = crc32_z(crc_, static_cast<const Bytef*>(buffer), n);
-    bytes_ += n;
-    if (n < count) {
-      throw std::runtime_error("the file ends inside an entry (" + std::to_string(n) + " of " +
-                               std::to_string(count) + " bytes read)");
-    }
-    return n;
+    if (replayed < count) readFile(out + replayed, count - replayed, count);
+    remember(out, count);
+    return count;
   }
+
+  /// Starts an entry: what was recorded is dropped.
+  void startEntry() {
+    if (record_.capacity() > kKeptCapacity) record_ = {};  // one large image does not stay
+    record_.clear();
+    overflow_ = false;
+    reads_ = {};
+  }
+  /// When the entry's last two reads were an image's JPEG length (4 bytes, little-endian)
+  /// and that many bytes, as MRPT reads them just before decoding: the entry's bytes up to
+  /// there, with `jpeg` in place of those bytes, are given again from the next read on (then
+  /// the file's), and true is returned. False when the entry read otherwise or is too long.
+  bool replayWithImage(const std::vector<unsigned char>& jpeg) {
+    const Place length = reads_[0], data = reads_[1];
+    if (overflow_ || length.count != 4 || length.at + 4 != data.at || data.at + data.count != record_.size()) {
+      return false;
+    }
+    const std::uint32_t declared = static_cast<std::uint32_t>(record_[length.at]) |
+                                   (static_cast<std::uint32_t>(record_[length.at + 1]) << 8) |
+                                   (static_cast<std::uint32_t>(record_[length.at + 2]) << 16) |
+                                   (static_cast<std::uint32_t>(record_[length.at + 3]) << 24);
+    if (declared != data.count) return false;
+    std::vector<unsigned char> again(record_.begin(), record_.begin() + static_cast<std::ptrdiff_t>(length.at));
+    const auto size = static_cast<std::uint32_t>(jpeg.size());
+    for (int shift = 0; shift < 32; shift += 8) again.push_back(static_cast<unsigned char>(size >> shift));
+    again.insert(again.end(), jpeg.begin(), jpeg.end());
+    // Bytes of an earlier replay not read yet stay after this one.
+    again.insert(again.end(), replay_.begin() + static_cast<std::ptrdiff_t>(replay_at_), replay_.end());
+    replay_ = std::move(again);
+    replay_at_ = 0;
+    startEntry();
+    return true;
+  }
+
   size_t Write(const void*, size_t) override {
     throw std::logic_error("RawlogScanReader: the input stream is read-only");
   }
@@ -106,11 +154,75 @@ class RawlogScanReader::CountingStream : public mrpt::io::CStream {
   bool damaged() const { return damaged_; }
 
  private:
+  // The place of one read in record_.
+  struct Place {
+    std::size_t at = 0;
+    std::size_t count = 0;
+  };
+  void remember(const unsigned char* bytes, std::size_t count) {
+    reads_[0] = reads_[1];
+    reads_[1] = Place{record_.size(), count};
+    if (overflow_ || record_.size() + count > kMaxRecordedBytes) {
+      overflow_ = true;
+      record_.clear();
+      return;
+    }
+    record_.insert(record_.end(), bytes, bytes + count);
+  }
+  void readFile(unsigned char* buffer, size_t count, size_t asked) {
+    const size_t n = in_.Read(buffer, count);
+    if (n > count) {
+      // zlib's gzread returned -1 (the data or the trailer's check is wrong), which MRPT
+      // passes on as a size: nothing was read, and this is no end of file.
+      damaged_ = true;
+      throw std::runtime_error("the compressed data is damaged");
+    }
+    crc_ = crc32_z(crc_, static_cast<const Bytef*>(buffer), n);
+    bytes_ += n;
+    if (n < count) {
+      throw std::runtime_error("the file ends inside an entry (" + std::to_string(n + asked - count) + " of " +
+                               std::to_string(asked) + " bytes read)");
+    }
+  }
+
   mrpt::io::CFileGZInputStream& in_;
   std::uint64_t bytes_ = 0;
   uLong crc_ = crc32(0L, Z_NULL, 0);
   bool damaged_ = false;
+  std::vector<unsigned char> record_;  // the bytes given since startEntry()
+  bool overflow_ = false;              // more than kMaxRecordedBytes: nothing recorded
+  std::array<Place, 2> reads_{};       // the last two reads, the latest last
+  std::vector<unsigned char> replay_;  // given before the file's bytes
+  std::size_t replay_at_ = 0;
 };
+
+namespace {
+// A 1 x 1 grey JPEG image, in place of a corrupt one while its entry is read again.
+const std::vector<unsigned char>& placeholderJpeg() {
+  static const std::vector<unsigned char> jpeg = [] {
+    mrpt::img::CImage image(1, 1, mrpt::img::CH_GRAY);
+    image.setPixel(0, 0, 128);
+    mrpt::io::CMemoryStream out;
+    image.saveToStreamAsJPEG(out);
+    const auto* data = static_cast<const unsigned char*>(out.getRawBufferData());
+    return std::vector<unsigned char>(data, data + out.getTotalBytesCount());
+  }();
+  return jpeg;
+}
+
+// What MRPT's message says failed: the line after "Message:" (its messages carry a stack
+// trace), or a corrupt JPEG image's message (throwJpegError) whatever MRPT wrapped around it.
+std::string failureOf(const std::exception& e) {
+  std::string what = e.what();
+  const auto jpeg = what.find(kJpegErrorPrefix);
+  if (jpeg != std::string::npos) what = "Message: " + what.substr(jpeg);
+  const auto m = what.find("Message:");
+  if (m != std::string::npos) what = what.substr(m + 8);
+  const auto first = what.find_first_not_of(' ');
+  what = first == std::string::npos ? std::string() : what.substr(first);
+  return what.substr(0, what.find('\n'));
+}
+}  // namespace
 
 RawlogScanReader::RawlogScanReader(const std::string& path, std::string sensor_label)
     : path_(path), label_(std::move(sensor_label)), label_requested_(!label_.empty()) {
@@ -264,6 +376,31 @@ void RawlogScanReader::take(const mrpt::obs::CObservation::Ptr& obs) {
   pending_.push_back(std::move(out));
 }
 
+void RawlogScanReader::skipEntryWithCorruptImages(const mrpt::serialization::CSerializable::Ptr& object,
+                                                  const std::vector<std::string>& corrupt_images) {
+  // The entry's observations that hold no image are whole: a sensory frame's laser scans and
+  // odometry readings are kept, the rest of the entry (the placeholders among it) skipped.
+  std::size_t kept_scans = 0;
+  if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(object)) {
+    for (const auto& obs : *sf) {
+      if (std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs)) {
+        ++kept_scans;
+        take(obs);
+      } else if (std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(obs)) {
+        take(obs);
+      }
+    }
+  }
+  std::string message = "rawlog '" + path_ + "', entry " + std::to_string(entries_read_ - 1) + ": a corrupt JPEG image (" +
+                        corrupt_images.front() + ")";
+  if (corrupt_images.size() > 1) message += " and " + std::to_string(corrupt_images.size() - 1) + " more";
+  message += kept_scans > 0 ? "; the entry skipped but its " + std::to_string(kept_scans) + " laser scan(s)"
+                            : "; entry skipped";
+  ++skipped_entry_count_;
+  if (skipped_entries_.size() < 100) skipped_entries_.push_back(message);
+  skipped_entries_tally_.add(message);
+}
+
 std::optional<RawlogScan> RawlogScanReader::next() {
   while (true) {
     if (!pending_.empty()) {
@@ -276,39 +413,49 @@ std::optional<RawlogScan> RawlogScanReader::next() {
 
     mrpt::serialization::CSerializable::Ptr object;
     const std::uint64_t before = counter_->bytes();
-    try {
-      auto archive = mrpt::serialization::archiveFrom(*counter_);
-      const JpegErrorsThrow jpeg_errors_throw_here;
-      object = archive.ReadObject();
-    } catch (const std::exception& e) {
-      if (counter_->bytes() == before && !counter_->damaged()) {  // nothing left: the log ends between entries
-        at_end_ = true;
-        checkCompressedEnd();
-        if (label_requested_ && scans_returned_ == 0 && !labels_seen_.empty()) throwLabelAbsent();
-        return std::nullopt;
+    counter_->startEntry();
+    // The corrupt JPEG images of this entry, each replaced by a placeholder when the entry
+    // is read again (MRPT's deserialiser cannot be resumed inside an entry).
+    std::vector<std::string> corrupt_images;
+    while (true) {
+      const int jpeg_errors_before = jpeg_errors_thrown;
+      try {
+        auto archive = mrpt::serialization::archiveFrom(*counter_);
+        const JpegErrorsThrow jpeg_errors_throw_here;
+        object = archive.ReadObject();
+        break;
+      } catch (const std::exception& e) {
+        if (corrupt_images.empty() && counter_->bytes() == before && !counter_->damaged()) {
+          // nothing left: the log ends between entries
+          at_end_ = true;
+          checkCompressedEnd();
+          if (label_requested_ && scans_returned_ == 0 && !labels_seen_.empty()) throwLabelAbsent();
+          return std::nullopt;
+        }
+        std::string what = failureOf(e);
+        if (jpeg_errors_thrown != jpeg_errors_before && corrupt_images.size() < kMaxCorruptImagesPerEntry &&
+            counter_->replayWithImage(placeholderJpeg())) {
+          corrupt_images.push_back(what.rfind(kJpegErrorPrefix, 0) == 0 ? what.substr(std::strlen(kJpegErrorPrefix))
+                                                                         : what);
+          continue;
+        }
+        // A gzip rawlog: zlib says what is wrong with the compressed data (a cut, a check that
+        // fails), when something is; zlib drops the bytes of a damaged block, so the entry
+        // named is where the loss begins.
+        if (gzip_) {
+          const std::string error = compressedStreamError();
+          if (!error.empty()) what += "; gzip: " + error;
+        }
+        throw std::runtime_error("rawlog '" + path_ + "', entry " + std::to_string(entries_read_) +
+                                 ": truncated or corrupt (" + what + ")");
       }
-      std::string what = e.what();
-      // A corrupt JPEG image (throwJpegError) is the cause whatever MRPT wrapped around it.
-      const auto jpeg = what.find(kJpegErrorPrefix);
-      if (jpeg != std::string::npos) what = "Message: " + what.substr(jpeg);
-      // MRPT's messages carry a stack trace; the line after "Message:" says what failed.
-      const auto m = what.find("Message:");
-      if (m != std::string::npos) what = what.substr(m + 8);
-      const auto first = what.find_first_not_of(' ');
-      what = first == std::string::npos ? std::string() : what.substr(first);
-      what = what.substr(0, what.find('\n'));
-      // A gzip rawlog: zlib says what is wrong with the compressed data (a cut, a check that
-      // fails), when something is; zlib drops the bytes of a damaged block, so the entry
-      // named is where the loss begins.
-      if (gzip_) {
-        const std::string error = compressedStreamError();
-        if (!error.empty()) what += "; gzip: " + error;
-      }
-      throw std::runtime_error("rawlog '" + path_ + "', entry " + std::to_string(entries_read_) +
-                               ": truncated or corrupt (" + what + ")");
     }
     ++entries_read_;
     if (!object) continue;
+    if (!corrupt_images.empty()) {
+      skipEntryWithCorruptImages(object, corrupt_images);
+      continue;
+    }
 
     if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(object)) {
       for (const auto& obs : *sf) take(obs);

@@ -39,8 +39,10 @@ class GzipOutputStream : public mrpt::io::CStream {
 
   /// Compresses `count` bytes; writes compressed bytes to the file whenever kBufferBytes of
   /// them are ready. @return `count`.
-  /// @throws std::runtime_error naming the file when writing fails or failed before, or the
-  ///         stream is closed.
+  /// @throws std::runtime_error naming the file when writing fails or failed before;
+  ///         std::logic_error "cannot write 'NAME': the stream is closed …" after a
+  ///         successful close(), which leaves the file and the stream as they were (a later
+  ///         close() still does nothing).
   std::size_t Write(const void* buffer, std::size_t count) override;
   /// Not readable: throws std::logic_error.
   std::size_t Read(void* buffer, std::size_t count) override;
@@ -53,7 +55,9 @@ class GzipOutputStream : public mrpt::io::CStream {
   std::string getStreamDescription() const override;
 
   /// Ends the compressed stream (its last blocks and the trailer), writes them, syncs the file
-  /// to its disk (`fsync`) and closes it. Does nothing when already closed.
+  /// to its disk (`fsync`) and closes it. Does nothing when already closed successfully,
+  /// whatever was attempted since (a refused write after close()); after a failure it
+  /// throws that failure again.
   /// @throws std::runtime_error "cannot write 'NAME': REASON" when any of it fails (disk full
   ///         or file size limit reached by the last bytes, an I/O error reported by fsync or
   ///         close), or when a write failed before.

@@ -10,6 +10,7 @@
 
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose2D.h>
+#include <mrpt/serialization/CSerializable.h>
 
 #include "lidarseg/core/WarningTally.h"
 
@@ -44,6 +45,15 @@ struct RawlogScan {
 /// returned; with no label requested, the label of the first scan is used. A requested
 /// label no scan has is an error at the end of the file, listing the labels the log has.
 ///
+/// An entry holding a camera image whose JPEG data is corrupt (libjpeg fails on it while
+/// MRPT deserialises the entry) is read again with a 1 x 1 placeholder in place of that
+/// image, and skipped: the reading goes on with the next entry, and the entry is listed in
+/// skippedEntries() with its place ("rawlog 'F', entry N: a corrupt JPEG image (…); entry
+/// skipped"). Of a sensory frame, the laser scans and odometry readings (which hold no image)
+/// are kept. This relies on MRPT reading an image's JPEG length and bytes just before it
+/// decodes them; an entry read otherwise, or longer than 256 MiB, is the "truncated or
+/// corrupt" error (decision 80).
+///
 /// Memory stays bounded whatever the layout: at most kMaxCompanions observations are kept
 /// between two returned scans (the latest; the others are counted in droppedCompanions()),
 /// and at most kMaxLabelsListed distinct labels are remembered.
@@ -54,6 +64,8 @@ class RawlogScanReader {
   static constexpr std::size_t kMaxCompanions = 1000;
   /// Distinct laser labels remembered for labelsSeen() and the messages.
   static constexpr std::size_t kMaxLabelsListed = 100;
+  /// Corrupt JPEG images replaced in one entry at most; more is the entry's error.
+  static constexpr std::size_t kMaxCorruptImagesPerEntry = 64;
 
   /// Opens the file.
   /// @throws std::runtime_error naming the file when it cannot be opened.
@@ -88,6 +100,12 @@ class RawlogScanReader {
   std::size_t droppedOdometryCount() const { return dropped_odometry_count_; }
   /// The dropped odometry readings and movements as warnings counted per kind in full.
   const WarningTally& droppedOdometryTally() const { return dropped_odometry_tally_; }
+  /// Entries skipped because they hold a corrupt JPEG image, "rawlog 'F', entry N: a corrupt
+  /// JPEG image (libjpeg's message); entry skipped" (the first 100), how many in all, and
+  /// as warnings counted per kind in full.
+  const std::vector<std::string>& skippedEntries() const { return skipped_entries_; }
+  std::size_t skippedEntryCount() const { return skipped_entry_count_; }
+  const WarningTally& skippedEntriesTally() const { return skipped_entries_tally_; }
 
  private:
   class CountingStream;
@@ -121,6 +139,11 @@ class RawlogScanReader {
   std::size_t dropped_odometry_count_ = 0;
   WarningTally dropped_odometry_tally_;
   void dropOdometry(const char* what);
+  std::vector<std::string> skipped_entries_;
+  std::size_t skipped_entry_count_ = 0;
+  WarningTally skipped_entries_tally_;
+  void skipEntryWithCorruptImages(const mrpt::serialization::CSerializable::Ptr& object,
+                                  const std::vector<std::string>& corrupt_images);
 };
 
 }  // namespace lidarseg::mrpt_adapter

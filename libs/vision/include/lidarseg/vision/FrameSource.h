@@ -20,7 +20,9 @@ namespace lidarseg::vision {
 ///
 /// A Motion-JPEG video (on OpenCV's FFmpeg backend) is read as its undecoded packets, one per
 /// frame, each decoded by OpenCV's JPEG decoder (`cv::imdecode`): a packet that is not a JPEG
-/// image or does not decode is skipped and counted with its frame number (skippedFrames()),
+/// image, is truncated (its last bytes, trailing zeros aside, are not the end-of-image marker
+/// FF D9: the decoder would fill the missing rows with grey) or does not decode is skipped
+/// and counted with its frame number (skippedFrames()),
 /// and the frames after it keep their own numbers (frameIndex()), so a corrupt frame neither
 /// ends the video nor shifts the frames after it.
 class FrameSource {
