@@ -313,13 +313,19 @@ TEST(SegmentOdometry, FirstScanIsTheOriginAndTimesAreReported) {
   bad.keyframe_distance_m = -1;
   EXPECT_THROW(SegmentOdometry{bad}, std::invalid_argument);
   for (double OdometryParams::*key : {&OdometryParams::prior_gate_sigmas, &OdometryParams::prior_accel_m_s2,
-                                      &OdometryParams::odometry_error_ratio, &OdometryParams::prior_gate_floor_rad}) {
+                                      &OdometryParams::odometry_error_ratio, &OdometryParams::prior_gate_floor_rad,
+                                      &OdometryParams::prior_preference, &OdometryParams::search_preference}) {
     OdometryParams p;
     p.*key = -1.0;
     EXPECT_THROW(SegmentOdometry{p}, std::invalid_argument);
     p.*key = std::nan("");
     EXPECT_THROW(SegmentOdometry{p}, std::invalid_argument);
   }
+  OdometryParams lax;
+  lax.search_preference = 0.0;  // the bounds are inclusive
+  EXPECT_NO_THROW(SegmentOdometry{lax});
+  lax.search_preference = 10.5;
+  EXPECT_THROW(SegmentOdometry{lax}, std::invalid_argument);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include <mrpt/slam/CICP.h>
 
 #include <filesystem>
+#include <fstream>
 #include <vector>
 
 #include "SyntheticScenes.h"
@@ -434,18 +435,29 @@ TEST(SegmentAlignment, ResetTrackingStartsAgainWithTheOptionsThenHeld) {
 // section loads as it is), absent section = values kept, save-then-load round trip, a
 // misspelt key named.
 TEST(SegmentAlignment, TrackingOptionsLoadFromAToolsOdometrySection) {
-  const std::string path = std::string(LIDARSEG_CONFIG_DIR) + "/default.ini";
+  // A tool's configuration whose [odometry] keys all differ from the defaults: both loaders
+  // read the same values (a key one of them ignored would keep its default and fail here).
+  const std::string path = std::string(LIDARSEG_TEST_TMP_DIR) + "/tracking_odometry_section.ini";
+  std::ofstream(path) << "[odometry]\nkeyframe_distance_m = 0.7\nkeyframe_angle_rad = 0.3\n"
+                         "local_map_keyframes = 3\nlevel = fused\ndeskew = 0\ndoubtful_ratio = 0.8\n"
+                         "prior_preference = 0.25\nsearch_preference = 0.3\n";
   mrpt::config::CConfigFile file(path);
   SegmentAlignment::TTrackingParams p;
   p.loadFromConfigFile(file, "odometry");
-  // The [odometry] keys read as the tools read them.
   const OdometryParams tools = loadOdometryParamsFile(path);
-  EXPECT_EQ(p.keyframe_distance_m, tools.keyframe_distance_m);
-  EXPECT_EQ(p.keyframe_angle_rad, tools.keyframe_angle_rad);
-  EXPECT_EQ(p.local_map_keyframes, tools.local_map_keyframes);
-  EXPECT_EQ(p.level, tools.level);
-  EXPECT_EQ(p.deskew, tools.deskew);
-  EXPECT_EQ(p.doubtful_ratio, tools.doubtful_ratio);
+  const OdometryParams defaults;
+  for (const OdometryParams* q : {&static_cast<const OdometryParams&>(p), &tools}) {
+    EXPECT_EQ(q->keyframe_distance_m, 0.7);
+    EXPECT_EQ(q->keyframe_angle_rad, 0.3);
+    EXPECT_EQ(q->local_map_keyframes, 3u);
+    EXPECT_EQ(q->level, CascadeLevel::kFused);
+    EXPECT_FALSE(q->deskew);
+    EXPECT_EQ(q->doubtful_ratio, 0.8);
+    EXPECT_EQ(q->prior_preference, 0.25);
+    EXPECT_EQ(q->search_preference, 0.3);
+    // Keys the file does not give keep their defaults.
+    EXPECT_EQ(q->prior_gate_sigmas, defaults.prior_gate_sigmas);
+  }
 
   mrpt::config::CConfigFileMemory cfg;
   cfg.setContent(std::string("[track]\nkeyframe_distance_m = 0.5\nwd_threshold_m = 0.03\n"

@@ -371,14 +371,11 @@ mrpt::obs::CObservationImage::Ptr cameraImage(double t, int k) {
   return image;
 }
 
-// A camera image MRPT stored as JPEG (its serialisation with JPEG compression on) whose JPEG
-// data is corrupt: libjpeg's default handler ended the process (exit 1, one line without the
-// file's name, temporaries left); then the reader stopped there with an error naming the
-// entry, losing every scan after it. The entry is now skipped and listed with its place, its
-// laser scan kept, and the log read to its end (issue 16, decision 80).
-TEST(RecordValidation, ACorruptJpegCameraImageInARawlogIsSkippedWithItsEntryAndTheLogRead) {
+// Four sensory frames, each a laser scan and a camera image stored as JPEG (MRPT's
+// serialisation with JPEG compression on); the rawlog's path.
+std::string jpegFramesRawlog(const std::string& name) {
   fs::create_directories(kTmp);
-  const std::string path = kTmp + "/jpeg_images.rawlog";
+  const std::string path = kTmp + "/" + name;
   const bool before = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
   mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(false);
   {
@@ -395,6 +392,35 @@ TEST(RecordValidation, ACorruptJpegCameraImageInARawlogIsSkippedWithItsEntryAndT
     }
   }
   mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(before);
+  return path;
+}
+
+// Reads every scan: the entries they came from and the camera images beside them (each the
+// camera's 64-pixel-wide image: no placeholder reaches the output).
+std::pair<std::vector<std::size_t>, std::size_t> readScansAndImages(mrpt_adapter::RawlogScanReader& raw) {
+  std::vector<std::size_t> entries;
+  std::size_t images = 0;
+  while (auto scan = raw.next()) {
+    entries.push_back(scan->entry_index);
+    for (const auto& c : scan->companions) {
+      auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(c);
+      EXPECT_TRUE(image);
+      if (image) {
+        EXPECT_EQ(image->image.getWidth(), 64u) << "a placeholder image reached the output";
+      }
+      ++images;
+    }
+  }
+  return {entries, images};
+}
+
+// A camera image MRPT stored as JPEG (its serialisation with JPEG compression on) whose JPEG
+// data is corrupt: libjpeg's default handler ended the process (exit 1, one line without the
+// file's name, temporaries left); then the reader stopped there with an error naming the
+// entry, losing every scan after it. The entry is now skipped and listed with its place, its
+// laser scan kept, and the log read to its end (issue 16, decision 80).
+TEST(RecordValidation, ACorruptJpegCameraImageInARawlogIsSkippedWithItsEntryAndTheLogRead) {
+  const std::string path = jpegFramesRawlog("jpeg_images.rawlog");
   std::string bytes = fileBytes(path);
   const std::vector<std::size_t> sos = jpegScans(bytes);
   ASSERT_EQ(sos.size(), 4u) << "the images are not stored as JPEG";
@@ -409,17 +435,7 @@ TEST(RecordValidation, ACorruptJpegCameraImageInARawlogIsSkippedWithItsEntryAndT
   std::ofstream(bad, std::ios::binary) << bytes;
 
   mrpt_adapter::RawlogScanReader raw(bad);
-  std::vector<std::size_t> entries;
-  std::size_t images = 0;
-  while (auto scan = raw.next()) {
-    entries.push_back(scan->entry_index);
-    for (const auto& c : scan->companions) {
-      auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(c);
-      ASSERT_TRUE(image);
-      EXPECT_EQ(image->image.getWidth(), 64u) << "a placeholder image reached the output";
-      ++images;
-    }
-  }
+  const auto [entries, images] = readScansAndImages(raw);
   EXPECT_EQ(entries, (std::vector<std::size_t>{0, 1, 2, 3})) << "entry 1's laser scan is kept";
   EXPECT_EQ(images, 2u) << "images 0 and 2 (image 3 follows the last scan); image 1 skipped";
   EXPECT_EQ(raw.entriesRead(), 4u);
@@ -437,6 +453,30 @@ TEST(RecordValidation, ACorruptJpegCameraImageInARawlogIsSkippedWithItsEntryAndT
   bool named = false;
   for (const auto& w : report.warnings) named = named || w.find("entry 1: a corrupt JPEG image") != std::string::npos;
   EXPECT_TRUE(named) << "no warning names the corrupt image's entry";
+}
+
+// A camera image whose JPEG data ends early (its end-of-image marker overwritten, as a
+// recording cut inside the image): libjpeg only warns and fills the missing rows with grey,
+// so the grey image reached the tools as the camera's. It is skipped as a corrupt one.
+TEST(RecordValidation, ACameraImageWhoseJpegDataEndsEarlyIsSkippedNotGreyFilled) {
+  std::string bytes = fileBytes(jpegFramesRawlog("jpeg_images_short.rawlog"));
+  const std::vector<std::size_t> sos = jpegScans(bytes);
+  ASSERT_EQ(sos.size(), 4u) << "the images are not stored as JPEG";
+  // Entropy-coded data stuffs 0xFF as FF 00: the first FF D9 after the scan's start is its end.
+  const std::size_t eoi = bytes.find(std::string("\xFF\xD9", 2), sos[1]);
+  ASSERT_NE(eoi, std::string::npos);
+  ASSERT_LT(eoi, sos[2]);
+  bytes[eoi] = bytes[eoi + 1] = 0;  // image 1's data now ends without its marker
+  const std::string bad = kTmp + "/jpeg_images_short_cut.rawlog";
+  std::ofstream(bad, std::ios::binary) << bytes;
+
+  mrpt_adapter::RawlogScanReader raw(bad);
+  const auto [entries, images] = readScansAndImages(raw);
+  EXPECT_EQ(entries, (std::vector<std::size_t>{0, 1, 2, 3}));
+  EXPECT_EQ(images, 2u) << "image 1 reached the output grey-filled";
+  ASSERT_EQ(raw.skippedEntries().size(), 1u);
+  EXPECT_EQ(raw.skippedEntries()[0].rfind("rawlog '" + bad + "', entry 1: a corrupt JPEG image (", 0), 0u)
+      << raw.skippedEntries()[0];
 }
 
 // The observations layout (each observation its own entry), gzip-compressed, two corrupt

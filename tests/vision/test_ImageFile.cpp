@@ -327,6 +327,42 @@ TEST(ImageFile, AnOversizeFrameAfterACorruptOneIsRefusedUnderItsOwnNumber) {
   EXPECT_EQ(frames.skippedFrameCount(), 1u);
 }
 
+// The end-of-image check walks the JPEG's markers: bytes after a whole image do not make it
+// cut, and a thumbnail's end marker inside an APP1 segment does not make a cut image whole.
+TEST(ImageFile, AJpegStreamIsWholeOnlyWhenItsOwnScanReachesTheEndMarker) {
+  cv::Mat gradient(48, 64, CV_8UC1);
+  for (int r = 0; r < gradient.rows; ++r) {
+    for (int c = 0; c < gradient.cols; ++c) gradient.at<unsigned char>(r, c) = static_cast<unsigned char>(3 * r + 2 * c);
+  }
+  std::vector<unsigned char> jpeg;
+  ASSERT_TRUE(cv::imencode(".jpg", gradient, jpeg));
+  const auto whole = [](const std::vector<unsigned char>& v) { return reachesJpegEnd(v.data(), v.size()); };
+  EXPECT_TRUE(whole(jpeg));
+  std::vector<unsigned char> padded = jpeg;
+  padded.insert(padded.end(), {0x00, 0x00, 0x12, 0x34, 0xFF});  // a container's or camera's padding
+  EXPECT_TRUE(whole(padded));
+  const std::vector<unsigned char> cut(jpeg.begin(), jpeg.begin() + static_cast<std::ptrdiff_t>(jpeg.size() - 40));
+  EXPECT_FALSE(whole(cut));
+  std::vector<unsigned char> zeroed = jpeg;  // the end marker overwritten
+  zeroed[zeroed.size() - 2] = zeroed[zeroed.size() - 1] = 0;
+  EXPECT_FALSE(whole(zeroed));
+  // A whole JPEG (a thumbnail) inside an APP1 segment, then the cut image.
+  std::vector<unsigned char> with_thumbnail{0xFF, 0xD8, 0xFF, 0xE1};
+  const std::size_t app1 = jpeg.size() + 2;
+  with_thumbnail.push_back(static_cast<unsigned char>(app1 >> 8));
+  with_thumbnail.push_back(static_cast<unsigned char>(app1 & 0xFF));
+  with_thumbnail.insert(with_thumbnail.end(), jpeg.begin(), jpeg.end());
+  with_thumbnail.insert(with_thumbnail.end(), cut.begin() + 2, cut.end());  // after its SOI
+  EXPECT_FALSE(whole(with_thumbnail));
+  std::vector<unsigned char> thumbnail_and_whole(with_thumbnail.begin(), with_thumbnail.begin() + static_cast<std::ptrdiff_t>(6 + jpeg.size()));
+  thumbnail_and_whole.insert(thumbnail_and_whole.end(), jpeg.begin() + 2, jpeg.end());
+  EXPECT_TRUE(whole(thumbnail_and_whole));
+  cv::Mat decoded = cv::imdecode(thumbnail_and_whole, cv::IMREAD_GRAYSCALE);  // a valid stream indeed
+  EXPECT_EQ(decoded.cols, 64);
+  EXPECT_FALSE(reachesJpegEnd(jpeg.data(), 3));
+  EXPECT_FALSE(reachesJpegEnd(nullptr, 0));
+}
+
 TEST(ImageFile, TheCapIsOneToMaxOnEachSide) {
   EXPECT_NO_THROW(requireImageSize(1, 1, "w", "x"));
   EXPECT_NO_THROW(requireImageSize(kMaxImageSidePx, kMaxImageSidePx, "w", "x"));

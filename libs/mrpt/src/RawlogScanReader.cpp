@@ -1,4 +1,5 @@
 #include "lidarseg/mrpt/RawlogScanReader.h"
+#include "lidarseg/vision/ImageFile.h"
 
 #include <algorithm>
 #include <array>
@@ -30,6 +31,9 @@
 // the error manager libjpeg sets up throws instead, and the reader reports the entry:
 // "rawlog 'F', entry N: truncated or corrupt (a corrupt JPEG image: ...)". The decoder's
 // memory is released before the throw (as jpeg_destroy does); MRPT does not touch it again.
+// An image whose JPEG data does not reach its end-of-image marker is corrupt too (libjpeg
+// would only warn and fill its missing rows with grey): the reader checks the bytes as they
+// are read (CountingStream::Read) and fails the entry as libjpeg's error would.
 // MRPT reads an image's whole JPEG data (its length, then its bytes) before decoding it, so
 // the reader can then read the entry again with a placeholder image in place of the corrupt
 // one, and skip it (decision 80): see RawlogScanReader::next().
@@ -98,11 +102,13 @@ class RawlogScanReader::CountingStream : public mrpt::io::CStream {
     if (replayed > 0) std::memcpy(out, replay_.data() + replay_at_, replayed);
     replay_at_ += replayed;
     if (replay_at_ == replay_.size()) {
+      if (replay_.capacity() > kKeptCapacity) replay_ = {};  // one large entry does not stay
       replay_.clear();
       replay_at_ = 0;
     }
     if (replayed < count) readFile(out + replayed, count - replayed, count);
     remember(out, count);
+    if (jpeg_errors_throw > 0) requireWholeJpeg(out, count);
     return count;
   }
 
@@ -122,10 +128,7 @@ class RawlogScanReader::CountingStream : public mrpt::io::CStream {
     if (overflow_ || length.count != 4 || length.at + 4 != data.at || data.at + data.count != record_.size()) {
       return false;
     }
-    const std::uint32_t declared = static_cast<std::uint32_t>(record_[length.at]) |
-                                   (static_cast<std::uint32_t>(record_[length.at + 1]) << 8) |
-                                   (static_cast<std::uint32_t>(record_[length.at + 2]) << 16) |
-                                   (static_cast<std::uint32_t>(record_[length.at + 3]) << 24);
+    const std::uint32_t declared = lengthAt(length.at);
     if (declared != data.count) return false;
     std::vector<unsigned char> again(record_.begin(), record_.begin() + static_cast<std::ptrdiff_t>(length.at));
     const auto size = static_cast<std::uint32_t>(jpeg.size());
@@ -154,6 +157,11 @@ class RawlogScanReader::CountingStream : public mrpt::io::CStream {
   bool damaged() const { return damaged_; }
 
  private:
+  // The little-endian 32-bit length recorded at `at`.
+  std::uint32_t lengthAt(std::size_t at) const {
+    return static_cast<std::uint32_t>(record_[at]) | (static_cast<std::uint32_t>(record_[at + 1]) << 8) |
+           (static_cast<std::uint32_t>(record_[at + 2]) << 16) | (static_cast<std::uint32_t>(record_[at + 3]) << 24);
+  }
   // The place of one read in record_.
   struct Place {
     std::size_t at = 0;
@@ -167,7 +175,21 @@ class RawlogScanReader::CountingStream : public mrpt::io::CStream {
       record_.clear();
       return;
     }
+    if (record_.size() + count > record_.capacity()) {  // grown by doubling, never beyond the cap
+      record_.reserve(std::min(kMaxRecordedBytes, std::max(2 * record_.capacity(), record_.size() + count)));
+    }
     record_.insert(record_.end(), bytes, bytes + count);
+  }
+  // Bytes read right after their own length (4 bytes, little-endian) that start as a JPEG
+  // stream (FF D8) are an image's JPEG data, as MRPT reads them just before decoding: data
+  // that does not reach its end-of-image marker fails like a corrupt image.
+  void requireWholeJpeg(const unsigned char* bytes, std::size_t count) const {
+    const Place length = reads_[0];
+    if (length.count != 4 || count < 2 || bytes[0] != 0xFF || bytes[1] != 0xD8 || overflow_) return;
+    const std::uint32_t declared = lengthAt(length.at);
+    if (declared != count || vision::reachesJpegEnd(bytes, count)) return;
+    ++jpeg_errors_thrown;
+    throw std::runtime_error(std::string(kJpegErrorPrefix) + "its data ends before the end-of-image marker");
   }
   void readFile(unsigned char* buffer, size_t count, size_t asked) {
     const size_t n = in_.Read(buffer, count);
@@ -404,7 +426,10 @@ void RawlogScanReader::skipEntryWithCorruptImages(const mrpt::serialization::CSe
 std::optional<RawlogScan> RawlogScanReader::next() {
   while (true) {
     if (!pending_.empty()) {
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12: std::optional<CPose2D>'s move
       RawlogScan out = std::move(pending_.front());
+#pragma GCC diagnostic pop
       pending_.erase(pending_.begin());
       out.scan_index = scans_returned_++;
       return out;
@@ -433,8 +458,15 @@ std::optional<RawlogScan> RawlogScanReader::next() {
           return std::nullopt;
         }
         std::string what = failureOf(e);
-        if (jpeg_errors_thrown != jpeg_errors_before && corrupt_images.size() < kMaxCorruptImagesPerEntry &&
-            counter_->replayWithImage(placeholderJpeg())) {
+        bool replayed = false;
+        if (jpeg_errors_thrown != jpeg_errors_before && corrupt_images.size() < kMaxCorruptImagesPerEntry) {
+          try {
+            replayed = counter_->replayWithImage(placeholderJpeg());
+          } catch (const std::exception& again) {  // no memory for the copy: the entry's error below
+            what += std::string("; it could not be read again: ") + again.what();
+          }
+        }
+        if (replayed) {
           corrupt_images.push_back(what.rfind(kJpegErrorPrefix, 0) == 0 ? what.substr(std::strlen(kJpegErrorPrefix))
                                                                          : what);
           continue;
@@ -446,6 +478,7 @@ std::optional<RawlogScan> RawlogScanReader::next() {
           const std::string error = compressedStreamError();
           if (!error.empty()) what += "; gzip: " + error;
         }
+        at_end_ = true;  // nothing more is read from a stream out of step with its entries
         throw std::runtime_error("rawlog '" + path_ + "', entry " + std::to_string(entries_read_) +
                                  ": truncated or corrupt (" + what + ")");
       }

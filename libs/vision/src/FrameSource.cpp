@@ -58,18 +58,6 @@ void FrameSource::skip(const std::string& message) {
   if (skipped_.size() < kKeptSkips) skipped_.push_back(message);
 }
 
-namespace {
-// libjpeg (under OpenCV's imdecode) fills the missing rows of a cut JPEG image with grey and
-// says nothing: a packet is whole only when its last bytes, after the zeros a container may
-// pad it with, are the JPEG end-of-image marker (FF D9).
-bool endsWithJpegEnd(const cv::Mat& packet) {
-  const auto* bytes = packet.ptr<unsigned char>();
-  std::size_t end = packet.total();
-  while (end > 0 && bytes[end - 1] == 0) --end;
-  return end >= 2 && bytes[end - 2] == 0xFF && bytes[end - 1] == 0xD9;
-}
-}  // namespace
-
 // One packet is one frame: a packet that cannot be decoded is skipped under its own number,
 // so the next packet is the next frame (a second, decoding capture could fall out of step
 // with this one on a packet FFmpeg drops).
@@ -99,7 +87,7 @@ bool FrameSource::nextMotionJpeg(cv::Mat& frame) {
       continue;
     }
     requireImageSize(header.width, header.height, where, "video frame");
-    if (!endsWithJpegEnd(packet)) {
+    if (!reachesJpegEnd(packet.ptr<unsigned char>(), packet.total())) {
       skip(where + ": its JPEG data is truncated; frame skipped");
       continue;
     }

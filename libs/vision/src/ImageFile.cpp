@@ -173,4 +173,31 @@ std::string encodePng(const cv::Mat& image) {
   return std::string(png.begin(), png.end());
 }
 
+bool reachesJpegEnd(const unsigned char* b, std::size_t n) {
+  if (n < 4 || b[0] != 0xFF || b[1] != 0xD8) return false;
+  const auto restart = [](unsigned char m) { return m >= 0xD0 && m <= 0xD7; };
+  std::size_t i = 2;
+  while (i + 1 < n) {
+    if (b[i] != 0xFF) return false;  // no marker where one must be
+    const unsigned char m = b[i + 1];
+    if (m == 0xFF) {  // a fill byte
+      ++i;
+      continue;
+    }
+    if (m == 0xD9) return true;
+    if (m == 0x01 || restart(m)) {  // markers without a length
+      i += 2;
+      continue;
+    }
+    if (i + 3 >= n) return false;
+    const std::size_t length = (static_cast<std::size_t>(b[i + 2]) << 8) | b[i + 3];
+    if (length < 2) return false;
+    i += 2 + length;
+    if (m == 0xDA) {  // a scan's entropy-coded data, up to the next marker
+      while (i + 1 < n && !(b[i] == 0xFF && b[i + 1] != 0x00 && !restart(b[i + 1]))) ++i;
+    }
+  }
+  return false;
+}
+
 }  // namespace lidarseg::vision

@@ -15,6 +15,14 @@ namespace lidarseg::vision {
 /// BGR. A header declaring more is refused before decoding (decision 52).
 inline constexpr std::uint64_t kMaxImageSidePx = 8192;
 
+/// Whether the `n` bytes at `b` hold a JPEG stream (from its start-of-image marker) that
+/// reaches its end-of-image marker FF D9. The stream is walked marker by marker (segment
+/// lengths, then each scan's entropy-coded data, where FF is followed by 00 or a restart
+/// marker), so bytes after the image (a container's or a camera's padding) and an EXIF
+/// thumbnail's own end marker inside its segment do not count. libjpeg (under OpenCV's
+/// imdecode, or MRPT's) fills the missing rows of a cut image with grey and only warns.
+bool reachesJpegEnd(const unsigned char* b, std::size_t n);
+
 /// Refuses a size outside [1, kMaxImageSidePx] on either side, the same cap for image files,
 /// video frames and images embedded in a log (decision 52).
 /// @throws std::runtime_error "WHERE: WHAT of W x H pixels; images are read from 1 x 1 up to
