@@ -46,6 +46,14 @@ if(NOT last_output MATCHES "SegmentAlignment .*CICP .*difference ")
   message(FATAL_ERROR "unexpected alignment consumer output: ${last_output}")
 endif()
 
+# The README's tracking example over the whole log (fails on a lost scan, a non-finite pose,
+# or a path length 10 % from the wheel odometry's).
+run("${WORK_DIR}/build/lidarseg_consumer_track" "${RAWLOG}")
+message(STATUS "tracking consumer says: ${last_output}")
+if(NOT last_output MATCHES "tracked [0-9]+ scans, 0 lost")
+  message(FATAL_ERROR "unexpected tracking consumer output: ${last_output}")
+endif()
+
 # The pure core through pkg-config, with no CMake on the consumer's side.
 find_program(PKG_CONFIG pkg-config REQUIRED)
 file(GLOB pc_file "${prefix}/lib*/pkgconfig/lidarseg-core.pc" "${prefix}/lib/*/pkgconfig/lidarseg-core.pc")
