@@ -103,6 +103,43 @@ TEST(CorrelativeSearch, APreparedKeyframeGivesTheSameResults) {
   }
 }
 
+// A wider search given the narrower one's best score as its floor (decision 83): a pose the
+// narrow window holds cannot come back; one outside it that scores higher is found, as by the
+// wide search without a floor, with fewer poses scored.
+TEST(CorrelativeSearch, AScoreFloorReturnsOnlyPosesThatBeatIt) {
+  const sim::World world = testing::officeScene();
+  const Pose2D a{0.0, 1.0, 0.0};
+  const Pose2D b{1.9, 1.2, 0.1};  // 1.9 m from a: outside the narrow window, inside the wide one
+  const auto key = pointsAt(world, a, 7);
+  const auto cur = pointsAt(world, b, 8);
+  SearchParams narrow;
+  narrow.linear_window_m = 1.0;
+  SearchParams wide = narrow;
+  wide.linear_window_m = 2.4;
+  CorrelativeSearch wide_search(wide);
+  SearchGrid grid;
+  wide_search.prepare(key, grid);
+  const SearchResult n = CorrelativeSearch(narrow).search(grid, cur, Pose2D{});
+  const SearchResult w = wide_search.search(grid, cur, Pose2D{});
+  const SearchResult floored = wide_search.search(grid, cur, Pose2D{}, n.score);
+  ASSERT_TRUE(n.found);
+  ASSERT_TRUE(w.found);
+  const Pose2D truth = relative(b, a);
+  EXPECT_GT(std::hypot(n.T_key_curr.x - truth.x, n.T_key_curr.y - truth.y), 0.5);  // the narrow one cannot reach it
+  EXPECT_NEAR(w.T_key_curr.x, truth.x, 0.06);
+  EXPECT_NEAR(w.T_key_curr.y, truth.y, 0.06);
+  ASSERT_TRUE(floored.found);
+  EXPECT_EQ(floored.T_key_curr.x, w.T_key_curr.x);
+  EXPECT_EQ(floored.T_key_curr.y, w.T_key_curr.y);
+  EXPECT_EQ(floored.T_key_curr.yaw, w.T_key_curr.yaw);
+  EXPECT_DOUBLE_EQ(floored.score, w.score);
+  EXPECT_LT(floored.evaluated + floored.bounds, w.evaluated + w.bounds);
+  // Nothing beats the wide search's own best: with it as the floor, nothing is found.
+  const SearchResult none = wide_search.search(grid, cur, Pose2D{}, w.score);
+  EXPECT_FALSE(none.found);
+  EXPECT_EQ(none.score, 0.0);
+}
+
 TEST(CorrelativeSearch, EmptyInputsAndBadParameters) {
   const std::vector<Eigen::Vector2d> none;
   const std::vector<Eigen::Vector2d> nan(10, Eigen::Vector2d(std::nan(""), 1.0));

@@ -130,6 +130,47 @@ TEST(SegmentOdometry, TurnReversalAndUnpredictedJumpAreRecovered) {
   EXPECT_EQ(lost, 0u);
 }
 
+// A 2.3 m / 52 degree unpredicted jump, beyond the first search's window (1.2 m, 0.6 rad):
+// with wide_search_factor = 1 the scan is lost (the prediction kept, 2.3 m off); the wider
+// second search recovers it (decision 83). Returns the lost count; the jump scan's position
+// error in `jump_error_m`.
+std::size_t lostOverAWideJump(double wide_search_factor, double* jump_error_m) {
+  const sim::World world = testing::officeScene();
+  const auto sensor = testing::makeSensor(541, 270.0, 0.01, 30.0);
+  OdometryParams params;
+  params.wide_search_factor = wide_search_factor;
+  SegmentOdometry odometry(params);
+  std::vector<Pose2D> truth(5, Pose2D{0.5, 1.0, 0.0});
+  truth.push_back({2.8, 0.8, -0.9});  // 2.31 m and 52 degrees from the prior (at rest)
+  truth.push_back(truth.back());
+  std::size_t lost = 0;
+  for (std::size_t k = 0; k < truth.size(); ++k) {
+    Scan scan = testing::simulate(world, sensor, truth[k], 1200 + k);
+    scan.stamp_s = 0.1 * static_cast<double>(k);
+    const OdometryStep step = odometry.process(scan);
+    lost += step.status == TrackStatus::kLost;
+    const Pose2D expected = relative(truth[k], truth[0]);
+    const double error = std::hypot(step.T_odom_sensor.x - expected.x, step.T_odom_sensor.y - expected.y);
+    if (k == 5) *jump_error_m = error;
+    if (k < 5) {
+      EXPECT_LT(error, 0.02) << "scan " << k;  // at rest: nothing to recover yet
+    }
+  }
+  return lost;
+}
+
+TEST(SegmentOdometry, AJumpBeyondTheSearchWindowIsRecoveredByTheWiderSearch) {
+  double with_error = 0.0, without_error = 0.0;
+  const std::size_t lost_with = lostOverAWideJump(2.0, &with_error);
+  const std::size_t lost_without = lostOverAWideJump(1.0, &without_error);
+  std::cout << "jump scan error: " << with_error << " m with the wider search, " << without_error
+            << " m without (" << lost_without << " lost)\n";
+  EXPECT_EQ(lost_with, 0u);
+  EXPECT_LT(with_error, 0.05);  // measured 2.4 mm
+  EXPECT_EQ(lost_without, 1u);
+  EXPECT_GT(without_error, 2.0);  // measured 2.30 m
+}
+
 // The position error after the first `scans` scans of a simulated run (world "maze" or
 // "hospital" of config/worlds), first poses made equal.
 double runError(const char* world_name, const sim::SensorModel& sensor, std::uint64_t seed, std::size_t scans,

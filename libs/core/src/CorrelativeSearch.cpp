@@ -49,9 +49,10 @@ struct Workspace {
 // nearest the prior among equal scores is found as by the full search).
 class BranchAndBound {
  public:
+  // Only poses scoring above `floor` (a sum of cells) are looked for.
   BranchAndBound(const SearchGrid& g, const std::vector<int>& cells, int n, int W, int A, double step,
-                 SearchResult& result)
-      : g_(g), pad_(paddedOf(g)), cells_(cells), n_(n), W_(W), A_(A), step_(step), result_(result) {}
+                 int floor, SearchResult& result)
+      : g_(g), pad_(paddedOf(g)), cells_(cells), n_(n), W_(W), A_(A), step_(step), result_(result), best_(floor) {}
 
   // The sum of the points' cells (integers: exact, so the bounds hold to the last unit).
   int score(std::size_t level, int rot, int dx, int dy) const {
@@ -68,10 +69,11 @@ class BranchAndBound {
   void leaf(const Block& b) {
     ++result_.evaluated;
     const double cost = std::hypot(b.ix * g_.res, b.iy * g_.res) + std::abs(b.rot - A_) * step_;
-    if (b.bound > best_ || (b.bound == best_ && cost < best_cost_)) {
+    if (b.bound > best_ || (found_ && b.bound == best_ && cost < best_cost_)) {
       best_ = b.bound;
       best_cost_ = cost;
       best_block_ = b;
+      found_ = true;
     }
   }
 
@@ -109,6 +111,7 @@ class BranchAndBound {
   }
 
   int best() const { return best_; }
+  bool found() const { return found_; }
   const Block& bestBlock() const { return best_block_; }
 
  private:
@@ -119,6 +122,7 @@ class BranchAndBound {
   double step_;
   SearchResult& result_;
   int best_ = -1;
+  bool found_ = false;
   double best_cost_ = 0.0;
   Block best_block_{0, 0, 0, 0};
 };
@@ -254,7 +258,7 @@ SearchResult CorrelativeSearch::search(const std::vector<Eigen::Vector2d>& keyfr
 }
 
 SearchResult CorrelativeSearch::search(const SearchGrid& g, const std::vector<Eigen::Vector2d>& current_points,
-                                       const Pose2D& prior) const {
+                                       const Pose2D& prior, double min_score) const {
   const SearchParams& P = params_;
   SearchResult result;
   result.T_key_curr = prior;
@@ -297,7 +301,10 @@ SearchResult CorrelativeSearch::search(const SearchGrid& g, const std::vector<Ei
       ws.cells[at + 1] = static_cast<int>(std::floor(fy));
     }
   }
-  BranchAndBound bnb(g, ws.cells, n, W, A, step, result);
+  const int floor_sum = min_score > 0.0
+                            ? static_cast<int>(std::llround(std::min(min_score, 1.0) * SearchGrid::kCellMax * static_cast<double>(n)))
+                            : -1;
+  BranchAndBound bnb(g, ws.cells, n, W, A, step, floor_sum, result);
   result.prior_score = bnb.meanLikelihood(bnb.score(g.levels.size() - 1, A, 0, 0));
 
   // Top level: every rotation x block of K x K translations, best bound first.
@@ -320,8 +327,8 @@ SearchResult CorrelativeSearch::search(const SearchGrid& g, const std::vector<Ei
     bnb.descend(b, 0);
   }
   const Block& best = bnb.bestBlock();
-  result.found = bnb.best() > 0;
-  result.score = bnb.meanLikelihood(std::max(0, bnb.best()));
+  result.found = bnb.found() && bnb.best() > 0;
+  result.score = result.found ? bnb.meanLikelihood(bnb.best()) : 0.0;
   if (result.found) {
     result.T_key_curr = {prior.x + best.ix * P.resolution_m, prior.y + best.iy * P.resolution_m,
                          wrapAngle(prior.yaw + (best.rot - A) * step)};

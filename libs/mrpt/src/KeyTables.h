@@ -77,6 +77,7 @@ struct OdometryKeys {
     visit("prior_preference", p.prior_preference);
     visit("search_preference", p.search_preference);
     visit("search_when_doubtful", p.search_when_doubtful);
+    visit("wide_search_factor", p.wide_search_factor);
     visit("check_match_against_prior", p.check_match_against_prior);
     visit("prior_gate_sigmas", p.prior_gate_sigmas);
     visit("prior_accel_m_s2", p.prior_accel_m_s2);

@@ -49,6 +49,7 @@ void LidarsegMethod::record(const ScanInput& scan) {
   m.scan_matches.push_back(c.match.matches.size());
   m.searched.push_back(c.search.has_value() ? 1 : 0);
   m.searches += c.search.has_value();
+  m.wide_searches += c.wide_search;
   if (!c.first) {
     ++m.status_counts[toString(c.status)];
     if (c.match.status == MatchStatus::kTooFewMatches) ++m.match_failures[c.match.rejections.dominant()];

@@ -94,8 +94,12 @@ class CorrelativeSearch {
   void prepare(const std::vector<Eigen::Vector2d>& keyframe_points, SearchGrid& grid) const;
 
   /// The search against a keyframe prepared once (same result as the overload above).
+  /// With `min_score` > 0, only poses scoring strictly above it (mean likelihood, as
+  /// SearchResult::score with the same current points) are looked for: the branch and bound
+  /// starts from that floor, and `found` is false when no pose beats it (a wider search after
+  /// a narrower one: what the narrower one saw cannot win, and is not scored again).
   SearchResult search(const SearchGrid& grid, const std::vector<Eigen::Vector2d>& current_points,
-                      const Pose2D& prior) const;
+                      const Pose2D& prior, double min_score = 0.0) const;
 
   const SearchParams& params() const { return params_; }
 

@@ -44,6 +44,12 @@ struct OdometryParams {
   double search_preference = 0.15;
   /// Whether a doubtful (not only a failed) refinement also runs the search.
   bool search_when_doubtful = true;
+  /// When the segment match and the refinements from the prior and from the first search
+  /// all failed (the scan would be lost), a second search over a window this many times
+  /// wider (translation and rotation; at most 20 m and pi) runs first: a prior wrong by more
+  /// than the first window (wheel odometry slipping by 2 m or 50 deg). Its refinement must
+  /// be constrained in every direction (not degenerate). 1 = no second search (decision 83).
+  double wide_search_factor = 2.0;
   /// Whether the segment match's refinement is also refined from the prior when the two
   /// disagree by more than prior_gate_sigmas standard deviations of the prior's error (below)
   /// and of the refinement's own covariance along their difference, in translation or in
@@ -143,8 +149,10 @@ struct OdometryStep {
   MatchResult match;
   /// The point-to-segment refinement that gave the pose (status kFailed when none held).
   RefineResult refine;
-  /// The correlative search, when it ran.
+  /// The correlative search, when it ran (the wider one's, when that ran too).
   std::optional<SearchResult> search;
+  /// Whether the wider second search ran (OdometryParams::wide_search_factor).
+  bool wide_search = false;
   /// How this scan was tracked; the pose is T_keyframe_curr of `refine` unless kLost.
   TrackStatus status = TrackStatus::kFirst;
   /// Whether this scan became the keyframe.
@@ -224,6 +232,7 @@ class SegmentOdometry {
   std::size_t map_size_ = 0;      // how many slots hold a keyframe
   std::vector<RefinementMapScan> map_scans_;
   CorrelativeSearch search_;
+  CorrelativeSearch wide_search_;  // search_ over a window wide_search_factor times wider
   SearchGrid search_grid_;  // the keyframe rasterised for the search, made when first needed
   Segmentation segmentation_[2];  // the keyframe's and the current scan's
   int keyframe_ = 0;
