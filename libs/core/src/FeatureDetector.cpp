@@ -103,6 +103,10 @@ long roundRangeMm(double v) {
   return v - static_cast<double>(whole) >= 0.5 ? whole + 1 : whole;
 }
 
+// Segment::signedDistance (normal . q - rho) inlined for the per-beam loops: the same
+// expression, so the same value; the member function lives in another translation unit.
+double distanceBehind(const Segment& s, const Eigen::Vector2d& q) { return s.normal.dot(q) - s.rho_m; }
+
 std::size_t beamsBetween(std::uint32_t last_of_a, std::uint32_t first_of_b, std::size_t num_beams) {
   // Beams strictly after last_of_a and strictly before first_of_b, in scan order (wrapping).
   const std::size_t n = num_beams;
@@ -255,7 +259,9 @@ double FeatureDetector::rangeQuantum(const Segmentation& segmentation, std::size
     const Eigen::Vector2d& q = pts[beam];
     if (!std::isfinite(q.x())) continue;
     const long mm = roundRangeMm(q.norm() * 1000.0);
-    ++hist[static_cast<std::size_t>(((mm % 100) + 100) % 100)];
+    // (A range is never negative: its class is an unsigned remainder, cheaper than the
+    // signed one; the signed expression is kept for whatever std::lround gives a NaN.)
+    ++hist[mm >= 0 ? static_cast<std::size_t>(mm) % 100 : static_cast<std::size_t>(((mm % 100) + 100) % 100)];
     ++n;
   }
   if (n < 8) return 0.0;
@@ -353,7 +359,7 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, const ScanGe
       const bool see_reveal_a = s_jamb_a <= tol, see_reveal_b = s_jamb_b >= -tol;
       // 1: on jamb a's reveal, 2: on jamb b's, 0: on neither.
       auto revealOf = [&](const Eigen::Vector2d& q) {
-        const double depth = a.signedDistance(q);
+        const double depth = distanceBehind(a, q);
         if (depth < -tol || depth > p.door_max_recess_m + tol) return 0;
         const double s = q.dot(t);
         if (see_reveal_a && s >= s_end_a - tol && s <= s_end_a + spacing_a + tol) return 1;
@@ -369,7 +375,7 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, const ScanGe
           ++beyond;  // no return: nothing stopped the beam in the doorway (or it was lost)
           continue;
         }
-        const double d = a.signedDistance(q);
+        const double d = distanceBehind(a, q);
         if (onReveal(q)) {
           ++reveal;
         } else if (d < -p.door_front_tolerance_m) {
@@ -638,27 +644,19 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
     }
     // A step is located to within the window: of two candidates closer than W points, only
     // the larger is a step (the largest within W points on either side; ties to the first).
-    // First the neighbours' test, branch-free (the noise makes it unpredictable), then the
-    // window's for the few left.
-    // The first and last steps have one neighbour only: tested apart, so that the loop over
-    // the others needs no test of k. (n >= 2 W + 4 here, so they are distinct.)
+    // Two starts are therefore more than W points apart, and a start is the first largest
+    // step of any W + 1 consecutive steps holding it (they all lie within its window). So
+    // the steps are cut into blocks of W + 1, and only each block's first largest (first
+    // smallest, for an end) is put to the window's test: the same list of starts and ends,
+    // in the same order, as testing every step against its neighbours first and then the
+    // window (decision 82). Branch-free, and the whole window compared (a fixed number of
+    // comparisons): testing only the steps outside the block, or only the blocks whose
+    // largest step reaches `edge`, took fewer instructions and more time (their loop
+    // lengths and branches follow the noise). The comparisons assume finite steps, as the
+    // plain sums are here; with a non-finite sum the run is searched as before.
     std::size_t num_starts = 0, num_ends = 0;
     double* const step_p = steps.data();
     std::uint32_t *const start_p = starts.data(), *const end_p = ends.data();
-    auto keepStep = [&](std::size_t k, bool is_start, bool is_end) {
-      start_p[num_starts] = static_cast<std::uint32_t>(k);
-      num_starts += is_start;
-      end_p[num_ends] = static_cast<std::uint32_t>(k);
-      num_ends += is_end;
-    };
-    keepStep(W, step_p[W] >= edge && step_p[W + 1] <= step_p[W], step_p[W] <= -edge && step_p[W + 1] >= step_p[W]);
-    for (std::size_t k = W + 1; k + W < n; ++k) {
-      const double sk = step_p[k], before = step_p[k - 1], after = step_p[k + 1];
-      keepStep(k, (sk >= edge) & (before < sk) & (after <= sk), (sk <= -edge) & (before > sk) & (after >= sk));
-    }
-    const std::size_t k_last = n - W;
-    keepStep(k_last, step_p[k_last] >= edge && step_p[k_last - 1] < step_p[k_last],
-             step_p[k_last] <= -edge && step_p[k_last - 1] > step_p[k_last]);
     // (The window split at k: no test of j against k per point, and an end's test compares
     // the steps themselves, not their negatives: negation is exact, so the same outcome.)
     // (Every step of the window compared, without an early exit: the windows have the same
@@ -680,20 +678,59 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
       for (std::size_t j = k + 1; j <= hi; ++j) smallest &= step_p[j] >= sk;
       return smallest;
     };
-    std::size_t kept = 0;
-    for (std::size_t i = 0; i < num_starts; ++i) {
-      const std::uint32_t k = start_p[i];
-      start_p[kept] = k;
-      kept += largestWithin(k);
+    if (std::isfinite(acc_plain)) {
+      const std::size_t k_end = n - W;  // the last step
+      for (std::size_t b0 = W; b0 <= k_end; b0 += W + 1) {
+        const std::size_t b1 = std::min(b0 + W, k_end);
+        std::size_t i_max = b0, i_min = b0;
+        double v_max = step_p[b0], v_min = step_p[b0];
+        for (std::size_t j = b0 + 1; j <= b1; ++j) {
+          const double v = step_p[j];
+          const bool larger = v > v_max, smaller = v < v_min;
+          v_max = larger ? v : v_max;
+          i_max = larger ? j : i_max;
+          v_min = smaller ? v : v_min;
+          i_min = smaller ? j : i_min;
+        }
+        start_p[num_starts] = static_cast<std::uint32_t>(i_max);
+        num_starts += (v_max >= edge) & largestWithin(i_max);
+        end_p[num_ends] = static_cast<std::uint32_t>(i_min);
+        num_ends += (v_min <= -edge) & smallestWithin(i_min);
+      }
+    } else {
+      // First the neighbours' test, branch-free (the noise makes it unpredictable), then the
+      // window's for the few left.
+      // The first and last steps have one neighbour only: tested apart, so that the loop over
+      // the others needs no test of k. (n >= 2 W + 4 here, so they are distinct.)
+      auto keepStep = [&](std::size_t k, bool is_start, bool is_end) {
+        start_p[num_starts] = static_cast<std::uint32_t>(k);
+        num_starts += is_start;
+        end_p[num_ends] = static_cast<std::uint32_t>(k);
+        num_ends += is_end;
+      };
+      keepStep(W, step_p[W] >= edge && step_p[W + 1] <= step_p[W], step_p[W] <= -edge && step_p[W + 1] >= step_p[W]);
+      for (std::size_t k = W + 1; k + W < n; ++k) {
+        const double sk = step_p[k], before = step_p[k - 1], after = step_p[k + 1];
+        keepStep(k, (sk >= edge) & (before < sk) & (after <= sk), (sk <= -edge) & (before > sk) & (after >= sk));
+      }
+      const std::size_t k_last = n - W;
+      keepStep(k_last, step_p[k_last] >= edge && step_p[k_last - 1] < step_p[k_last],
+               step_p[k_last] <= -edge && step_p[k_last - 1] > step_p[k_last]);
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < num_starts; ++i) {
+        const std::uint32_t k = start_p[i];
+        start_p[kept] = k;
+        kept += largestWithin(k);
+      }
+      num_starts = kept;
+      kept = 0;
+      for (std::size_t i = 0; i < num_ends; ++i) {
+        const std::uint32_t k = end_p[i];
+        end_p[kept] = k;
+        kept += smallestWithin(k);
+      }
+      num_ends = kept;
     }
-    num_starts = kept;
-    kept = 0;
-    for (std::size_t i = 0; i < num_ends; ++i) {
-      const std::uint32_t k = end_p[i];
-      end_p[kept] = k;
-      kept += smallestWithin(k);
-    }
-    num_ends = kept;
     // No leaf without both a start and an end: nothing below would be found.
     if (num_starts == 0 || num_ends == 0) continue;
     // A wall may hold several doors: the candidates that pass are taken most significant
