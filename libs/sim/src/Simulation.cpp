@@ -2,6 +2,7 @@
 #include "lidarseg/core/Angles.h"
 
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 namespace lidarseg::sim {
@@ -40,8 +41,9 @@ void SimulationParams::validate() const {
   // A stamp must still tell two scans 1 ms apart: |t| <= 1e10 s (the year 2286) keeps a double's spacing
   // near t below 2e-6 s (issue 16).
   if (!(std::isfinite(start_time_s) && std::abs(start_time_s) <= kMaxAbsStartTimeS)) {
-    throw std::invalid_argument("start_time_s must be finite and in [-1e10, 1e10] s (got " +
-                                std::to_string(start_time_s) + ")");
+    std::ostringstream os;
+    os << "start_time_s must be finite and in [-1e10, 1e10] s (got " << start_time_s << ")";
+    throw std::invalid_argument(os.str());
   }
   if (static_cast<std::size_t>(scan_stamp) > 2) {
     throw std::invalid_argument("scan_stamp must be 0 (first beam), 1 (middle) or 2 (last beam)");
