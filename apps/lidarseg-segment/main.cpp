@@ -26,6 +26,11 @@ int main(int argc, char** argv) {
                                      "DIR", cmd);
     TCLAP::SwitchArg quiet("q", "quiet", "no progress on stderr", cmd);
     if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc, argv, "lidarseg-segment")) return *status;
+    if (section.isSet() && !config.isSet()) {  // it would be ignored (issue 16)
+      std::cerr << "lidarseg-segment: usage error: --section " << section.getValue()
+                << ": a section of a parameter file, given without -c/--config (see lidarseg-segment --help)\n";
+      return lidarseg::apps::kUsageError;
+    }
 
     lidarseg::apps::SegmentStatsOptions options;
     options.input = input.getValue();

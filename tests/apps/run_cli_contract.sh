@@ -1,7 +1,8 @@
 #!/bin/bash
 # The command-line contract of one tool (issue 16): a usage error (a bad value, an unknown
 # flag, a missing argument) prints "usage error" on stderr, exits 2 and writes nothing;
-# --help and --version exit 0 and run nothing, even at the end of a full command.
+# --help and --version exit 0 and run nothing, even at the end of a full command; `-c ''`
+# is a usage error.
 # usage: run_cli_contract.sh TMPDIR TOOL NUMERIC_FLAG [SUBCOMMAND] -- ARGS...
 # (NUMERIC_FLAG: a flag taking a number, given "fifty"; ARGS: a valid command whose outputs
 # are all under $TMPDIR/out; the literal word OUT stands for that path)
@@ -31,4 +32,6 @@ check "help at the end" 0 "" "${args[@]}" --help
 check "help alone" 0 ""  --help
 check "version" 0 "" --version
 check "missing argument" 2 "usage error"
+# An empty configuration name (`-c ''`, an unset variable) is not a run with the defaults.
+check "empty config" 2 "usage error: -c/--config: an empty file name" "${args[@]}" -c ''
 [ "$fails" = 0 ] && echo "command-line contract holds" || exit 1

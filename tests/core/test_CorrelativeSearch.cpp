@@ -153,5 +153,39 @@ TEST(CorrelativeSearch, EmptyInputsAndBadParameters) {
   EXPECT_THROW(CorrelativeSearch{p}, std::invalid_argument);
 }
 
+// Issue 16: a rotation step of 1e-12 rad passed validation and the search tried 10^12
+// rotations (SIGSEGV, bad_alloc or a hang). 0 (automatic) or >= 0.0005 rad now.
+TEST(CorrelativeSearch, TheRotationStepIsAutomaticOrAtLeastHalfAMilliradian) {
+  for (const double bad : {1e-12, 1e-9, 1e-6, 4.9e-4, -0.01, 0.51, std::nan("")}) {
+    SearchParams p;
+    p.angular_step_rad = bad;
+    try {
+      p.validate();
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("angular_step_rad must be 0 (automatic) or in [0.0005, 0.5]", 0), 0u)
+          << e.what();
+    }
+  }
+  for (const double good : {0.0, SearchParams::kMinAngularStepRad, 0.01, 0.5}) {
+    SearchParams p;
+    p.angular_step_rad = good;
+    EXPECT_NO_THROW(p.validate()) << good;
+  }
+  // The smallest step over the widest window is a bounded search that still finds the pose.
+  SearchParams fine;
+  fine.angular_step_rad = SearchParams::kMinAngularStepRad;
+  fine.angular_window_rad = 0.05;
+  fine.linear_window_m = 0.2;
+  const sim::World world = testing::officeScene();
+  const Pose2D a{0.0, 1.0, 0.0};
+  const Pose2D b{0.05, 1.0, 0.02};
+  const SearchResult r = CorrelativeSearch(fine).search(pointsAt(world, a, 1), pointsAt(world, b, 2), Pose2D{});
+  ASSERT_TRUE(r.found);
+  const Pose2D truth = relative(b, a);
+  EXPECT_NEAR(r.T_key_curr.x, truth.x, 0.06);
+  EXPECT_NEAR(r.T_key_curr.yaw, truth.yaw, 0.01);
+}
+
 }  // namespace
 }  // namespace lidarseg

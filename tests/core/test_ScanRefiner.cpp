@@ -148,5 +148,22 @@ TEST(ScanRefiner, ConvergedSaysWhetherThePoseStoppedMoving) {
   EXPECT_GT(std::abs(cut.T_key_curr.x - full.T_key_curr.x) + std::abs(cut.T_key_curr.y - full.T_key_curr.y), 1e-3);
 }
 
+// Issue 16: `[refiner] max_iterations = 1000000000` was accepted and a refinement hung.
+TEST(ScanRefiner, IterationAndPointCountsAreBounded) {
+  RefinerParams p;
+  p.max_iterations = 1000000000;
+  try {
+    p.validate();
+    ADD_FAILURE() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("max_iterations must be in [1, 1000]", 0), 0u) << e.what();
+  }
+  p.max_iterations = RefinerParams::kMaxIterations;
+  EXPECT_NO_THROW(p.validate());
+  p = {};
+  p.max_points = RefinerParams::kMaxPoints + 1;
+  EXPECT_THROW(ScanRefiner{p}, std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace lidarseg

@@ -246,5 +246,25 @@ TEST(SegmentMatcher, CouplesWithoutAPoseAreNotReported) {
   EXPECT_EQ(r.T_prev_curr.yaw, prior.yaw);
 }
 
+// Issue 16: `iterations = 1000000000` was accepted and a match hung; the counts that drive
+// a match's work are capped.
+TEST(MatcherParams, IterationsAndMaxSegmentsAreBounded) {
+  MatcherParams p;
+  p.iterations = 1000000000;
+  try {
+    p.validate();
+    ADD_FAILURE() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("iterations must be <= 1000", 0), 0u) << e.what();
+  }
+  p.iterations = MatcherParams::kMaxIterations;
+  EXPECT_NO_THROW(p.validate());
+  p = {};
+  p.max_segments = MatcherParams::kMaxSegments + 1;
+  EXPECT_THROW(p.validate(), std::invalid_argument);
+  p.max_segments = MatcherParams::kMaxSegments;
+  EXPECT_NO_THROW(p.validate());
+}
+
 }  // namespace
 }  // namespace lidarseg

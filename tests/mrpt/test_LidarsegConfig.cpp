@@ -7,6 +7,8 @@
 #include "TempFiles.h"
 #include "lidarseg/mrpt/LidarsegConfig.h"
 #include "lidarseg/mrpt/OdometryConfig.h"
+#include "lidarseg/mrpt/SegmentationConfig.h"
+#include "lidarseg/mrpt/SimulationConfig.h"
 
 namespace lidarseg::mrpt_adapter {
 namespace {
@@ -63,6 +65,157 @@ TEST(LidarsegConfig, SizesAreCappedBeforeAnyParserRuns) {
   std::string indented = "odometry:\n";
   for (int k = 1; k < 200; ++k) indented += std::string(2 * static_cast<std::size_t>(k), ' ') + "k" + std::to_string(k) + ":\n";
   EXPECT_NE(errorOf(writeTemp("indented.yaml", indented)).find("nested deeper"), std::string::npos);
+}
+
+// Issue 16, [icp]: MRPT's own reader took `thresholdDist = nan` (every ICP pose then 0, 0),
+// ignored unknown keys and typos, read "1e3" as 1 and "-5" as 4294967291.
+TEST(LidarsegConfig, TheIcpSectionIsStrictLikeTheOthers) {
+  const std::string nan = writeTemp("icp-nan.ini", "[icp]\nmaxIterations = 20\nthresholdDist = nan\n");
+  EXPECT_EQ(errorOf(nan).rfind(nan + ":3 [icp] thresholdDist: 'nan' is out of range: thresholdDist must be finite", 0),
+            0u)
+      << errorOf(nan);
+  const std::string unknown = writeTemp("icp-foo.ini", "[icp]\nmaxIterations = 20\n\nfoo = 1\n");
+  EXPECT_EQ(errorOf(unknown).rfind(unknown + ":4 [icp] foo: unknown key", 0), 0u) << errorOf(unknown);
+  const std::string typo = writeTemp("icp-typo.yaml", "icp:\n  maxIteration: 1\n");
+  EXPECT_EQ(errorOf(typo).rfind(typo + ":2 [icp] maxIteration: unknown key", 0), 0u) << errorOf(typo);
+  const std::string radians = writeTemp("icp-rad.ini", "[icp]\nthresholdAng = 0.0262\n");
+  EXPECT_NE(errorOf(radians).find(":2 [icp] thresholdAng: unknown key (MRPT reads this angle in degrees as "
+                                  "thresholdAng_DEG)"),
+            std::string::npos)
+      << errorOf(radians);
+  for (const char* bad : {"maxIterations = 1000000000", "maxIterations = -5", "maxIterations = 2.5",
+                          "corresponding_points_decimation = 0", "ALFA = 0", "thresholdAng_DEG = inf",
+                          "doRANSAC = 2", "ICP_algorithm = icpFast", "ransac_minSetSize = 30"}) {
+    const std::string path = writeTemp("icp-bad.ini", std::string("[icp]\n") + bad + "\n");
+    const std::string e = errorOf(path);
+    const std::string key = std::string(bad).substr(0, std::string(bad).find(' '));
+    EXPECT_EQ(e.rfind(path + ":2 [icp] " + key, 0), 0u)
+        << bad << ": " << e;
+  }
+  const std::string good = writeTemp("icp-good.ini",
+                                     "[icp]\nmaxIterations = 1e3\nthresholdAng_DEG = 1.5\nICP_algorithm = "
+                                     "icpLevenbergMarquardt\ndoRANSAC = true\nthresholdDist = 0.4\n");
+  const LidarsegConfig c = LidarsegConfig::loadFile(good);
+  EXPECT_EQ(c.icp.maxIterations, 1000u);
+  EXPECT_NEAR(c.icp.thresholdAng, 1.5 * M_PI / 180.0, 1e-12);
+  EXPECT_EQ(c.icp.ICP_algorithm, mrpt::slam::icpLevenbergMarquardt);
+  EXPECT_TRUE(c.icp.doRANSAC);
+  EXPECT_DOUBLE_EQ(c.icp.thresholdDist, 0.4);
+  // The shipped [icp] keeps what MRPT read from it: its default angular threshold.
+  const LidarsegConfig shipped = LidarsegConfig::loadFile(std::string(LIDARSEG_CONFIG_DIR) + "/default.ini");
+  EXPECT_DOUBLE_EQ(shipped.icp.thresholdAng, mrpt::slam::CICP::TConfigParams{}.thresholdAng);
+  EXPECT_DOUBLE_EQ(shipped.icp.thresholdDist, 0.5);
+  EXPECT_EQ(shipped.icp.corresponding_points_decimation, 1u);
+}
+
+// Issue 16, class "configuration files": what a parser would drop or ignore silently is an
+// error naming the file, the line and the key or section.
+TEST(LidarsegConfig, DuplicatesAndStrayKeysAreErrorsNamingFileLineAndKey) {
+  const std::string twice = writeTemp("twice.yaml",
+                                      "segmentation:\n  wd_threshold_m: 0.05\nmatcher:\n  iterations: 3\n"
+                                      "segmentation:\n  wd_min_points: 4\n");
+  EXPECT_EQ(errorOf(twice), twice + ":5: section 'segmentation' given twice (first at line 1); the parser would "
+                                    "keep only the last");
+  const std::string key_twice = writeTemp("keytwice.yaml", "matcher:\n  iterations: 3\n  # again\n  iterations: 4\n");
+  EXPECT_EQ(errorOf(key_twice).rfind(key_twice + ":4 [matcher] iterations: given twice (first at line 2)", 0), 0u)
+      << errorOf(key_twice);
+  const std::string ini_twice = writeTemp("keytwice.ini", "[matcher]\niterations = 3\n[odometry]\n[Matcher]\niterations = 4\n");
+  EXPECT_EQ(errorOf(ini_twice).rfind(ini_twice + ":5 [Matcher] iterations: given twice (first at line 2)", 0), 0u)
+      << errorOf(ini_twice);
+  const std::string stray = writeTemp("stray.ini", "; comment\niterations = 3\n[matcher]\nmax_segments = 64\n");
+  EXPECT_EQ(errorOf(stray), stray + ":2: key 'iterations' before any [section] (every key belongs to a section)");
+  // The same checks hold for a tool reading one section (lidarseg-segment --section).
+  EXPECT_THROW(loadSegmentationParamsFile(stray, "matcher"), std::invalid_argument);
+  // An INI section given twice with different keys is merged, as before.
+  const std::string merged = writeTemp("merged.ini", "[matcher]\niterations = 3\n[odometry]\n[matcher]\nmax_segments = 64\n");
+  const LidarsegConfig c = LidarsegConfig::loadFile(merged);
+  EXPECT_EQ(c.odometry.matcher.iterations, 3u);
+  EXPECT_EQ(c.odometry.matcher.max_segments, 64u);
+}
+
+// Issue 16: an alias or an empty section made MRPT's YAML parser fail with its banner and an
+// assertion ("==== MRPT exception ====", "nVal.has_value()").
+TEST(LidarsegConfig, YamlAliasesAndEmptySectionsGetOneLineNamingFileAndLine) {
+  const std::string alias = writeTemp("alias.yaml", "matcher:\n  iterations: &n 3\n  min_matches: *n\n");
+  EXPECT_EQ(errorOf(alias), alias + ":2: YAML anchors and aliases ('&name', '*name') are not supported in a "
+                                    "parameter file");
+  const std::string empty = writeTemp("empty.yaml", "segmentation:\nmatcher:\n  iterations: 2\n");
+  EXPECT_EQ(errorOf(empty), empty + ":1 [segmentation]: the section is empty (a section maps keys to values)");
+  const std::string last = writeTemp("emptylast.yaml", "matcher:\n  iterations: 2\nodometry:   # nothing\n");
+  EXPECT_EQ(errorOf(last), last + ":3 [odometry]: the section is empty (a section maps keys to values)");
+  const std::string novalue = writeTemp("novalue.yaml", "matcher:\n  iterations:\n  min_matches: 3\n");
+  EXPECT_EQ(errorOf(novalue), novalue + ":2 [matcher] iterations: no value");
+  // Whatever else MRPT's parser refuses is one line without its banner.
+  const std::string broken = writeTemp("broken.yaml", "matcher:\n  iterations: \"2\n");
+  const std::string e = errorOf(broken);
+  EXPECT_EQ(e.rfind(broken + ": not valid YAML: ", 0), 0u) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  EXPECT_EQ(e.find("MRPT exception"), std::string::npos) << e;
+  EXPECT_EQ(e.find("nVal"), std::string::npos) << e;
+  // A '#' inside a quoted value is not a comment; a nested map is not an empty value.
+  const std::string quoted = writeTemp("quoted.yaml", "odometry:\n  level: \"fused # x\"\n");
+  EXPECT_NE(errorOf(quoted).find("is not one of"), std::string::npos) << errorOf(quoted);
+}
+
+// Issue 16: a subnormal value was "not a number".
+TEST(LidarsegConfig, ANumberTooSmallOrLargeForADoubleIsOutOfRange) {
+  for (const char* text : {"1e-320", "1e-400", "1e400", "-1e999"}) {
+    const std::string path = writeTemp("tiny.ini", std::string("[segmentation]\nwd_threshold_m = ") + text + "\n");
+    EXPECT_EQ(errorOf(path), path + ":2 [segmentation] wd_threshold_m: '" + text +
+                                 "' is out of range (a magnitude from 2.2e-308 to 1.8e308, or 0)");
+  }
+  const std::string zero = writeTemp("zero.ini", "[segmentation]\nwd_threshold_m = 0\n");
+  EXPECT_NE(errorOf(zero).find("wd_threshold_m must be finite and > 0"), std::string::npos) << errorOf(zero);
+  const std::string word = writeTemp("word.ini", "[segmentation]\nwd_threshold_m = abc\n");
+  EXPECT_NE(errorOf(word).find("'abc' is not a number"), std::string::npos) << errorOf(word);
+}
+
+// Issue 16: counts that drive the work are bounded in every section (the search's rotation
+// step, the matcher's and refiner's iterations), named with file and line.
+TEST(LidarsegConfig, UnboundedCountsAreRefusedWithFileLineAndKey) {
+  const std::string step = writeTemp("step.ini", "[search]\nangular_step_rad = 1e-12\n");
+  EXPECT_EQ(errorOf(step).rfind(step + ":2 [search] angular_step_rad: angular_step_rad must be 0 (automatic) or in "
+                                       "[0.0005, 0.5]",
+                                0),
+            0u)
+      << errorOf(step);
+  const std::string matcher = writeTemp("iters.ini", "[matcher]\niterations = 1000000000\n");
+  EXPECT_EQ(errorOf(matcher).rfind(matcher + ":2 [matcher] iterations: iterations must be <= 1000", 0), 0u)
+      << errorOf(matcher);
+  const std::string refiner = writeTemp("refiter.ini", "[refiner]\nmax_iterations = 1000000000\n");
+  EXPECT_EQ(errorOf(refiner).rfind(refiner + ":2 [refiner] max_iterations: max_iterations must be in [1, 1000]", 0),
+            0u)
+      << errorOf(refiner);
+}
+
+// Issue 16: `start_time_s = 1e16` gave identical stamps, `num_beams = 100000000` a bare
+// std::bad_alloc.
+TEST(LidarsegConfig, SimulationStampsAndSizesAreBoundedWithTheKeyNamed) {
+  const auto simError = [](const std::string& body) {
+    const std::string path = writeTemp("sim.ini", "[simulation]\n" + body + "\n");
+    try {
+      sim::SimulationParams p;
+      loadSimulationParamsFile(p, path);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what()).substr(path.size());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(simError("start_time_s = 1e16").rfind(":2 [simulation] start_time_s: start_time_s must be finite and in "
+                                                  "[-1e10, 1e10] s",
+                                                  0),
+            0u)
+      << simError("start_time_s = 1e16");
+  EXPECT_EQ(simError("num_beams = 100000000").rfind(":2 [simulation] num_beams: num_beams must be 0 (profile) or in "
+                                                    "[2, 100000]",
+                                                    0),
+            0u)
+      << simError("num_beams = 100000000");
+  EXPECT_EQ(simError("camera_width = 100000").rfind(":2 [simulation] camera_width: camera_width must be in [16, 8192]",
+                                                    0),
+            0u)
+      << simError("camera_width = 100000");
+  EXPECT_EQ(simError("start_time_s = 1767225600\nnum_beams = 100000"), "no error");
 }
 
 }  // namespace

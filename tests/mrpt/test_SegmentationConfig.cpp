@@ -121,10 +121,13 @@ TEST(SegmentationConfig, YamlWithOneKeyAndSectionRules) {
   EXPECT_EQ(errorOf("nosection.ini", "[segmentaton]\nwd_threshold_m = 0.03\n"),
             std::string(LIDARSEG_TEST_TMP_DIR) + "/nosection.ini: no [segmentation] section");
   EXPECT_NE(errorOf("flat.yaml", "wd_threshold_m: 0.03\n").find("section"), std::string::npos);
-  // Section names as MRPT reads them (spaces, case); the last duplicate key wins and is the
-  // one an error points at.
+  // Section names as MRPT reads them (spaces, case); a key given twice is an error at the
+  // second (issue 16: the last used to win silently).
   const std::string dup = errorOf("dup.ini", "[ Segmentation ]\nwd_min_points = 3\nwd_min_points = 1\n");
-  EXPECT_NE(dup.find("dup.ini:3 [segmentation] wd_min_points"), std::string::npos) << dup;
+  EXPECT_NE(dup.find("dup.ini:3 [Segmentation] wd_min_points: given twice (first at line 2)"), std::string::npos)
+      << dup;
+  const std::string key = errorOf("key.ini", "[ Segmentation ]\nwd_min_points = 1\n");
+  EXPECT_NE(key.find("key.ini:2 [segmentation] wd_min_points"), std::string::npos) << key;
 }
 
 TEST(SegmentationConfig, MissingFileIsAClearError) {

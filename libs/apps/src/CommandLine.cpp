@@ -97,7 +97,20 @@ std::optional<int> parseCommandLine(TCLAP::CmdLine& cmd, int argc, char** argv, 
   const bool run = cmd.parse(static_cast<int>(pointers.size()), pointers.data());
   cmd.setOutput(nullptr);  // nothing may print through the local output any more
   g_verbose = verbose.getValue();
-  if (run) return std::nullopt;
+  if (run) {
+    // A configuration flag given an empty name (`-c ''`, an unset shell variable) is a
+    // usage error, not a run with the defaults (issue 16).
+    for (TCLAP::Arg* arg : cmd.getArgList()) {
+      auto* value = dynamic_cast<TCLAP::ValueArg<std::string>*>(arg);
+      if (value == nullptr || !value->isSet() || !value->getValue().empty()) continue;
+      if (value->getName() != "config" && value->getName() != "sim-config") continue;
+      const std::string flag = (value->getFlag().empty() ? std::string() : "-" + value->getFlag() + "/") + "--" +
+                               value->getName();
+      std::cerr << tool << ": usage error: " << flag << ": an empty file name (see " << tool << " --help)\n";
+      return kUsageError;
+    }
+    return std::nullopt;
+  }
   return output.failed() ? kUsageError : 0;
 }
 

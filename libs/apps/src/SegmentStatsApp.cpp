@@ -28,7 +28,12 @@ namespace {
 // without a file.
 mrpt_adapter::LidarsegConfig loadConfig(const SegmentStatsOptions& options) {
   mrpt_adapter::LidarsegConfig config;
-  if (options.config_path.empty()) return config;
+  if (options.config_path.empty()) {
+    if (options.section != mrpt_adapter::kSegmentationSection) {  // it would be ignored (issue 16)
+      throw std::invalid_argument("section '" + options.section + "' given without a parameter file");
+    }
+    return config;
+  }
   if (options.section == mrpt_adapter::kSegmentationSection) {
     return mrpt_adapter::LidarsegConfig::loadFile(options.config_path);
   }

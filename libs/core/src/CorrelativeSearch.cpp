@@ -135,7 +135,12 @@ void SearchParams::validate() const {
   detail::requireInRange("resolution_m", resolution_m, 0.005, 1.0);
   detail::requirePositive("sigma_m", sigma_m);
   if (sigma_m > 20.0 * resolution_m) detail::failKey("sigma_m", "<= 20 * resolution_m", sigma_m);
-  detail::requireInRange("angular_step_rad", angular_step_rad, 0.0, 0.5);
+  // 0 = automatic; otherwise at least kMinAngularStepRad, so that the number of rotations
+  // tried (2 x angular_window_rad / step + 1, at most 12,601) stays bounded (issue 16).
+  if (!(std::isfinite(angular_step_rad) &&
+        (angular_step_rad == 0.0 || (angular_step_rad >= kMinAngularStepRad && angular_step_rad <= 0.5)))) {
+    detail::failKey("angular_step_rad", "0 (automatic) or in [0.0005, 0.5]", angular_step_rad);
+  }
   if (max_points < 3 || max_points > 5000) detail::failKey("max_points", "in [3, 5000]", static_cast<double>(max_points));
   if (coarse_cells < 1 || coarse_cells > 32) detail::failKey("coarse_cells", "in [1, 32]", static_cast<double>(coarse_cells));
   if (max_grid_cells < 16 || max_grid_cells > 4000) {

@@ -335,7 +335,10 @@ void RefinerParams::validate() const {
     detail::failKey("level", "a cascade level 0..3", static_cast<double>(static_cast<std::size_t>(level)));
   }
   if (min_segment_points < 2) detail::failKey("min_segment_points", ">= 2", static_cast<double>(min_segment_points));
-  if (max_iterations < 1) detail::failKey("max_iterations", ">= 1", static_cast<double>(max_iterations));
+  // Counts that drive the work of one refinement are bounded (issue 16).
+  if (max_iterations < 1 || max_iterations > kMaxIterations) {
+    detail::failKey("max_iterations", "in [1, 1000]", static_cast<double>(max_iterations));
+  }
   detail::requirePositive("max_distance_m", max_distance_m);
   detail::requirePositive("robust_scale_m", robust_scale_m);
   detail::requireNonNegative("endpoint_margin_m", endpoint_margin_m);
@@ -354,6 +357,7 @@ void RefinerParams::validate() const {
   detail::requirePositive("convergence_m", convergence_m);
   detail::requireNonNegative("reassociate_m", reassociate_m);
   if (max_points < min_points) detail::failKey("max_points", ">= min_points", static_cast<double>(max_points));
+  if (max_points > kMaxPoints) detail::failKey("max_points", "<= 100000", static_cast<double>(max_points));
 }
 
 ScanRefiner::ScanRefiner(const RefinerParams& params) : params_(params) { params_.validate(); }

@@ -434,7 +434,12 @@ void MatcherParams::validate() const {
   detail::requirePositive("max_weight", max_weight);
   detail::requireInRange("ambiguity_ratio", ambiguity_ratio, 1e-6, 1.0);
   if (min_matches < 2) detail::failKey("min_matches", ">= 2", static_cast<double>(min_matches));
-  if (max_segments < 2) detail::failKey("max_segments", ">= 2", static_cast<double>(max_segments));
+  // Counts that drive the work of one match are bounded (issue 16): a match costs at most
+  // 2 x (iterations + 1) x max_segments^2 weights.
+  if (iterations > kMaxIterations) detail::failKey("iterations", "<= 1000", static_cast<double>(iterations));
+  if (max_segments < 2 || max_segments > kMaxSegments) {
+    detail::failKey("max_segments", "in [2, 10000]", static_cast<double>(max_segments));
+  }
   detail::requirePositive("outlier_sigmas", outlier_sigmas);
   detail::requireInRange("degeneracy_ratio", degeneracy_ratio, 0.0, 1.0);
   detail::requirePositive("unconstrained_sigma_m", unconstrained_sigma_m);

@@ -42,8 +42,14 @@ void loadYaml(const std::string& path, LoadedConfig& out) {
   try {
     doc = mrpt::containers::yaml::FromText(out.text);
   } catch (const std::exception& e) {
-    std::string what = e.what();
-    throw std::invalid_argument(path + ": not valid YAML: " + what.substr(0, what.find('\n')));
+    // MRPT's text is a banner and a backtrace before its message: the message, in one line.
+    std::string message = exceptionMessage(e.what());
+    if (message.find("nVal.has_value()") != std::string::npos || message.find("empty scalar") != std::string::npos) {
+      // MRPT's internal assertion after libfyaml's error, which libfyaml printed (with the
+      // line and column) on stderr.
+      message = "a syntax error (the YAML parser's message with its line is on stderr)";
+    }
+    throw std::invalid_argument(path + ": not valid YAML: " + message);
   }
   if (doc.isNullNode()) return;
   if (!doc.isMap()) throw std::invalid_argument(path + ": the top level must map section names to keys");
@@ -125,6 +131,145 @@ void refuseYamlDirectives(const std::string& path, const std::string& text) {
 }
 }  // namespace
 
+namespace {
+std::string lowerText(std::string s) {
+  for (char& c : s) c = lower(c);
+  return s;
+}
+
+// The text of a YAML line before its comment ('#' at the start or after a blank, outside
+// quotes).
+std::string withoutYamlComment(const std::string& line) {
+  char quote = 0;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quote != 0) {
+      if (c == quote) quote = 0;
+    } else if (c == '"' || c == '\'') {
+      quote = c;
+    } else if (c == '#' && (i == 0 || line[i - 1] == ' ' || line[i - 1] == '\t')) {
+      return line.substr(0, i);
+    }
+  }
+  return line;
+}
+
+// Block-style YAML checked line by line before the parser (issue 16): MRPT's parser keeps
+// the last of two equal keys or sections silently, and fails on an alias or an empty
+// section with an assertion text ("nVal.has_value()", "Unexpected empty scalar?!").
+void checkYamlStructure(const std::string& path, const std::string& text) {
+  std::istringstream in(text);
+  std::string raw;
+  std::map<std::string, int> sections;  // lower-case name -> line
+  std::map<std::string, int> keys;      // of the current section
+  std::string section;
+  int key_indent = -1;
+  struct Pending {
+    int line = 0, indent = 0;
+    std::string section, key;
+  } pending;
+  const auto at = [&](int line) { return path + ":" + std::to_string(line); };
+  const auto failEmpty = [&]() {
+    if (pending.key.empty()) return;
+    if (pending.section.empty()) {
+      throw std::invalid_argument(at(pending.line) + " [" + pending.key +
+                                  "]: the section is empty (a section maps keys to values)");
+    }
+    throw std::invalid_argument(at(pending.line) + " [" + pending.section + "] " + pending.key + ": no value");
+  };
+  for (int number = 1; std::getline(in, raw); ++number) {
+    const std::string content = withoutYamlComment(raw);
+    const std::string t = trim(content);
+    if (t.empty() || t == "---" || t == "...") continue;
+    const int indent = static_cast<int>(content.find_first_not_of(" \t"));
+    if (!pending.key.empty()) {
+      if (indent <= pending.indent) failEmpty();
+      pending = Pending{};
+    }
+    // A key: the text before the first ':' followed by a blank or the end of the line.
+    std::size_t colon = std::string::npos;
+    char quote = 0;
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      if (quote != 0) {
+        if (t[i] == quote) quote = 0;
+      } else if (t[i] == '"' || t[i] == '\'') {
+        quote = t[i];
+      } else if (t[i] == ':' && (i + 1 == t.size() || t[i + 1] == ' ' || t[i + 1] == '\t')) {
+        colon = i;
+        break;
+      }
+    }
+    const std::string value = colon == std::string::npos ? t : trim(t.substr(colon + 1));
+    const bool reference = (!value.empty() && (value[0] == '&' || value[0] == '*')) ||
+                           (!t.empty() && (t[0] == '&' || t[0] == '*'));
+    if (reference) {
+      throw std::invalid_argument(at(number) +
+                                  ": YAML anchors and aliases ('&name', '*name') are not supported in a "
+                                  "parameter file");
+    }
+    if (colon == std::string::npos || t[0] == '-' || t[0] == '{' || t[0] == '[') continue;
+    std::string key = trim(t.substr(0, colon));
+    if (key.size() >= 2 && (key[0] == '"' || key[0] == '\'') && key.back() == key[0]) {
+      key = key.substr(1, key.size() - 2);
+    }
+    if (indent == 0) {
+      const auto [it, added] = sections.emplace(lowerText(key), number);
+      if (!added) {
+        throw std::invalid_argument(at(number) + ": section '" + key + "' given twice (first at line " +
+                                    std::to_string(it->second) + "); the parser would keep only the last");
+      }
+      section = key;
+      keys.clear();
+      key_indent = -1;
+      if (value.empty()) pending = Pending{number, indent, "", key};
+      continue;
+    }
+    if (section.empty()) continue;
+    if (key_indent < 0) key_indent = indent;
+    if (indent != key_indent) continue;
+    const auto [it, added] = keys.emplace(key, number);
+    if (!added) {
+      throw std::invalid_argument(at(number) + " [" + section + "] " + key + ": given twice (first at line " +
+                                  std::to_string(it->second) + "); the parser would keep only the last");
+    }
+    if (value.empty()) pending = Pending{number, indent, section, key};
+  }
+  failEmpty();
+}
+
+// INI checked line by line (issue 16): MRPT keeps the last of two equal keys silently and
+// ignores keys before the first [section].
+void checkIniStructure(const std::string& path, const std::string& text) {
+  std::istringstream in(text);
+  std::string line;
+  std::string section;
+  bool in_section = false;
+  std::map<std::pair<std::string, std::string>, int> seen;
+  for (int number = 1; std::getline(in, line); ++number) {
+    const std::string t = trim(line);
+    if (t.empty() || t[0] == '#' || t[0] == ';' || t[0] == '@' || t.rfind("//", 0) == 0) continue;
+    if (t[0] == '[') {
+      section = trim(t.substr(1, t.find(']') - 1));
+      in_section = true;
+      continue;
+    }
+    const auto sep = t.find('=');
+    if (sep == std::string::npos) continue;
+    const std::string key = trim(t.substr(0, sep));
+    if (!in_section) {
+      throw std::invalid_argument(path + ":" + std::to_string(number) + ": key '" + key +
+                                  "' before any [section] (every key belongs to a section)");
+    }
+    const auto [it, added] = seen.emplace(std::make_pair(lowerText(section), lowerText(key)), number);
+    if (!added) {
+      throw std::invalid_argument(path + ":" + std::to_string(number) + " [" + section + "] " + key +
+                                  ": given twice (first at line " + std::to_string(it->second) +
+                                  "); only one value may be given");
+    }
+  }
+}
+}  // namespace
+
 LoadedConfig readConfigFile(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
@@ -146,6 +291,7 @@ LoadedConfig readConfigFile(const std::string& path) {
   if (out.yaml) {
     checkYamlNesting(path, out.text);
     refuseYamlDirectives(path, out.text);
+    checkYamlStructure(path, out.text);
     loadYaml(path, out);
   } else {
     std::vector<std::string> sections;
@@ -156,6 +302,7 @@ LoadedConfig readConfigFile(const std::string& path) {
       // MRPT's text is a banner and a backtrace before its message: the message, in one line.
       throw std::invalid_argument(path + ": not a valid INI file: " + exceptionMessage(e.what()));
     }
+    checkIniStructure(path, out.text);
     for (const std::string& s : sections) out.lines[s] = iniKeyLines(out.text, s);
   }
   return out;
@@ -200,8 +347,14 @@ double parseDouble(const std::string& text, const std::string& context) {
   errno = 0;
   char* end = nullptr;
   const double v = std::strtod(t.c_str(), &end);
-  if (t.empty() || end != t.c_str() + t.size() || errno == ERANGE) {
+  if (t.empty() || end != t.c_str() + t.size()) {
     throw std::invalid_argument(context + ": '" + text + "' is not a number");
+  }
+  // A number whose magnitude a double cannot hold at full precision: beyond 1.8e308
+  // (strtod gives inf) or below 2.2e-308 (a subnormal, or 0 after underflow).
+  if (errno == ERANGE || (std::isfinite(v) && v != 0.0 && !std::isnormal(v))) {
+    throw std::invalid_argument(context + ": '" + text +
+                                "' is out of range (a magnitude from 2.2e-308 to 1.8e308, or 0)");
   }
   return v;
 }

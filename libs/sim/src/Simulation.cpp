@@ -2,6 +2,7 @@
 #include "lidarseg/core/Angles.h"
 
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 namespace lidarseg::sim {
@@ -17,6 +18,9 @@ void requireNonNegative(const char* key, double v) {
     throw std::invalid_argument(std::string(key) + " must be finite and >= 0 (got " + std::to_string(v) + ")");
   }
 }
+void requireFinite(const char* key, double v) {
+  if (!std::isfinite(v)) throw std::invalid_argument(std::string(key) + " must be finite (got " + std::to_string(v) + ")");
+}
 }  // namespace
 
 void SimulationParams::validate() const {
@@ -30,11 +34,31 @@ void SimulationParams::validate() const {
   if (field_of_view_rad > 2.0 * kPi + 1e-9) {
     throw std::invalid_argument("field_of_view_rad must be <= 2 pi (got " + std::to_string(field_of_view_rad) + ")");
   }
-  if (num_beams == 1) throw std::invalid_argument("num_beams must be 0 (profile) or >= 2");
+  if (num_beams == 1 || num_beams > kMaxBeams) {
+    throw std::invalid_argument("num_beams must be 0 (profile) or in [2, 100000] (got " + std::to_string(num_beams) +
+                                ")");
+  }
+  // A stamp must still tell two scans 1 ms apart: |t| <= 1e10 s (the year 2286) keeps a double's spacing
+  // near t below 2e-6 s (issue 16).
+  if (!(std::isfinite(start_time_s) && std::abs(start_time_s) <= kMaxAbsStartTimeS)) {
+    std::ostringstream os;
+    os << "start_time_s must be finite and in [-1e10, 1e10] s (got " << start_time_s << ")";
+    throw std::invalid_argument(os.str());
+  }
   if (static_cast<std::size_t>(scan_stamp) > 2) {
     throw std::invalid_argument("scan_stamp must be 0 (first beam), 1 (middle) or 2 (last beam)");
   }
-  if (camera.width < 16 || camera.height < 16) throw std::invalid_argument("camera_width and camera_height must be >= 16");
+  if (camera.width < 16 || camera.width > 8192) {
+    throw std::invalid_argument("camera_width must be in [16, 8192] (got " + std::to_string(camera.width) + ")");
+  }
+  if (camera.height < 16 || camera.height > 8192) {
+    throw std::invalid_argument("camera_height must be in [16, 8192] (got " + std::to_string(camera.height) + ")");
+  }
+  requireFinite("camera_cx", camera.cx);
+  requireFinite("camera_cy", camera.cy);
+  requireFinite("camera_x_m", camera.x_m);
+  requireFinite("camera_y_m", camera.y_m);
+  requireFinite("camera_yaw_rad", camera.yaw_rad);
   requirePositive("camera_fx", camera.fx);
   requirePositive("camera_fy", camera.fy);
   requirePositive("camera_z_m", camera.z_m);

@@ -23,8 +23,11 @@ struct SearchParams {
   /// Standard deviation of the likelihood around each keyframe point (m).
   double sigma_m = 0.08;
   /// Rotation step (rad); 0 = chosen so that the farthest used point moves by at most one
-  /// cell (Olson's rule), within [0.5 deg, 2 deg].
+  /// cell (Olson's rule), within [0.5 deg, 2 deg]. Otherwise in [kMinAngularStepRad, 0.5].
   double angular_step_rad = 0.0;
+  /// The smallest rotation step accepted (rad): with the widest window (3.15 rad) at most
+  /// 12,601 rotations are tried.
+  static constexpr double kMinAngularStepRad = 0.0005;
   /// Points of the current scan used at most (evenly subsampled).
   std::size_t max_points = 100;
   /// Top-level translation block of the branch and bound, in cells (>= 1); each level

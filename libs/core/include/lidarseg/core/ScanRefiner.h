@@ -34,6 +34,8 @@ struct RefinerParams {
   bool unsegmented_points = true;
   /// Gauss-Newton iterations at most; each re-associates the points.
   std::size_t max_iterations = 10;
+  /// The largest max_iterations accepted.
+  static constexpr std::size_t kMaxIterations = 1000;
   /// A point is paired only with a segment whose line is closer than this (m).
   double max_distance_m = 0.3;
   /// Scale of the Cauchy loss on the point-to-line residuals (m): residuals well below it
@@ -63,6 +65,8 @@ struct RefinerParams {
   /// Points of the current scan used at most (evenly thinned beyond): bounds the cost of a
   /// dense scan.
   std::size_t max_points = 400;
+  /// The largest max_points accepted (the log readers' beam cap).
+  static constexpr std::size_t kMaxPoints = 100000;
   /// At least this many points must pair for any estimate.
   std::size_t min_points = 20;
   /// A direction of the information (yaw scaled by the points' RMS range) is unconstrained

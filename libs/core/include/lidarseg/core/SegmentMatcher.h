@@ -40,12 +40,15 @@ struct MatcherParams {
   std::size_t band_half_width = 2;
   /// Fall back to the full matrix when the band yields fewer couples than this.
   std::size_t min_matches = 3;
-  /// Re-association iterations after the first estimate.
+  /// Re-association iterations after the first estimate (<= kMaxIterations).
   std::size_t iterations = 2;
+  static constexpr std::size_t kMaxIterations = 1000;
   /// Latency bound: at most this many segments of each scan are considered, the longest
   /// ones (a cluttered or pathological scan can hold thousands). With it, one match costs
-  /// at most 2 x (iterations + 1) x max_segments^2 weights, whatever the scan. >= 2.
+  /// at most 2 x (iterations + 1) x max_segments^2 weights, whatever the scan. In
+  /// [2, kMaxSegments].
   std::size_t max_segments = 128;
+  static constexpr std::size_t kMaxSegments = 10000;
   /// Couples whose line residual exceeds this many standard deviations are dropped.
   double outlier_sigmas = 4.0;
   /// Degenerate when the translation's information along its weakest direction is below

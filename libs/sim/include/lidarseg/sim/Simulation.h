@@ -24,6 +24,8 @@ struct SimulationParams {
   /// Override of the profile's beam count and field of view (0: keep the profile's); the
   /// beams stay evenly spaced and centred on the sensor's x axis.
   std::size_t num_beams = 0;
+  /// The largest num_beams accepted (the log readers' beam cap).
+  static constexpr std::size_t kMaxBeams = 100000;
   double field_of_view_rad = 0.0;
   /// Each beam measured at its own time while the robot moves (paper IV.A); off: every
   /// beam of a scan from the pose at the scan's time.
@@ -38,7 +40,9 @@ struct SimulationParams {
   std::size_t camera_every_scans = 25;
   OdometryNoise odometry;
   /// Time of the first scan (s since the Unix epoch): 2026-01-01 00:00:00 UTC.
+  /// |start_time_s| <= kMaxAbsStartTimeS, so that stamps 1 ms apart stay distinct.
   double start_time_s = 1767225600.0;
+  static constexpr double kMaxAbsStartTimeS = 1e10;
   std::uint64_t seed = 1;
 
   /// @throws std::invalid_argument naming the key.
