@@ -373,7 +373,7 @@ mrpt::obs::CObservationImage::Ptr cameraImage(double t, int k) {
 
 // Four sensory frames, each a laser scan and a camera image stored as JPEG (MRPT's
 // serialisation with JPEG compression on); the rawlog's path.
-std::string jpegFramesRawlog(const std::string& name) {
+std::string jpegFramesRawlog(const std::string& name, bool second_laser = false) {
   fs::create_directories(kTmp);
   const std::string path = kTmp + "/" + name;
   const bool before = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
@@ -387,6 +387,11 @@ std::string jpegFramesRawlog(const std::string& name) {
       ScanSpec sp;
       sp.x = 0.05 * k;
       frame.insert(scanAt(sp, t));
+      if (second_laser) {  // another laser in the same frame, under another label
+        auto rear = scanAt(sp, t);
+        rear->sensorLabel = "REAR";
+        frame.insert(rear);
+      }
       frame.insert(cameraImage(t, k));
       archive << frame;
     }
@@ -453,6 +458,29 @@ TEST(RecordValidation, ACorruptJpegCameraImageInARawlogIsSkippedWithItsEntryAndT
   bool named = false;
   for (const auto& w : report.warnings) named = named || w.find("entry 1: a corrupt JPEG image") != std::string::npos;
   EXPECT_TRUE(named) << "no warning names the corrupt image's entry";
+}
+
+// The message of an entry skipped for a corrupt image counts the laser scans kept for the
+// run: those of the label read, not another laser's in the same sensory frame.
+TEST(RecordValidation, ASkippedImageEntryCountsOnlyTheScansOfTheLabelRead) {
+  std::string bytes = fileBytes(jpegFramesRawlog("jpeg_images_two_lasers.rawlog", true));
+  const std::vector<std::size_t> sos = jpegScans(bytes);
+  ASSERT_EQ(sos.size(), 4u) << "the images are not stored as JPEG";
+  bytes[sos[1] + 1] = static_cast<char>(0xD9);  // image 1 ends before its scan
+  const std::string bad = kTmp + "/jpeg_images_two_lasers_corrupt.rawlog";
+  std::ofstream(bad, std::ios::binary) << bytes;
+  for (const std::string label : {"LASER", "REAR"}) {
+    mrpt_adapter::RawlogScanReader raw(bad, label);
+    std::size_t scans = 0;
+    while (auto scan = raw.next()) {
+      EXPECT_EQ(scan->observation->sensorLabel, label);
+      ++scans;
+    }
+    EXPECT_EQ(scans, 4u) << label;
+    ASSERT_EQ(raw.skippedEntries().size(), 1u) << label;
+    EXPECT_NE(raw.skippedEntries()[0].find("the entry skipped but its 1 laser scan(s)"), std::string::npos)
+        << raw.skippedEntries()[0];
+  }
 }
 
 // A camera image whose JPEG data ends early (its end-of-image marker overwritten, as a

@@ -402,17 +402,17 @@ void RawlogScanReader::skipEntryWithCorruptImages(const mrpt::serialization::CSe
                                                   const std::vector<std::string>& corrupt_images) {
   // The entry's observations that hold no image are whole: a sensory frame's laser scans and
   // odometry readings are kept, the rest of the entry (the placeholders among it) skipped.
-  std::size_t kept_scans = 0;
+  // Counted as the scans the reader returns: those of the requested label only.
+  const std::size_t pending_before = pending_.size();
   if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(object)) {
     for (const auto& obs : *sf) {
-      if (std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs)) {
-        ++kept_scans;
-        take(obs);
-      } else if (std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(obs)) {
+      if (std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs) ||
+          std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(obs)) {
         take(obs);
       }
     }
   }
+  const std::size_t kept_scans = pending_.size() - pending_before;
   std::string message = "rawlog '" + path_ + "', entry " + std::to_string(entries_read_ - 1) + ": a corrupt JPEG image (" +
                         corrupt_images.front() + ")";
   if (corrupt_images.size() > 1) message += " and " + std::to_string(corrupt_images.size() - 1) + " more";
