@@ -371,9 +371,9 @@ mrpt::obs::CObservationImage::Ptr cameraImage(double t, int k) {
   return image;
 }
 
-// Four sensory frames, each a laser scan and a camera image stored as JPEG (MRPT's
-// serialisation with JPEG compression on); the rawlog's path.
-std::string jpegFramesRawlog(const std::string& name, bool second_laser = false) {
+// `frames` sensory frames (4 by default), each a laser scan and `images` camera images stored
+// as JPEG (MRPT's serialisation with JPEG compression on); the rawlog's path.
+std::string jpegFramesRawlog(const std::string& name, bool second_laser = false, int frames = 4, int images = 1) {
   fs::create_directories(kTmp);
   const std::string path = kTmp + "/" + name;
   const bool before = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
@@ -382,17 +382,17 @@ std::string jpegFramesRawlog(const std::string& name, bool second_laser = false)
     mrpt::io::CFileOutputStream out(path);
     auto archive = mrpt::serialization::archiveFrom(out);
     double t = 100.0;
-    for (int k = 0; k < 4; ++k, t += 0.1) {
+    for (int k = 0; k < frames; ++k, t += 0.1) {
       mrpt::obs::CSensoryFrame frame;
       ScanSpec sp;
-      sp.x = 0.05 * k;
+      sp.x = 0.05 * (k % 4);
       frame.insert(scanAt(sp, t));
       if (second_laser) {  // another laser in the same frame, under another label
         auto rear = scanAt(sp, t);
         rear->sensorLabel = "REAR";
         frame.insert(rear);
       }
-      frame.insert(cameraImage(t, k));
+      for (int i = 0; i < images; ++i) frame.insert(cameraImage(t, k % 4));
       archive << frame;
     }
   }
@@ -480,6 +480,56 @@ TEST(RecordValidation, ASkippedImageEntryCountsOnlyTheScansOfTheLabelRead) {
     ASSERT_EQ(raw.skippedEntries().size(), 1u) << label;
     EXPECT_NE(raw.skippedEntries()[0].find("the entry skipped but its 1 laser scan(s)"), std::string::npos)
         << raw.skippedEntries()[0];
+  }
+}
+
+// Every one of 120 entries holds a corrupt image: all 120 scans are read, the count is in
+// full and the list stops at its first 100 (memory bounded whatever the log).
+TEST(RecordValidation, ManyEntriesWithCorruptImagesAreCountedInFullAndListedUpToTheCap) {
+  std::string bytes = fileBytes(jpegFramesRawlog("jpeg_images_many.rawlog", false, 120));
+  const std::vector<std::size_t> sos = jpegScans(bytes);
+  ASSERT_EQ(sos.size(), 120u) << "the images are not stored as JPEG";
+  for (const std::size_t at : sos) bytes[at + 1] = static_cast<char>(0xD9);
+  const std::string bad = kTmp + "/jpeg_images_many_corrupt.rawlog";
+  std::ofstream(bad, std::ios::binary) << bytes;
+  mrpt_adapter::RawlogScanReader raw(bad);
+  std::size_t scans = 0;
+  while (raw.next()) ++scans;
+  EXPECT_EQ(scans, 120u);
+  EXPECT_EQ(raw.skippedEntryCount(), 120u);
+  EXPECT_EQ(raw.skippedEntries().size(), 100u);
+  EXPECT_NE(raw.skippedEntries().back().find("entry 99:"), std::string::npos) << raw.skippedEntries().back();
+}
+
+// One entry may hold up to kMaxCorruptImagesPerEntry corrupt images, each replaced and the
+// entry read again; one more is the entry's error (naming it), not an unbounded replay.
+TEST(RecordValidation, AnEntryWithMoreCorruptImagesThanTheCapIsAnErrorNamingIt) {
+  const int cap = static_cast<int>(mrpt_adapter::RawlogScanReader::kMaxCorruptImagesPerEntry);
+  for (const int images : {cap, cap + 1}) {
+    const std::string name = "jpeg_images_" + std::to_string(images) + ".rawlog";
+    std::string bytes = fileBytes(jpegFramesRawlog(name, false, 2, images));
+    const std::vector<std::size_t> sos = jpegScans(bytes);
+    ASSERT_EQ(sos.size(), 2u * static_cast<std::size_t>(images)) << "the images are not stored as JPEG";
+    for (int i = 0; i < images; ++i) bytes[sos[static_cast<std::size_t>(i)] + 1] = static_cast<char>(0xD9);  // entry 0's
+    const std::string bad = kTmp + "/corrupt_" + name;
+    std::ofstream(bad, std::ios::binary) << bytes;
+    mrpt_adapter::RawlogScanReader raw(bad);
+    if (images == cap) {
+      std::size_t scans = 0;
+      while (raw.next()) ++scans;
+      EXPECT_EQ(scans, 2u);
+      ASSERT_EQ(raw.skippedEntries().size(), 1u);
+      EXPECT_NE(raw.skippedEntries()[0].find("and " + std::to_string(cap - 1) + " more"), std::string::npos)
+          << raw.skippedEntries()[0];
+    } else {
+      try {
+        raw.next();
+        ADD_FAILURE() << "no error for " << images << " corrupt images in one entry";
+      } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("rawlog '" + bad + "', entry 0: truncated or corrupt"), std::string::npos)
+            << e.what();
+      }
+    }
   }
 }
 
