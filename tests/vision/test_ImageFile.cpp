@@ -239,6 +239,22 @@ std::string mjpegFrames(const std::string& name, int n, unsigned char marker, st
   return bytes;
 }
 
+// Reads every frame the source gives and returns their numbers; each frame must be the
+// 64 x 48 test image of its own colour (blue 40 k for frame k; JPEG moves it by a few
+// levels), so a grey-filled or out-of-step frame fails here.
+std::vector<std::size_t> readFrameNumbers(FrameSource& frames) {
+  cv::Mat frame;
+  std::string file;
+  std::vector<std::size_t> numbers;
+  while (frames.next(frame, file)) {
+    numbers.push_back(frames.frameIndex());
+    EXPECT_EQ(frame.cols, 64);
+    EXPECT_EQ(frame.rows, 48);
+    EXPECT_NEAR(cv::mean(frame)[0], 40.0 * static_cast<double>(frames.frameIndex()), 6.0) << frames.frameIndex();
+  }
+  return numbers;
+}
+
 // A corrupt Motion-JPEG frame is skipped and counted with its number; the frames after it
 // are the right ones, under their own numbers (issue 16: a corrupt packet could put the
 // header check one frame behind the decoder, and FFmpeg's decoder ended the video there).
@@ -255,16 +271,7 @@ TEST(ImageFile, ACorruptMotionJpegFrameIsSkippedAndCountedAndTheNextFramesStayIn
   std::ofstream(path, std::ios::binary) << bytes;
 
   FrameSource frames(path);
-  cv::Mat frame;
-  std::string file;
-  std::vector<std::size_t> numbers;
-  while (frames.next(frame, file)) {
-    numbers.push_back(frames.frameIndex());
-    ASSERT_EQ(frame.cols, 64);
-    ASSERT_EQ(frame.rows, 48);
-    // The frame's own colour: blue 40 k for frame k (JPEG moves it by a few levels).
-    EXPECT_NEAR(cv::mean(frame)[0], 40.0 * static_cast<double>(frames.frameIndex()), 6.0) << frames.frameIndex();
-  }
+  const std::vector<std::size_t> numbers = readFrameNumbers(frames);
   EXPECT_EQ(numbers, (std::vector<std::size_t>{0, 2, 4}));
   EXPECT_EQ(frames.skippedFrameCount(), 2u);
   ASSERT_EQ(frames.skippedFrames().size(), 2u);
@@ -290,15 +297,7 @@ TEST(ImageFile, ATruncatedMotionJpegFrameIsSkippedAndCountedNotGreyFilled) {
   std::ofstream(path, std::ios::binary) << bytes;
 
   FrameSource frames(path);
-  cv::Mat frame;
-  std::string file;
-  std::vector<std::size_t> numbers;
-  while (frames.next(frame, file)) {
-    numbers.push_back(frames.frameIndex());
-    ASSERT_EQ(frame.cols, 64);
-    ASSERT_EQ(frame.rows, 48);
-    EXPECT_NEAR(cv::mean(frame)[0], 40.0 * static_cast<double>(frames.frameIndex()), 6.0) << frames.frameIndex();
-  }
+  const std::vector<std::size_t> numbers = readFrameNumbers(frames);
   EXPECT_EQ(numbers, (std::vector<std::size_t>{0, 1, 3}));
   EXPECT_EQ(frames.skippedFrameCount(), 1u);
   ASSERT_EQ(frames.skippedFrames().size(), 1u);
