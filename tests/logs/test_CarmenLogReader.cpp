@@ -1,6 +1,7 @@
 #include <cmath>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <zlib.h>
@@ -223,4 +224,21 @@ TEST(CarmenLogReader, ReadsEveryRadishLogToTheEnd) {
     EXPECT_GT(n, 200u) << name;
     EXPECT_EQ(reader.malformedLines(), 0u) << name;
   }
+}
+
+// A stamp beyond 1e10 s (the year 2286) is a corrupt field, not a clock reading: its line
+// is skipped with its place. At 1e15 s the runs' 1 ms nudge of a repeated stamp was lost to
+// rounding, so the outputs' stamps stopped increasing while the summary counted nothing.
+TEST(CarmenLogReader, AStampBeyondTheYear2286SkipsItsLineWithItsPlace) {
+  const std::string text = flaser(5, 1.0, 0.0, 1.0) + flaser(5, 1.0, 0.1, 1e15) + flaser(5, 1.0, 0.2, -2e10) +
+                           flaser(5, 1.0, 0.3, 9.9e9) + flaser(5, 1.0, 0.4, 2.0);
+  CarmenLogReader reader(writeText("stamps.log", text));
+  std::vector<double> stamps;
+  while (auto l = reader.next()) stamps.push_back(l->stamp_s);
+  EXPECT_EQ(stamps, (std::vector<double>{1.0, 9.9e9, 2.0}));
+  ASSERT_EQ(reader.issues().size(), 2u);
+  EXPECT_NE(reader.issues()[0].find("stamps.log:2"), std::string::npos) << reader.issues()[0];
+  EXPECT_NE(reader.issues()[0].find("ipc_timestamp"), std::string::npos) << reader.issues()[0];
+  EXPECT_NE(reader.issues()[0].find("not a time stamp"), std::string::npos) << reader.issues()[0];
+  EXPECT_NE(reader.issues()[1].find("stamps.log:3"), std::string::npos) << reader.issues()[1];
 }

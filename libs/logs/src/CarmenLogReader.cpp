@@ -1,5 +1,6 @@
 #include "lidarseg/logs/CarmenLogReader.h"
 #include "lidarseg/core/Angles.h"
+#include "lidarseg/core/StampPolicy.h"
 
 #include <cerrno>
 #include <cmath>
@@ -44,6 +45,16 @@ double finiteNumber(const std::vector<std::string>& f, std::size_t i, const char
   const double v = number(f, i, name);
   if (!std::isfinite(v)) {
     throw std::invalid_argument(std::string("field '") + name + "' = '" + f[i] + "' is not finite");
+  }
+  return v;
+}
+
+// A time stamp: finite and within kMaxLogStampS.
+double stampNumber(const std::vector<std::string>& f, std::size_t i, const char* name) {
+  const double v = finiteNumber(f, i, name);
+  if (std::abs(v) > kMaxLogStampS) {
+    throw std::invalid_argument(std::string("field '") + name + "' = '" + f[i] +
+                                "' is beyond +-1e10 s (the year 2286): not a time stamp");
   }
   return v;
 }
@@ -126,7 +137,7 @@ bool CarmenLogReader::parseLaser(const std::string& type, const std::vector<std:
                       finiteNumber(f, base + 2, "laser_theta")};
     out.robot_pose = {finiteNumber(f, base + 3, "robot_x"), finiteNumber(f, base + 4, "robot_y"),
                       finiteNumber(f, base + 5, "robot_theta")};
-    out.stamp_s = finiteNumber(f, base + 11, "ipc_timestamp");
+    out.stamp_s = stampNumber(f, base + 11, "ipc_timestamp");
     out.laser_on_robot = relative(out.laser_pose, out.robot_pose);
   } else {
     const std::size_t n = count(f, 1, "num_readings");
@@ -139,7 +150,7 @@ bool CarmenLogReader::parseLaser(const std::string& type, const std::vector<std:
     out.laser_pose = {finiteNumber(f, n + 2, "x"), finiteNumber(f, n + 3, "y"), finiteNumber(f, n + 4, "theta")};
     out.robot_pose = {finiteNumber(f, n + 5, "odom_x"), finiteNumber(f, n + 6, "odom_y"),
                       finiteNumber(f, n + 7, "odom_theta")};
-    out.stamp_s = finiteNumber(f, n + 8, "ipc_timestamp");
+    out.stamp_s = stampNumber(f, n + 8, "ipc_timestamp");
     const double fov_deg = paramDouble("laser_" + side + "_laser_fov", 180.0);
     double res_deg = paramDouble("laser_" + side + "_laser_resolution", 0.0);
     if (!(res_deg > 0.0) && n > 1) res_deg = (n % 2 == 1) ? fov_deg / static_cast<double>(n - 1)

@@ -11,6 +11,12 @@
 
 namespace lidarseg {
 
+/// The largest |stamp| (s) a log's scan may carry: 1e10 s is the year 2286 in Unix time. A
+/// larger stamp is no clock reading (a corrupt field), and beyond it the output's 1 ms nudge
+/// of a non-increasing stamp is lost to rounding; the readers skip such a record with its
+/// place (issue 16).
+constexpr double kMaxLogStampS = 1e10;
+
 /// The knobs of the stamp repair, each a key of the `[stamps]` configuration section.
 struct StampPolicyParams {
   /// A step between two scans longer than this (s) is a gap: the motion prior restarts
