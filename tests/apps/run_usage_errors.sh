@@ -59,6 +59,7 @@ check "odometry rawlog on summary" 2 "--write-rawlog 'out/summary.json' and -o" 
 check "odometry features-out on -o" 2 "--features-out 'out' and -o" lidarseg-odometry log.log -o out --features-out out
 check "features rois on csv" 2 "--out 'out/features.csv' and --rois-out" lidarseg-features log.log -o out --rois-out out/features.csv
 check "features rois on figure" 2 "--rois-out 'Y' and --figure 'Y'" lidarseg-features log.log -o out --rois-out Y --figure Y
+check "features rois on matches" 2 "--rois-out 'X' and --matches-out 'X'" lidarseg-features log.log --gt log.log -o out --rois-out X --matches-out X
 check "features images on csv" 2 "--images-out 'out/features.csv'" lidarseg-features log.log -o out --images-out out/features.csv
 check "people draw on csv" 2 "--out 'out/people.csv' and --draw" lidarseg-people log.log -o out --roi 0,0,300,300 --draw out/people.csv
 [ -e X ] || [ -e Y ] && { echo "FAIL: X or Y written"; fails=$((fails+1)); }
