@@ -65,8 +65,7 @@ std::vector<std::string> withNewNames(int argc, char** argv, const std::vector<R
   return args;
 }
 
-// Which unsigned options of `cmd` were given a value that is not a whole number of digits
-// (TCLAP reads "-1" as 2^64 - 1 and "" as 0): their spelling and the value, or nothing.
+// Whether `a` takes an unsigned number.
 bool isUnsignedArg(TCLAP::Arg* a) {
   return dynamic_cast<TCLAP::ValueArg<unsigned long>*>(a) != nullptr ||
          dynamic_cast<TCLAP::ValueArg<unsigned long long>*>(a) != nullptr ||
@@ -78,6 +77,8 @@ bool isWholeNumber(const std::string& v) {
   return !v.empty() && v.find_first_not_of("0123456789") == std::string::npos;
 }
 
+// The first unsigned option of `cmd` given a value that is not a whole number of digits
+// (TCLAP reads "-1" as 2^64 - 1 and "" as 0), as a message naming it; nothing when none.
 std::optional<std::string> badUnsignedValue(TCLAP::CmdLine& cmd, const std::vector<std::string>& args) {
   for (TCLAP::Arg* a : cmd.getArgList()) {
     if (!isUnsignedArg(a)) continue;
