@@ -33,6 +33,10 @@ int main(int argc, char** argv) {
   using lidarseg::apps::BatchApp;
   if (argc < 2) return usage();
   const std::string command = argv[1];
+  if (command == "--version") {
+    std::cout << "lidarseg-batch  version: 0.1.0\n";
+    return 0;
+  }
   if (command == "--help" || command == "-h") {
     std::cout << "usage: lidarseg-batch run|one|aggregate [options]   (lidarseg-batch <command> --help)\n";
     return 0;
@@ -93,16 +97,20 @@ int main(int argc, char** argv) {
       return 0;
     }
     std::size_t n = jobs.getValue();
+    if (jobs.isSet() && (n < 1 || n > 256)) {
+      std::cerr << "lidarseg-batch run: usage error: -j/--jobs must be in [1, 256] (got " << n
+                << "; without -j: one per core)\n";
+      return lidarseg::apps::kUsageError;
+    }
     if (n == 0) n = std::max(1u, std::thread::hardware_concurrency());
     // The folder stays locked from the first run to the table (no writer in between).
-    const auto outcome = BatchApp::runAndAggregate(job, lidarseg::apps::parseSeeds(seeds.getValue()), n,
+    const auto outcome = BatchApp::runAndAggregate(job, lidarseg::apps::checkedOption("--seeds", [&] { return lidarseg::apps::parseSeeds(seeds.getValue()); }), n,
                                                    selfExe(argv[0]), !quiet.getValue(),
                                                    title.getValue().empty() ? job.out_dir : title.getValue());
     for (const auto& f : outcome.failed) std::cerr << "lidarseg-batch: failed: " << f << "\n";
     std::cout << outcome.summary.table_markdown;
     return outcome.failed.empty() ? 0 : 3;
   } catch (const std::exception& e) {
-    std::cerr << "lidarseg-batch: error: " << lidarseg::apps::describeError(e) << "\n";
-    return 1;
+    return lidarseg::apps::errorExit("lidarseg-batch", e);
   }
 }

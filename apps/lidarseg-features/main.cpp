@@ -63,7 +63,6 @@ int main(int argc, char** argv) {
     lidarseg::apps::FeaturesApp::printWarnings(result, std::cerr);
     return 0;
   } catch (const std::exception& e) {
-    std::cerr << "lidarseg-features: error: " << lidarseg::apps::describeError(e) << "\n";
-    return 1;
+    return lidarseg::apps::errorExit("lidarseg-features", e);
   }
 }

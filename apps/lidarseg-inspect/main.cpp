@@ -72,7 +72,6 @@ int main(int argc, char** argv) {
     o.trace = trace.getValue();
     return lidarseg::apps::InspectApp(o).run();
   } catch (const std::exception& e) {
-    std::cerr << "lidarseg-inspect: error: " << lidarseg::apps::describeError(e) << "\n";
-    return 1;
+    return lidarseg::apps::errorExit("lidarseg-inspect", e);
   }
 }

@@ -93,6 +93,7 @@ std::optional<OdometryOptions> optionsOf(CommandLine& c) {
   o.features_out = c.features_out.getValue();
   o.write_landmarks = c.write_landmarks.getValue();
   o.scanner_rotation_hz = c.scanner_hz.getValue();
+  if (c.scanner_hz.isSet() && o.scanner_rotation_hz == -1.0) o.scanner_rotation_hz = -2.0;  // refused as given
   o.scan_stamp = c.scan_stamp.getValue();
   o.max_lost_ratio = c.max_lost.getValue();
   if (!(o.max_lost_ratio >= 0.0 && o.max_lost_ratio <= 1.0)) {
@@ -129,7 +130,6 @@ int main(int argc, char** argv) {
     warnIfLost(report, options->max_lost_ratio);
     return report.log_error.empty() ? 0 : 3;
   } catch (const std::exception& e) {
-    std::cerr << "lidarseg-odometry: error: " << lidarseg::apps::describeError(e) << "\n";
-    return 1;
+    return lidarseg::apps::errorExit("lidarseg-odometry", e);
   }
 }

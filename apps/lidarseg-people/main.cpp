@@ -56,7 +56,6 @@ int main(int argc, char** argv) {
     lidarseg::apps::PeopleApp::printWarnings(result, std::cerr);
     return 0;
   } catch (const std::exception& e) {
-    std::cerr << "lidarseg-people: error: " << lidarseg::apps::describeError(e) << "\n";
-    return 1;
+    return lidarseg::apps::errorExit("lidarseg-people", e);
   }
 }

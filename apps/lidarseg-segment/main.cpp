@@ -47,7 +47,6 @@ int main(int argc, char** argv) {
     lidarseg::apps::SegmentStatsApp::printWarnings(result, std::cerr);
     return 0;
   } catch (const std::exception& e) {
-    std::cerr << "lidarseg-segment: error: " << lidarseg::apps::describeError(e) << "\n";
-    return 1;
+    return lidarseg::apps::errorExit("lidarseg-segment", e);
   }
 }

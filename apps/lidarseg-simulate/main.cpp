@@ -33,6 +33,11 @@ int main(int argc, char** argv) {
     if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc, argv, "lidarseg-simulate",
                                                              {{"-s", "--sensor-model"}, {"--sensor", "--sensor-model"}})) return *status;
 
+    if (camera.isSet() && camera.getValue() < 0) {
+      std::cerr << "lidarseg-simulate: usage error: --camera-every: " << camera.getValue()
+                << " is negative (0: no camera, N: an image every N scans)\n";
+      return lidarseg::apps::kUsageError;
+    }
     lidarseg::apps::SimulateOptions o;
     o.world_path = world.getValue();
     o.trajectory_path = traj.getValue();
@@ -53,7 +58,6 @@ int main(int argc, char** argv) {
               << r.door_sightings << " door and " << r.corner_sightings << " corner sightings\n";
     return 0;
   } catch (const std::exception& e) {
-    std::cerr << "lidarseg-simulate: error: " << lidarseg::apps::describeError(e) << "\n";
-    return 1;
+    return lidarseg::apps::errorExit("lidarseg-simulate", e);
   }
 }

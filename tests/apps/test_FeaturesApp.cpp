@@ -1,6 +1,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 
@@ -193,6 +194,43 @@ TEST(FeaturesApp, OdometryWritesTheFeaturesAndLandmarksForMrptsSlam) {
   }
   EXPECT_GT(frames, 500u);
   EXPECT_EQ(landmarks, rows);
+}
+
+// Issue 16: --figure (a file outside -o) is published with the run's other outputs, never
+// while the log is read: a run that fails after drawing it (a truncated log here; SIGINT in
+// the reproduction) leaves the figure of the previous run, like its CSV files.
+TEST(FeaturesApp, TheFigureIsPublishedWithTheOtherOutputsOnlyWhenTheRunSucceeds) {
+  const std::string prefix = simulatedPrefix();
+  const std::string dir = testDir() + "/figure-with-set";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  FeaturesOptions o;
+  o.input = prefix + ".rawlog";
+  o.figure_scan = 0;
+  o.figure_path = dir + "/x.png";
+  o.rois_out = dir + "/x.csv";
+  o.progress = false;
+  FeaturesApp(o).run();
+  ASSERT_TRUE(fs::exists(o.figure_path));
+  const auto slurp = [](const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string first_png = slurp(o.figure_path);
+  const std::string first_csv = slurp(o.rois_out);
+
+  // The same log cut in the middle of an entry: scan 30 is read and drawn, then the error.
+  const std::string cut = dir + "/cut.rawlog";
+  fs::copy_file(o.input, cut);
+  fs::resize_file(cut, fs::file_size(cut) * 3 / 5 + 7);
+  o.input = cut;
+  o.figure_scan = 30;
+  EXPECT_THROW(FeaturesApp(o).run(), std::exception);
+  EXPECT_EQ(slurp(o.figure_path), first_png) << "the figure was replaced by a run that failed";
+  EXPECT_EQ(slurp(o.rois_out), first_csv);
+  for (const auto& e : fs::directory_iterator(dir)) {
+    EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
+  }
 }
 
 }  // namespace

@@ -274,5 +274,118 @@ TEST(OutputFiles, AnInheritedFolderLockIsNotPassedOnToWhatTheJobStarts) {
   }
 }
 
+
+// Issue 16, the one check of a command line's paths (OutputSet::claimOutputs), shared by
+// every tool: refusals are UsageErrors (exit 2), given before any folder is made.
+namespace paths {
+
+// The message of the UsageError `f` throws; "(no usage error)" otherwise.
+template <typename F>
+std::string usageErrorOf(F&& f) {
+  try {
+    f();
+  } catch (const UsageError& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    return std::string("(another error) ") + e.what();
+  }
+  return "(no usage error)";
+}
+
+TEST(OutputFiles, SamePathComparesNormalisedPathsAndExistingFiles) {
+  const std::string dir = freshFolder("same-path");
+  std::ofstream(dir + "/log") << "x";
+  EXPECT_TRUE(samePath(dir + "/log", dir + "/./sub/../log"));
+  EXPECT_TRUE(samePath(dir + "/out/", dir + "/out"));  // neither exists; a trailing '/' is no other path
+  EXPECT_TRUE(samePath(dir + "/out/a.csv", dir + "/out//a.csv"));
+  fs::create_symlink(dir + "/log", dir + "/link");
+  EXPECT_TRUE(samePath(dir + "/link", dir + "/log"));
+  const std::string relative = fs::relative(dir + "/log").string();
+  EXPECT_TRUE(samePath(relative, dir + "/log"));
+  EXPECT_FALSE(samePath(dir + "/log", dir + "/log2"));
+  EXPECT_FALSE(samePath("", ""));
+}
+
+TEST(OutputFiles, AFileAnOutputFolderWouldHoldThatIsAnInputIsRefusedBeforeAnythingIsMade) {
+  const std::string dir = freshFolder("folder-file-is-input");
+  const std::string input = dir + "/oz/timing.csv";
+  fs::create_directories(dir + "/oz");
+  std::ofstream(input) << "the log";
+  OutputSet set;
+  const std::string e = usageErrorOf(
+      [&] { set.claimOutputs({}, {{dir + "/oz/", "-o", {"lidarseg.tum", "timing.csv"}}}, {dir + "/oz/../oz/timing.csv"}); });
+  EXPECT_NE(e.find("-o '" + dir + "/oz/timing.csv' is the input"), std::string::npos) << e;
+  EXPECT_NE(e.find("an output never overwrites its input"), std::string::npos) << e;
+  EXPECT_FALSE(fs::exists(dir + "/oz/.lidarseg.lock"));  // no lock taken
+  EXPECT_EQ(slurp(input), "the log");
+}
+
+TEST(OutputFiles, TwoOutputsOnOnePathAreRefusedNamingBothOptions) {
+  const std::string dir = freshFolder("two-outputs");
+  {
+    OutputSet set;
+    const std::string e = usageErrorOf([&] {
+      set.claimOutputs({{dir + "/x.csv", "--features-out"}, {dir + "/./x.csv", "--write-rawlog"}}, {}, {});
+    });
+    EXPECT_NE(e.find("--features-out '" + dir + "/x.csv' and --write-rawlog"), std::string::npos) << e;
+    EXPECT_NE(e.find("two outputs never share a file"), std::string::npos) << e;
+  }
+  {
+    OutputSet set;  // a file output that a folder output also writes
+    const std::string e = usageErrorOf([&] {
+      set.claimOutputs({{dir + "/oz/summary.json", "--write-rawlog"}}, {{dir + "/oz", "-o", {"summary.json"}}}, {});
+    });
+    EXPECT_NE(e.find("--write-rawlog"), std::string::npos) << e;
+    EXPECT_NE(e.find("-o '" + dir + "/oz/summary.json'"), std::string::npos) << e;
+  }
+  {
+    OutputSet set;  // a folder output on the path of a file output (it failed after the whole run)
+    const std::string e = usageErrorOf([&] {
+      set.claimOutputs({{dir + "/po/people.csv", "--out"}}, {{dir + "/po/people.csv", "--draw"}}, {});
+    });
+    EXPECT_NE(e.find("--out '" + dir + "/po/people.csv' and --draw"), std::string::npos) << e;
+  }
+  {
+    OutputSet set;  // a file output on the path of an output folder
+    const std::string e =
+        usageErrorOf([&] { set.claimOutputs({{dir + "/oz", "--features-out"}}, {{dir + "/oz/", "-o", {"a"}}}, {}); });
+    EXPECT_NE(e.find("--features-out '" + dir + "/oz' and -o"), std::string::npos) << e;
+  }
+  EXPECT_TRUE(fs::is_empty(dir));  // nothing made by a refused command line
+  OutputSet set;  // two options naming one folder (a report beside the CSV) are allowed
+  set.claimOutputs({{dir + "/oz/people.csv", "--out"}}, {{dir + "/oz", "--report", {"people.md"}}, {dir + "/oz", "--draw"}},
+                   {});
+  EXPECT_TRUE(fs::is_directory(dir + "/oz"));
+}
+
+TEST(OutputFiles, AnOutputFolderThatIsAFileOrCannotBeMadeIsRefusedWithTheReason) {
+  const std::string dir = freshFolder("folder-cannot-be-made");
+  std::ofstream(dir + "/afile") << "x";
+  {
+    OutputSet set;
+    const std::string e = usageErrorOf([&] { set.claimOutputs({}, {{dir + "/afile", "-o"}}, {}); });
+    EXPECT_NE(e.find("-o '" + dir + "/afile': an output folder, but a file of that name exists"), std::string::npos) << e;
+  }
+  {
+    OutputSet set;  // and an output file that is an existing folder
+    fs::create_directories(dir + "/adir");
+    const std::string e = usageErrorOf([&] { set.claimOutputs({{dir + "/adir", "--figure"}}, {}, {}); });
+    EXPECT_NE(e.find("--figure '" + dir + "/adir': an output file, but a folder of that name exists"), std::string::npos)
+        << e;
+  }
+  OutputSet set;  // a folder under a file: the reason, not the lock's "No such file"
+  try {
+    set.claimOutputs({}, {{dir + "/afile/x", "-o"}}, {});
+    ADD_FAILURE() << "a folder under a file was made";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("cannot create the output folder '" + dir + "/afile/x': Not a directory"), std::string::npos) << m;
+    EXPECT_EQ(m.find("lock"), std::string::npos) << m;
+  }
+  EXPECT_EQ(slurp(dir + "/afile"), "x");
+}
+
+}  // namespace paths
+
 }  // namespace
 }  // namespace lidarseg::pipeline

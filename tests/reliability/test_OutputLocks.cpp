@@ -15,8 +15,10 @@
 
 #include "ErrorOf.h"
 #include "lidarseg/apps/BatchApp.h"
+#include "lidarseg/apps/CommandLine.h"
 #include "lidarseg/apps/FeaturesApp.h"
 #include "lidarseg/apps/InspectApp.h"
+#include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/apps/PeopleApp.h"
 #include "lidarseg/apps/SegmentStatsApp.h"
 #include "lidarseg/apps/SimulateApp.h"
@@ -170,9 +172,100 @@ TEST(OutputLocks, AnOutputThatIsAnInputIsRefusedAndTheInputKept) {
   std::ofstream(i.input) << "x";
   i.render_out = i.input;
   e = errorOf([&] { InspectApp(i).run(); });
-  EXPECT_NE(e.find("--out '" + i.input + "' is the input"), std::string::npos) << e;
+  EXPECT_NE(e.find("--draw '" + i.input + "' is the input"), std::string::npos) << e;
 
   EXPECT_EQ(slurp(log), text);
+}
+
+// Issue 16: a file an output folder would get (lidarseg-odometry's timing.csv, the report's
+// index.html) that is one of the inputs (the log, --gt) is refused as a usage error, before
+// anything is read; the input is kept.
+TEST(OutputLocks, AFileAnOutputFolderWouldWriteThatIsAnInputIsRefusedAndTheInputKept) {
+  const std::string dir = kTmp + "/folder-file-is-input";
+  fs::remove_all(dir);
+  fs::create_directories(dir + "/oz");
+  const std::string text = "FLASER 3 1 1 1 0 0 0 0 0 0 1 h 1\n";
+  const std::string log = dir + "/oz/timing.csv";
+  std::ofstream(log, std::ios::binary) << text;
+
+  OdometryOptions o;
+  o.input = log;
+  o.out_dir = dir + "/oz";
+  o.progress = false;
+  EXPECT_THROW(OdometryApp(o).run(), UsageError);
+  std::string e = errorOf([&] { OdometryApp(o).run(); });
+  EXPECT_NE(e.find("-o '" + dir + "/oz/timing.csv' is the input '" + log + "'"), std::string::npos) << e;
+
+  const std::string gt = dir + "/oz/lidarseg.tum";
+  std::ofstream(gt) << "0 0 0 0 0 0 0 1\n";
+  o.input = kAbsent;
+  o.gt_path = gt;
+  e = errorOf([&] { OdometryApp(o).run(); });
+  EXPECT_NE(e.find("is the input '" + gt + "'"), std::string::npos) << e;
+  EXPECT_EQ(slurp(gt), "0 0 0 0 0 0 0 1\n");
+
+  InspectOptions i;
+  i.input = dir + "/io/index.html";
+  fs::create_directories(dir + "/io");
+  std::ofstream(i.input) << text;
+  i.report_dir = dir + "/io";
+  EXPECT_THROW(InspectApp(i).run(), UsageError);
+  EXPECT_EQ(slurp(i.input), text);
+  EXPECT_EQ(slurp(log), text);
+  EXPECT_FALSE(fs::exists(dir + "/oz/.lidarseg.lock"));
+}
+
+// Issue 16: two outputs on one path (two files, a file of a folder, a folder on a file's
+// path) are refused before the run, naming both options: the second was silently lost, or
+// the run failed after its whole work.
+TEST(OutputLocks, TwoOutputsOnOnePathAreRefusedBeforeTheRun) {
+  const std::string dir = kTmp + "/two-outputs";
+  fs::remove_all(dir);
+  OdometryOptions o;
+  o.input = kAbsent;
+  o.progress = false;
+  o.out_dir = dir + "/oz";
+  o.features_out = dir + "/x";
+  o.write_rawlog = dir + "/x";
+  std::string e = errorOf([&] { OdometryApp(o).run(); });
+  EXPECT_NE(e.find("--write-rawlog '" + dir + "/x' and --features-out '" + dir + "/x'"), std::string::npos) << e;
+  o.features_out.clear();
+  o.write_rawlog = dir + "/oz/summary.json";
+  e = errorOf([&] { OdometryApp(o).run(); });
+  EXPECT_NE(e.find("--write-rawlog '" + dir + "/oz/summary.json' and -o"), std::string::npos) << e;
+  o.write_rawlog.clear();
+  o.features_out = dir + "/oz/lidarseg.tum";
+  EXPECT_THROW(OdometryApp(o).run(), UsageError);
+  o.features_out = dir + "/oz/";
+  EXPECT_THROW(OdometryApp(o).run(), UsageError);
+
+  FeaturesOptions f;
+  f.input = kAbsent;
+  f.out_csv = dir + "/fo/features.csv";
+  f.report_dir = dir + "/fo";
+  f.rois_out = dir + "/fo/features.csv";
+  e = errorOf([&] { FeaturesApp(f).run(); });
+  EXPECT_NE(e.find("--out '" + dir + "/fo/features.csv' and --rois-out"), std::string::npos) << e;
+  f.rois_out = dir + "/y.png";
+  f.figure_path = dir + "/y.png";
+  f.figure_scan = 0;
+  EXPECT_THROW(FeaturesApp(f).run(), UsageError);
+  f.figure_path.clear();
+  f.figure_scan.reset();
+  f.rois_out.clear();
+  f.images_out = dir + "/fo/features.csv";
+  e = errorOf([&] { FeaturesApp(f).run(); });
+  EXPECT_NE(e.find("--images-out"), std::string::npos) << e;
+
+  PeopleOptions p;
+  p.input = kAbsent;
+  p.rois = {"0,0,300,300"};
+  p.out_csv = dir + "/po/people.csv";
+  p.report_dir = dir + "/po";
+  p.draw_dir = dir + "/po/people.csv";
+  e = errorOf([&] { PeopleApp(p).run(); });
+  EXPECT_NE(e.find("--out '" + dir + "/po/people.csv' and --draw"), std::string::npos) << e;
+  EXPECT_FALSE(fs::exists(dir));  // nothing made
 }
 
 }  // namespace lidarseg::apps

@@ -21,6 +21,7 @@
 #include "lidarseg/mrpt/SimulationConfig.h"
 #include "lidarseg/sim/Simulation.h"
 #include "lidarseg/eval/Csv.h"
+#include "lidarseg/apps/CommandLine.h"
 
 namespace lidarseg::apps {
 
@@ -91,7 +92,18 @@ std::string experimentOf(const BatchJob& job) {
 
 }  // namespace
 
+namespace {
+
+// A job's command line checked before any job starts: an unknown sensor model is a usage
+// error (it failed every job, with only "no finished run" at the end).
+void checkJob(const BatchJob& job) {
+  checkedOption("--sensor-model", [&] { (void)sim::sensorProfile(job.sensor); });
+}
+
+}  // namespace
+
 void BatchApp::runOne(const BatchJob& job) {
+  checkJob(job);
   // Before any work: the runner's own job inherits its lock; a job started by hand shares
   // the folder with other such jobs and is refused beside a runner or an aggregation.
   OutputSet folder;
@@ -136,7 +148,7 @@ std::string jobLogPath(const std::string& out_dir, std::uint64_t seed) {
 std::vector<std::string> jobCommand(const BatchJob& base, std::uint64_t seed,
                                     const std::string& self_exe) {
   std::vector<std::string> args = {self_exe, "one", "--world", base.world_path, "--trajectory",
-                                   base.trajectory_path, "--sensor", base.sensor, "--seed",
+                                   base.trajectory_path, "--sensor-model", base.sensor, "--seed",
                                    std::to_string(seed), "--out", base.out_dir, "--folder-lock-fd",
                                    std::to_string(base.folder_lock_fd)};
   if (!base.sim_config_path.empty()) args.insert(args.end(), {"--sim-config", base.sim_config_path});
@@ -208,6 +220,7 @@ std::vector<std::string> runManyClaimed(const BatchJob& given, const std::vector
                                         const std::string& self_exe, bool progress, OutputSet& claimed) {
   // Before any work: a second runner, an aggregation or a job started by hand on this folder
   // is refused at once; the runner's own jobs inherit its lock (and lock their seeds).
+  checkJob(given);
   claimed.claimOutputs({}, {{given.out_dir, "--out"}},
                        {given.world_path, given.trajectory_path, given.sim_config_path, given.odometry_config_path});
   BatchJob base = given;

@@ -65,7 +65,53 @@ std::vector<std::string> withNewNames(int argc, char** argv, const std::vector<R
   return args;
 }
 
+// Whether `a` takes an unsigned number.
+bool isUnsignedArg(TCLAP::Arg* a) {
+  return dynamic_cast<TCLAP::ValueArg<unsigned long>*>(a) != nullptr ||
+         dynamic_cast<TCLAP::ValueArg<unsigned long long>*>(a) != nullptr ||
+         dynamic_cast<TCLAP::ValueArg<unsigned int>*>(a) != nullptr ||
+         dynamic_cast<TCLAP::ValueArg<unsigned short>*>(a) != nullptr;
+}
+
+bool isWholeNumber(const std::string& v) {
+  return !v.empty() && v.find_first_not_of("0123456789") == std::string::npos;
+}
+
+// The first unsigned option of `cmd` given a value that is not a whole number of digits
+// (TCLAP reads "-1" as 2^64 - 1 and "" as 0), as a message naming it; nothing when none.
+std::optional<std::string> badUnsignedValue(TCLAP::CmdLine& cmd, const std::vector<std::string>& args) {
+  for (TCLAP::Arg* a : cmd.getArgList()) {
+    if (!isUnsignedArg(a)) continue;
+    const std::string shortName = a->getFlag().empty() ? std::string() : "-" + a->getFlag();
+    const std::string longName = "--" + a->getName();
+    const std::string both = shortName.empty() ? longName : shortName + "/" + longName;
+    for (std::size_t i = 1; i < args.size(); ++i) {
+      const std::string& t = args[i];
+      if (t == "--") break;
+      std::optional<std::string> value;
+      if ((t == longName || (!shortName.empty() && t == shortName)) && i + 1 < args.size()) {
+        value = args[i + 1];
+      } else if (t.rfind(longName + "=", 0) == 0) {
+        value = t.substr(longName.size() + 1);
+      }
+      if (value && !isWholeNumber(*value)) {
+        return both + ": '" + *value + "' is not a whole number (0, 1, 2, ...)";
+      }
+    }
+  }
+  return std::nullopt;
+}
+
 }  // namespace
+
+int errorExit(const std::string& tool, const std::exception& e) {
+  if (dynamic_cast<const UsageError*>(&e) != nullptr) {
+    std::cerr << tool << ": usage error: " << describeError(e) << " (see " << tool << " --help)\n";
+    return kUsageError;
+  }
+  std::cerr << tool << ": error: " << describeError(e) << "\n";
+  return 1;
+}
 
 OutputTarget outputTarget(const std::string& value, const std::string& legacy_suffix, const std::string& tool) {
   OutputTarget t;
@@ -107,6 +153,10 @@ std::optional<int> parseCommandLine(TCLAP::CmdLine& cmd, int argc, char** argv, 
       const std::string flag = (value->getFlag().empty() ? std::string() : "-" + value->getFlag() + "/") + "--" +
                                value->getName();
       std::cerr << tool << ": usage error: " << flag << ": an empty file name (see " << tool << " --help)\n";
+      return kUsageError;
+    }
+    if (const auto bad = badUnsignedValue(cmd, args)) {
+      std::cerr << tool << ": usage error: " << *bad << " (see " << tool << " --help)\n";
       return kUsageError;
     }
     return std::nullopt;

@@ -1,5 +1,7 @@
 #include "lidarseg/apps/FeaturesApp.h"
 
+#include "lidarseg/apps/CommandLine.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -24,7 +26,6 @@ using mrpt_adapter::CameraRois;
 using mrpt_adapter::drawRois;
 using mrpt_adapter::writeRoiCsvHeader;
 using mrpt_adapter::writeRoiCsvRows;
-using pipeline::writeFileAtomically;
 using pipeline::scanFeaturesPng;
 
 namespace {
@@ -64,9 +65,6 @@ class LogPass {
     if (!options.truth_path.empty()) {
       truth_ = eval::readTrueFeatures(options.truth_path);
       report.evaluation.emplace(options.gate_m);
-    }
-    if (!options.matches_out.empty() && options.truth_path.empty()) {
-      throw std::invalid_argument("--matches-out needs --truth");
     }
     pipeline::writeFeatureCsvHeader(csv_);
     if (!options.matches_out.empty()) eval::writeMatchesCsvHeader(matches_csv_);
@@ -182,7 +180,9 @@ class LogPass {
       report_.warnings.push_back("no figure " + options_.figure_path + ": " + e.what());
       return;
     }
-    writeFileAtomically(options_.figure_path, png);
+    // Published with the run's other outputs, never before (an interrupted run replaces
+    // nothing).
+    outputs_.add(options_.figure_path, std::move(png));
   }
 
   const FeaturesOptions& options_;
@@ -218,9 +218,13 @@ void writeOutputs(const FeaturesOptions& options, const FeaturesReport& report, 
 }  // namespace
 
 FeaturesApp::FeaturesApp(FeaturesOptions options) : options_(std::move(options)) {
-  if (options_.input.empty()) throw std::invalid_argument("no input log given");
+  if (options_.input.empty()) throw UsageError("no input log given");
   if (options_.figure_scan && options_.figure_path.empty()) {
-    throw std::invalid_argument("--figure-scan needs --figure FILE.png");
+    throw UsageError("--figure-scan needs --figure FILE.png");
+  }
+  if (!options_.matches_out.empty() && options_.truth_path.empty()) throw UsageError("--matches-out needs --gt");
+  if (!(options_.gate_m > 0.0 && options_.gate_m <= 1e6)) {
+    throw UsageError("--gate must be a distance > 0 m (got " + std::to_string(options_.gate_m) + ")");
   }
 }
 
@@ -228,8 +232,11 @@ namespace {
 
 // Before any work: an output that is an input is refused, a second writer at once.
 void claimOutputs(const FeaturesOptions& o, OutputSet& outputs) {
-  outputs.claimOutputs({{o.out_csv, "--out"}, {o.rois_out, "--rois-out"}, {o.figure_path, "--figure"}},
-                       {{o.report_dir, "--report"}, {o.images_out, "--images-out"}},
+  outputs.claimOutputs({{o.out_csv, "--out"},
+                        {o.rois_out, "--rois-out"},
+                        {o.figure_path, "--figure"},
+                        {o.matches_out, "--matches-out"}},
+                       {{o.report_dir, "--report", {"features.md", "features.json"}}, {o.images_out, "--images-out"}},
                        {o.input, o.config_path, o.truth_path});
   if (!o.images_out.empty()) std::filesystem::create_directories(o.images_out);
 }

@@ -1,4 +1,6 @@
 #include "lidarseg/apps/InspectApp.h"
+
+#include "lidarseg/apps/CommandLine.h"
 #include "lidarseg/vision/ImageFile.h"
 
 #include <algorithm>
@@ -22,6 +24,7 @@
 #include "lidarseg/pipeline/RunEvaluation.h"
 #include "lidarseg/inspect/Drawing.h"
 #include "lidarseg/inspect/LayerSwitches.h"
+#include "lidarseg/inspect/LogReport.h"
 #include "lidarseg/eval/StampedTrajectory.h"
 
 namespace lidarseg::apps {
@@ -45,21 +48,21 @@ bool endsWith(const std::string& s, const std::string& e) {
 }  // namespace
 
 InspectApp::InspectApp(InspectOptions options) : options_(std::move(options)) {
-  if (options_.input.empty()) throw std::invalid_argument("no input log given");
+  if (options_.input.empty()) throw UsageError("no input log given");
   if (options_.width < 200 || options_.height < 200 || options_.width > 8192 || options_.height > 8192) {
-    throw std::invalid_argument("--width/--height: from 200 to 8192 pixels (got " + std::to_string(options_.width) + " x " +
+    throw UsageError("--width/--height: from 200 to 8192 pixels (got " + std::to_string(options_.width) + " x " +
                                 std::to_string(options_.height) + ")");
   }
   if (!options_.render_out.empty() && !endsWith(options_.render_out, ".png") && !endsWith(options_.render_out, ".svg")) {
-    throw std::invalid_argument("--out '" + options_.render_out + "': the name must end in .png or .svg");
+    throw UsageError("--draw '" + options_.render_out + "': the name must end in .png or .svg");
   }
   if (!options_.screenshot_out.empty() && !endsWith(options_.screenshot_out, ".png")) {
-    throw std::invalid_argument("--screenshot '" + options_.screenshot_out + "': the name must end in .png");
+    throw UsageError("--screenshot '" + options_.screenshot_out + "': the name must end in .png");
   }
-  inspect::parseLayers(options_.layers);
+  checkedOption("--layers", [&] { (void)inspect::parseLayers(options_.layers); });
   for (const std::string& r : options_.references) {
     if (r.find('=') == std::string::npos || r.front() == '=' || r.back() == '=') {
-      throw std::invalid_argument("--trajectory '" + r + "': expected NAME=FILE.tum");
+      throw UsageError("--trajectory '" + r + "': expected NAME=FILE.tum");
     }
   }
 }
@@ -95,11 +98,10 @@ namespace {
 void claimOutputs(const InspectOptions& o, OutputSet& claimed) {
   std::vector<std::string> inputs = {o.input, o.config_path, o.truth_path};
   for (const std::string& r : o.references) inputs.push_back(r.substr(r.find('=') + 1));
-  for (const std::string& input : inputs) {
-    refuseOverwritingInput(o.render_out, input, "--out");
-    refuseOverwritingInput(o.screenshot_out, input, "--screenshot");
-  }
-  claimed.claimOutputs({}, {{o.report_dir, "--report"}}, inputs);
+  // The pictures are claimed too (their folders locked), and checked with the report's files
+  // against the inputs and each other.
+  claimed.claimOutputs({{o.render_out, "--draw"}, {o.screenshot_out, "--screenshot"}},
+                       {{o.report_dir, "-o", inspect::reportFileNames()}}, inputs);
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "lidarseg/apps/OdometryApp.h"
 
+#include "lidarseg/apps/CommandLine.h"
+
 #include <algorithm>
 #include <cmath>
 #include <iostream>
@@ -43,12 +45,31 @@ pipeline::RunSettings settingsOf(const OdometryOptions& o) {
 }
 }  // namespace
 
+namespace {
+
+// The options' values, checked before anything is read or written (usage errors).
+void checkOptions(const OdometryOptions& o) {
+  if (!o.scan_stamp.empty()) checkedOption("--scan-stamp", [&] { (void)scanStampFromString(o.scan_stamp); });
+  const double hz = o.scanner_rotation_hz;
+  if (hz != -1.0 && !(hz == 0.0 || (hz >= kMinScannerHz && hz <= kMaxScannerHz))) {
+    throw UsageError("--scanner-hz must be 0 (no correction) or from " + std::to_string(kMinScannerHz) + " to " +
+                     std::to_string(kMaxScannerHz) + " Hz (got " + std::to_string(hz) + ")");
+  }
+  if (o.write_landmarks && o.write_rawlog.empty()) {
+    throw UsageError("--write-landmarks adds landmarks to the rawlog of --write-rawlog, which is not given");
+  }
+}
+
+}  // namespace
+
 OdometryReport OdometryApp::run() {
   const OdometryOptions& o = options_;
+  checkOptions(o);
+  gt_path_ = o.gt_path.empty() && o.auto_gt ? pipeline::groundTruthBeside(o.input) : o.gt_path;
+  OutputSet outputs;
+  claimOutputs(outputs);  // before anything is read
   const pipeline::RunSettings settings = settingsOf(o);
   pipeline::RunReferences refs = readReferences();
-  OutputSet outputs;
-  claimOutputs(outputs);
   mrpt_adapter::LaserLogReader reader(o.input, o.sensor);
   pipeline::OdometryRun odometry(settings);
   processLog(reader, odometry, settings, outputs);
@@ -64,18 +85,15 @@ OdometryReport OdometryApp::run() {
 void OdometryApp::claimOutputs(OutputSet& outputs) const {
   const OdometryOptions& o = options_;
   installCleanupOnSignals();
-  if (o.write_landmarks && o.write_rawlog.empty()) {
-    throw std::invalid_argument("--write-landmarks adds landmarks to the rawlog of --write-rawlog, which is not given");
-  }
-  // The inputs are also what the publishing of the -o folder never removes.
-  const std::string summary = o.out_dir.empty() ? std::string() : (fs::path(o.out_dir) / "summary.json").string();
-  outputs.claimOutputs({{summary, "-o"}, {o.write_rawlog, "--write-rawlog"}, {o.features_out, "--features-out"}}, {},
-                       {o.input, o.gt_path, o.relations_path, o.config_path});
+  // The inputs are also what the publishing of the -o folder never removes. Every file the
+  // folder may get is checked against the inputs and the other outputs.
+  outputs.claimOutputs({{o.write_rawlog, "--write-rawlog"}, {o.features_out, "--features-out"}},
+                       {{o.out_dir, "-o", pipeline::runOutputNames()}},
+                       {o.input, gt_path_, o.relations_path, o.config_path});
 }
 
 // Ground truth (PREFIX.gt.tum beside the input unless given) and relations files.
 pipeline::RunReferences OdometryApp::readReferences() {
-  gt_path_ = options_.gt_path.empty() && options_.auto_gt ? pipeline::groundTruthBeside(options_.input) : options_.gt_path;
   return pipeline::readRunReferences(gt_path_, options_.relations_path);
 }
 

@@ -1,5 +1,7 @@
 #include "lidarseg/apps/PeopleApp.h"
 
+#include "lidarseg/apps/CommandLine.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -137,22 +139,23 @@ void writeOutputs(const PeopleOptions& options, const PeopleReport& report, cons
 }  // namespace
 
 PeopleApp::PeopleApp(PeopleOptions options) : options_(std::move(options)) {
-  if (options_.input.empty()) throw std::invalid_argument("no input video or images given");
+  if (options_.input.empty()) throw UsageError("no input video or images given");
   if (options_.rois_path.empty() && options_.rois.empty()) {
-    throw std::invalid_argument("no regions of interest: give --rois FILE.csv or --roi u_min,v_min,u_max,v_max");
+    throw UsageError("no regions of interest: give --rois FILE.csv or --roi u_min,v_min,u_max,v_max");
   }
-  if (options_.every == 0) throw std::invalid_argument("--every must be >= 1");
-  if (options_.threads < 1 || options_.threads > 256) throw std::invalid_argument("-j/--jobs must be in [1, 256]");
-  if (!(options_.match_iou > 0 && options_.match_iou <= 1)) throw std::invalid_argument("--match-iou must be in (0, 1]");
-  if (options_.draw_every == 0) throw std::invalid_argument("--draw-every must be >= 1");
-  for (const std::string& r : options_.rois) vision::parseRegion(r, "--roi");
+  if (options_.every == 0) throw UsageError("--every must be >= 1");
+  if (options_.threads < 1 || options_.threads > 256) throw UsageError("-j/--jobs must be in [1, 256]");
+  if (!(options_.match_iou > 0 && options_.match_iou <= 1)) throw UsageError("--match-iou must be in (0, 1]");
+  if (options_.draw_every == 0) throw UsageError("--draw-every must be >= 1");
+  for (const std::string& r : options_.rois) checkedOption("--roi", [&] { (void)vision::parseRegion(r, "--roi"); });
 }
 
 namespace {
 
 // Before any work: an output that is an input is refused, a second writer at once.
 void claimOutputs(const PeopleOptions& o, OutputSet& outputs) {
-  outputs.claimOutputs({{o.out_csv, "--out"}}, {{o.report_dir, "--report"}, {o.draw_dir, "--draw"}},
+  outputs.claimOutputs({{o.out_csv, "--out"}},
+                       {{o.report_dir, "--report", {"people.md", "people.json"}}, {o.draw_dir, "--draw"}},
                        {o.input, o.rois_path, o.config_path});
   if (!o.draw_dir.empty()) fs::create_directories(o.draw_dir);
 }

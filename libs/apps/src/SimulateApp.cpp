@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "lidarseg/apps/CommandLine.h"
 #include "lidarseg/mrpt/SimulationConfig.h"
 #include "lidarseg/pipeline/OutputFiles.h"
 #include "lidarseg/pipeline/Progress.h"
@@ -42,8 +43,25 @@ sim::SimulationParams simulationParams(const SimulateOptions& o) {
 
 SimulateApp::SimulateApp(SimulateOptions options) : options_(std::move(options)) {}
 
+namespace {
+
+// The command line's choices, checked before anything is read or written (usage errors).
+void checkOptions(const SimulateOptions& o) {
+  if (o.out_prefix.empty()) throw UsageError("no output prefix given (--out)");
+  if (o.building_seed && (!o.world_path.empty() || !o.trajectory_path.empty())) {
+    throw UsageError("--building replaces --world and --trajectory: give one or the other");
+  }
+  if (!o.building_seed && (o.world_path.empty() || o.trajectory_path.empty())) {
+    throw UsageError("give --world and --trajectory, or --building SEED");
+  }
+  checkedOption("--sensor-model", [&] { (void)sim::sensorProfile(o.sensor); });
+  if (!o.scan_stamp.empty()) checkedOption("--scan-stamp", [&] { (void)scanStampFromString(o.scan_stamp); });
+}
+
+}  // namespace
+
 SimulateReport SimulateApp::run() {
-  if (options_.out_prefix.empty()) throw std::invalid_argument("no output prefix given (--out)");
+  checkOptions(options_);
   // Before any work: an output that is an input is refused, a second writer at once; the
   // lock is held until the temporaries of a failed run are removed.
   OutputSet claimed;

@@ -267,6 +267,10 @@ std::string reportHtml(const std::string& input, const ReportSummary& summary,
 
 namespace lidarseg::inspect {
 
+std::vector<std::string> reportFileNames() {
+  return {"index.html", "trajectory.png", "error_over_time.png", "timing.png"};
+}
+
 ReportSummary writeLogReport(Session& session, const ReportSettings& settings) {
   const std::string& dir = settings.dir;
   fs::create_directories(dir + "/frames");

@@ -164,13 +164,32 @@ void writeFileAtomically(const std::string& path, const std::string& content) {
   if (!renamed) throw std::runtime_error("cannot rename '" + tmp + "' to '" + path + "'");
 }
 
+namespace {
+
+// `path` absolute, canonical as far as it exists, lexically normal, without a trailing `/`.
+fs::path normalPath(const std::string& path) {
+  std::error_code ec;
+  fs::path p = fs::absolute(path, ec);
+  if (ec) p = fs::path(path);
+  const fs::path canonical = fs::weakly_canonical(p, ec);
+  p = (ec ? p : canonical).lexically_normal();
+  if (!p.has_filename() && p.has_parent_path() && p != p.root_path()) p = p.parent_path();
+  return p;
+}
+
+}  // namespace
+
+bool samePath(const std::string& a, const std::string& b) {
+  if (a.empty() || b.empty()) return false;
+  std::error_code ec;
+  if (fs::exists(a, ec) && fs::exists(b, ec) && fs::equivalent(a, b, ec)) return true;
+  return normalPath(a) == normalPath(b);
+}
+
 void refuseOverwritingInput(const std::string& output, const std::string& input, const std::string& option) {
   if (output.empty() || input.empty()) return;
-  std::error_code ec;
-  const bool same = fs::exists(output, ec) && fs::equivalent(output, input, ec);
-  if (same || fs::weakly_canonical(output, ec) == fs::weakly_canonical(input, ec)) {
-    throw std::invalid_argument(option + " '" + output + "' is the input '" + input +
-                                "': an output never overwrites its input");
+  if (samePath(output, input)) {
+    throw UsageError(option + " '" + output + "' is the input '" + input + "': an output never overwrites its input");
   }
 }
 
@@ -206,6 +225,10 @@ void OutputSet::lockFolder(const std::string& folder, bool shared) {
   }
   const bool created = !fs::exists(folder, ec);
   fs::create_directories(folder, ec);
+  if (ec || !fs::is_directory(folder)) {
+    const std::string why = ec ? ec.message() : std::string("a file of that name exists");
+    throw std::runtime_error("cannot create the output folder '" + folder + "': " + why);
+  }
   const std::string lock = (fs::path(folder) / ".lidarseg.lock").string();
   int fd = -1;
   for (int attempt = 0; fd < 0; ++attempt) {
@@ -268,16 +291,62 @@ void OutputSet::claimInheritedFolder(const std::string& folder, int fd) {
 
 void OutputSet::claimFolder(const std::string& folder) { claim((fs::path(folder) / ".lidarseg.lock").string()); }
 
+namespace {
+
+// One path a command line asks a tool to write: a file, a folder, or a file of a folder.
+struct PlannedOutput {
+  std::string path;
+  std::string option;  // the option naming it (for a folder's file, the folder's)
+  bool folder = false;
+  std::size_t owner = 0;  // which NamedOutput it comes from
+};
+
+std::string quoted(const PlannedOutput& o) {
+  return o.option + " '" + o.path + "'";
+}
+
+}  // namespace
+
 void OutputSet::claimOutputs(const std::vector<NamedOutput>& files, const std::vector<NamedOutput>& folders,
                              const std::vector<std::string>& inputs) {
+  // Every refusal first: a refused command line creates no folder and takes no lock.
+  std::vector<PlannedOutput> planned;
+  std::size_t owner = 0;
+  for (const NamedOutput& o : files) {
+    ++owner;
+    if (!o.path.empty()) planned.push_back({o.path, o.option, false, owner});
+  }
+  for (const NamedOutput& o : folders) {
+    ++owner;
+    if (o.path.empty()) continue;
+    planned.push_back({o.path, o.option, true, owner});
+    for (const std::string& name : o.contents) {
+      planned.push_back({(fs::path(o.path) / name).string(), o.option, false, owner});
+    }
+  }
+  for (const PlannedOutput& o : planned) {
+    for (const std::string& input : inputs) refuseOverwritingInput(o.path, input, o.option);
+  }
+  std::error_code ec;
+  for (const PlannedOutput& o : planned) {
+    const fs::file_status status = fs::status(o.path, ec);
+    if (o.folder && fs::exists(status) && !fs::is_directory(status)) {
+      throw UsageError(quoted(o) + ": an output folder, but a file of that name exists; choose another folder");
+    }
+    if (!o.folder && fs::is_directory(status)) {
+      throw UsageError(quoted(o) + ": an output file, but a folder of that name exists; choose another name");
+    }
+  }
+  for (std::size_t i = 0; i < planned.size(); ++i) {
+    for (std::size_t j = i + 1; j < planned.size(); ++j) {
+      const PlannedOutput& a = planned[i];
+      const PlannedOutput& b = planned[j];
+      if (a.owner == b.owner || (a.folder && b.folder) || !samePath(a.path, b.path)) continue;
+      throw UsageError(quoted(a) + " and " + quoted(b) + " are one path: two outputs never share a file");
+    }
+  }
   for (const std::string& input : inputs) {
     if (!input.empty()) inputs_.push_back(input);
-  }
-  // Every refusal first: a refused command line creates no folder and takes no lock.
-  for (const auto* outputs : {&files, &folders}) {
-    for (const NamedOutput& o : *outputs) {
-      for (const std::string& input : inputs) refuseOverwritingInput(o.path, input, o.option);
-    }
   }
   for (const NamedOutput& o : files) {
     if (!o.path.empty()) claim(o.path);

@@ -239,6 +239,11 @@ eval::StampedTrajectory fromFirst(eval::StampedTrajectory t) {
 
 }  // namespace
 
+std::vector<std::string> runOutputNames() {
+  return {"lidarseg.tum", "icp.tum",    "icp-s2s.tum",      "wheel-odometry.tum", "log-poses.tum",
+          "timing.csv",   "results.md", "trajectories.png", "timing.png",         "summary.json"};
+}
+
 std::vector<std::string> addRunOutputs(OutputSet& outputs, const std::string& out_dir, const OdometryReport& report,
                                        const eval::StampedTrajectory& log_poses,
                                        const eval::StampedTrajectory& wheel_odometry) {
@@ -268,8 +273,7 @@ std::vector<std::string> addRunOutputs(OutputSet& outputs, const std::string& ou
   // rawlog written by --write-rawlog may be this run's input) is left in place.
   outputs.addManifest(path("summary.json"),
                       [&report](const std::vector<std::string>& files) { return summaryJson(report, files); },
-                      {"lidarseg.tum", "icp.tum", "icp-s2s.tum", "wheel-odometry.tum", "log-poses.tum", "timing.csv",
-                       "results.md", "trajectories.png", "timing.png"});
+                      runOutputNames());
   outputs.add(path("results.md"), markdownTable(report));
   std::vector<std::string> written = {path("lidarseg.tum"), path("timing.csv"), path("summary.json"), path("results.md")};
   if (report.icp) written.push_back(path("icp.tum"));

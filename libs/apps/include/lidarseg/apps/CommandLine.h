@@ -10,7 +10,13 @@
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
+#include "lidarseg/pipeline/OutputFiles.h"
+
 namespace lidarseg::apps {
+
+/// A command line that cannot be run as given (thrown by the tools' option checks and by
+/// pipeline::OutputSet::claimOutputs); errorExit() makes it exit status 2.
+using pipeline::UsageError;
 
 /// Exit status of a usage error (a bad flag or value, a missing argument).
 inline constexpr int kUsageError = 2;
@@ -26,6 +32,9 @@ struct RenamedFlag {
 /// arguments (adding -v/--verbose, which makes describeError() keep the whole message:
 /// MRPT's backtraces included). The old spellings in `renamed` are read as their new
 /// names (also as `--old=value`), before a `--` that ends the flags.
+/// A value of an unsigned option (`-n`, `--every`, `--frame`, ...) that is not a whole
+/// number of digits (`-1`, `''`, `1e3`) is a usage error naming the option: TCLAP would read
+/// `-1` as 2^64 - 1 and `''` as 0.
 /// @return std::nullopt when the tool should run; otherwise the status to exit with:
 ///         0 after --help or --version (printed on stdout), kUsageError after a usage error
 ///         (one line "TOOL: usage error: ..." on stderr).
@@ -40,6 +49,25 @@ struct OutputTarget {
   std::string legacy_file;  ///< VALUE in the old file form, else empty
 };
 OutputTarget outputTarget(const std::string& value, const std::string& legacy_suffix, const std::string& tool);
+
+/// What every tool's main() does with an exception that ends it: "TOOL: usage error: ..."
+/// and kUsageError for a UsageError, else "TOOL: error: ..." and 1.
+int errorExit(const std::string& tool, const std::exception& e);
+
+/// Runs `check`, a parser or validator of option `option`'s value, and makes the
+/// std::invalid_argument it throws a UsageError naming the option (once: a message that
+/// starts with the option's name is kept as it is).
+template <class Check>
+auto checkedOption(const std::string& option, Check&& check) -> decltype(check()) {
+  try {
+    return check();
+  } catch (const UsageError&) {
+    throw;
+  } catch (const std::invalid_argument& e) {
+    const std::string message = e.what();
+    throw UsageError(message.rfind(option, 0) == 0 ? message : option + ": " + message);
+  }
+}
 
 /// The one-line message of an error for the user: MRPT's exceptions (a banner, a backtrace,
 /// then "Message: ...") are reduced to their message, unless --verbose was given.

@@ -30,6 +30,11 @@ using pipeline::OutputSet;
 using pipeline::MethodReport;
 using pipeline::OdometryReport;
 
+/// The range of --scanner-hz (besides 0, no correction): a 2D scanner turns at a few to a
+/// few hundred revolutions per second.
+inline constexpr double kMinScannerHz = 0.1;
+inline constexpr double kMaxScannerHz = 1000.0;
+
 /// Command-line options of `lidarseg-odometry`.
 struct OdometryOptions {
   /// MRPT .rawlog (either layout) or CARMEN log (.clf/.log, optionally .gz).
@@ -68,7 +73,8 @@ struct OdometryOptions {
   /// Doors and corners of every scan (the [features] section of the configuration), robot
   /// frame: `t,type,x,y,theta,width,confidence,scan,var_x,var_y,cov_xy,var_theta,var_width`.
   std::string features_out;
-  /// Scanner rotation frequency for rolling-shutter correction (Hz); < 0 = the config's.
+  /// Scanner rotation frequency for rolling-shutter correction (Hz); -1 = the config's, 0 =
+  /// none, else from kMinScannerHz to kMaxScannerHz (another value is a usage error).
   double scanner_rotation_hz = -1.0;
   /// Which beam's instant the log's stamps are ("first", "middle", "last"); empty: the
   /// configuration's [odometry] scan_stamp.

@@ -66,6 +66,10 @@ std::vector<std::size_t> worstFirst(const std::vector<ScanRow>& rows, std::size_
 std::string reportHtml(const std::string& input, const ReportSummary& summary,
                        const std::vector<ScanRow>& rows, bool with_truth, const std::string& no_plots = {});
 
+/// The names of the files writeLogReport() writes in its folder (its gallery's pictures go in
+/// `frames/`): what lidarseg-inspect's command line is checked against.
+std::vector<std::string> reportFileNames();
+
 /// How writeLogReport() writes the report.
 struct ReportSettings {
   std::string dir;     ///< the report's folder (created)

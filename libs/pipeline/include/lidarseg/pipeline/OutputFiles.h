@@ -6,10 +6,25 @@
 #include <fstream>
 #include <filesystem>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace lidarseg::pipeline {
+
+/// A command line that cannot be run as given (an output that is an input, two outputs on
+/// one path, an out-of-range value): the tools report it as a usage error, exit status 2,
+/// before anything is read or written (issue 16).
+class UsageError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+/// Whether two paths name the same file or folder: the same file when both exist
+/// (std::filesystem::equivalent), else the same path once made absolute, canonical where it
+/// exists (weakly_canonical: symbolic links and `..` resolved) and lexically normal (a
+/// trailing `/` dropped).
+bool samePath(const std::string& a, const std::string& b);
 
 /// A temporary name for `path`, unique to this process and call ("path.tmp.PID.N"), and
 /// removed by the SIGINT/SIGTERM handler until released (see installCleanupOnSignals()).
@@ -32,8 +47,8 @@ void installCleanupOnSignals();
 /// @throws std::runtime_error naming the file.
 void writeFileAtomically(const std::string& path, const std::string& content);
 
-/// @throws std::invalid_argument when `output` is the same file as `input` (an output must
-/// never overwrite its input), naming both and the option.
+/// @throws UsageError when `output` is the same file as `input` (an output must never
+/// overwrite its input), naming both and the option.
 void refuseOverwritingInput(const std::string& output, const std::string& input, const std::string& option);
 
 /// A text output written as it goes under a unique temporary name (removed by the
@@ -58,9 +73,12 @@ class PendingFile {
 };
 
 /// An output named on the command line: its path (empty: not asked for) and its option.
+/// For an output folder, `contents` are the names of the files the tool writes in it (those
+/// it may write in any run): each is checked against the inputs and the other outputs.
 struct NamedOutput {
   std::string path;
   std::string option;
+  std::vector<std::string> contents = {};
 };
 
 /// A set of outputs prepared under temporary names and put in place together by commit();
@@ -114,10 +132,20 @@ class OutputSet {
   /// the holder's lock stays, since a flock belongs to the open file.
   /// @throws std::runtime_error naming the folder and its lock file when `fd` is not that.
   void claimInheritedFolder(const std::string& folder, int fd);
-  /// What every tool does before its work: refuses any output that is one of `inputs`
-  /// (refuseOverwritingInput), then claims each output's folder; empty paths are skipped.
-  /// The inputs are remembered: commit() never removes one as an older set's file.
-  /// `folders` are output folders (claimed themselves), `files` output files.
+  /// What every tool does before its work, the one check of its command line's paths
+  /// (issue 16), all before any folder is created or any lock taken:
+  /// - an output (a file, a folder, or a file of a folder's `contents`) that is one of
+  ///   `inputs` is refused (refuseOverwritingInput);
+  /// - two outputs on one path are refused, naming both options (a file of one and a folder
+  ///   of another included; two options naming the same folder are allowed, their files are
+  ///   checked through `contents`);
+  /// - an output file that is an existing folder, and an output folder that is an existing
+  ///   file, are refused;
+  /// then each output's folder is claimed; empty paths are skipped. The inputs are
+  /// remembered: commit() never removes one as an older set's file. `folders` are output
+  /// folders (claimed themselves), `files` output files.
+  /// @throws UsageError for a refused command line; std::runtime_error when a folder cannot
+  ///         be created (with the reason) or another run holds its lock.
   void claimOutputs(const std::vector<NamedOutput>& files, const std::vector<NamedOutput>& folders,
                     const std::vector<std::string>& inputs);
   /// Adds a text output.

@@ -27,6 +27,10 @@ std::string summaryJson(const OdometryReport& report, const std::vector<std::str
 /// results.md: the paper's Table I columns plus final error and ATE, then the counts.
 std::string markdownTable(const OdometryReport& report);
 
+/// The names of every file lidarseg-odometry may write in its output folder (any run): its
+/// set's own files and the manifest; what the tool's command line is checked against.
+std::vector<std::string> runOutputNames();
+
 /// Adds a run's text outputs to `outputs`, in OUT_DIR (created): lidarseg.tum, icp.tum and
 /// icp-s2s.tum for the baselines that ran, wheel-odometry.tum and log-poses.tum (the log's
 /// own, from the first scan's pose) when the log has them, timing.csv, summary.json (the
