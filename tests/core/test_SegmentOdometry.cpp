@@ -171,6 +171,25 @@ TEST(SegmentOdometry, AJumpBeyondTheSearchWindowIsRecoveredByTheWiderSearch) {
   EXPECT_GT(without_error, 2.0);  // measured 2.30 m
 }
 
+// wide_search_factor is validated, and the wider window it makes is one the search accepts:
+// with a 14 mm grid, 1.2 m x 5 rounded to 400.00000000000006 cells and the odometry could not
+// be built, naming a key the user never wrote.
+TEST(SegmentOdometry, TheWideSearchFactorIsValidatedAndItsWindowIsOneTheSearchAccepts) {
+  OdometryParams p;
+  p.search.resolution_m = 0.014;
+  p.wide_search_factor = 5.0;
+  EXPECT_NO_THROW(SegmentOdometry{p});
+  for (const double bad : {0.5, 11.0, std::nan("")}) {
+    p.wide_search_factor = bad;
+    try {
+      SegmentOdometry odometry(p);
+      ADD_FAILURE() << "wide_search_factor = " << bad << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("wide_search_factor"), std::string::npos) << e.what();
+    }
+  }
+}
+
 // The position error after the first `scans` scans of a simulated run (world "maze" or
 // "hospital" of config/worlds), first poses made equal.
 double runError(const char* world_name, const sim::SensorModel& sensor, std::uint64_t seed, std::size_t scans,

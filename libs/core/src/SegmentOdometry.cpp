@@ -17,11 +17,12 @@ double microsecondsSince(std::chrono::steady_clock::time_point t0) {
 }
 
 // The search's parameters over a window `factor` times wider, within what the search accepts
-// (20 m and 400 cells of translation, pi of rotation).
+// (20 m and 399 whole cells of translation, pi of rotation), never narrower than the first.
 SearchParams widened(SearchParams p, double factor) {
   if (!(factor >= 1.0)) factor = 1.0;  // validate() names the key; this only keeps the search valid
-  p.linear_window_m = std::min({p.linear_window_m * factor, 20.0, 400.0 * p.resolution_m});
-  p.angular_window_rad = std::min(p.angular_window_rad * factor, kPi);
+  const double cells_cap = 399.0 * p.resolution_m;  // whole cells: no rounding above 400
+  p.linear_window_m = std::max(p.linear_window_m, std::min({p.linear_window_m * factor, 20.0, cells_cap}));
+  p.angular_window_rad = std::max(p.angular_window_rad, std::min(p.angular_window_rad * factor, kPi));
   return p;
 }
 
@@ -61,6 +62,12 @@ void OdometryParams::validate() const {
   detail::requireInRange("prior_preference", prior_preference, 0.0, 10.0);
   detail::requireInRange("search_preference", search_preference, 0.0, 10.0);
   detail::requireInRange("wide_search_factor", wide_search_factor, 1.0, 10.0);
+  try {  // the wider search's own parameters: a failure names this key, not one never written
+    widened(search, wide_search_factor).validate();
+  } catch (const std::invalid_argument& e) {
+    detail::failKey("wide_search_factor", std::string("a window the search accepts (") + e.what() + ")",
+                    wide_search_factor);
+  }
   detail::requirePositive("prior_gate_sigmas", prior_gate_sigmas);
   detail::requireNonNegative("prior_accel_m_s2", prior_accel_m_s2);
   detail::requireNonNegative("prior_angular_accel_rad_s2", prior_angular_accel_rad_s2);

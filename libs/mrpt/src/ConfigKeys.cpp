@@ -227,7 +227,7 @@ void checkYamlStructure(const std::string& path, const std::string& text) {
     if (section.empty()) continue;
     if (key_indent < 0) key_indent = indent;
     if (indent != key_indent) continue;
-    const auto [it, added] = keys.emplace(key, number);
+    const auto [it, added] = keys.emplace(lowerText(key), number);  // the store ignores case
     if (!added) {
       throw std::invalid_argument(at(number) + " [" + section + "] " + key + ": given twice (first at line " +
                                   std::to_string(it->second) + "); the parser would keep only the last");

@@ -39,10 +39,11 @@ void SimulationParams::validate() const {
                                 ")");
   }
   // A stamp must still tell two scans 1 ms apart: |t| <= 1e10 s (the year 2286) keeps a double's spacing
-  // near t below 2e-6 s (issue 16).
+  // near t below 2e-6 s, and the log readers skip stamps beyond it; the start leaves 1e9 s of run
+  // below that (issue 16).
   if (!(std::isfinite(start_time_s) && std::abs(start_time_s) <= kMaxAbsStartTimeS)) {
     std::ostringstream os;
-    os << "start_time_s must be finite and in [-1e10, 1e10] s (got " << start_time_s << ")";
+    os << "start_time_s must be finite and in [-9e9, 9e9] s (got " << start_time_s << ")";
     throw std::invalid_argument(os.str());
   }
   if (static_cast<std::size_t>(scan_stamp) > 2) {

@@ -42,7 +42,7 @@ struct SimulationParams {
   /// Time of the first scan (s since the Unix epoch): 2026-01-01 00:00:00 UTC.
   /// |start_time_s| <= kMaxAbsStartTimeS, so that stamps 1 ms apart stay distinct.
   double start_time_s = 1767225600.0;
-  static constexpr double kMaxAbsStartTimeS = 1e10;
+  static constexpr double kMaxAbsStartTimeS = 9e9;  // 1e9 s below the readers' 1e10 s: room for the run
   std::uint64_t seed = 1;
 
   /// @throws std::invalid_argument naming the key.
