@@ -1,5 +1,7 @@
 // Point-to-segment refinement: corridors with and without along-axis cues.
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -146,6 +148,48 @@ TEST(ScanRefiner, ConvergedSaysWhetherThePoseStoppedMoving) {
   EXPECT_EQ(cut.iterations, 1u);
   EXPECT_FALSE(cut.converged);
   EXPECT_GT(std::abs(cut.T_key_curr.x - full.T_key_curr.x) + std::abs(cut.T_key_curr.y - full.T_key_curr.y), 1e-3);
+}
+
+// The prepared keyframe lists, for each place in the bearing order, the distinct lines of
+// the window of entries around it in the order the window meets them (what a point's
+// pairing visits): checked against the window read directly from the entries, for one
+// 270-degree scan and for a local map of two (their entries interleave), and for a
+// full-turn scan whose windows wrap around.
+TEST(ScanRefiner, PreparedWindowsHoldEachPlacesDistinctLinesInOrder) {
+  const sim::World world = testing::corridorWithDoors(2.0, {{3.0, 0.9, 0.3}, {6.0, 1.2, 0.1}});
+  const Segmentation a = segmentAt(world, {0.0, 1.0, 0.0}, 1);
+  const Segmentation b = segmentAt(world, {0.4, 1.1, 0.05}, 2);
+  Segmentation full;
+  ScanSegmenter().process(testing::simulate(world, testing::makeSensor(720, 360.0, 0.01, 30.0), {1.0, 1.0, 0.0}, 3),
+                          full);
+  const ScanRefiner refiner;
+  const auto check = [&](const RefinementKeyframe& ix, std::size_t expected_window) {
+    const std::size_t n = ix.bearing.size();
+    ASSERT_GT(n, 100u);
+    ASSERT_EQ(ix.window, expected_window);
+    ASSERT_EQ(ix.window_start.size(), n + 1);
+    std::size_t repeats = 0;
+    for (std::size_t pos = 0; pos < n; ++pos) {
+      std::vector<int> expected;
+      for (std::size_t c = 0; c < 2 * ix.window; ++c) {
+        const int id = ix.line_of[(pos + n - ix.window + c) % n];
+        if (std::find(expected.begin(), expected.end(), id) == expected.end()) expected.push_back(id);
+        else ++repeats;
+      }
+      const std::vector<int> listed(ix.window_lines.begin() + ix.window_start[pos],
+                                    ix.window_lines.begin() + ix.window_start[pos + 1]);
+      ASSERT_EQ(listed, expected) << "place " << pos;
+    }
+    EXPECT_GT(repeats, n);  // the lists are shorter than the windows
+  };
+  RefinementKeyframe ix;
+  refiner.prepare(a, ix);
+  check(ix, RefinerParams{}.bearing_window);
+  refiner.prepare({{&a, Pose2D{}}, {&b, Pose2D{0.4, 0.1, 0.05}}}, ix);
+  check(ix, 2 * RefinerParams{}.bearing_window);
+  refiner.prepare(full, ix);
+  check(ix, RefinerParams{}.bearing_window);
+  EXPECT_GT(ix.bearing.back() - ix.bearing.front(), 3.8);  // a full turn: the windows wrap
 }
 
 // Issue 16: `[refiner] max_iterations = 1000000000` was accepted and a refinement hung.

@@ -56,15 +56,15 @@ bool finitePoint(const Eigen::Vector2d& p) { return std::isfinite(p.x()) && std:
 // three. Only a point off its neighbours' line is kept alone (length 0: point to point with
 // two residuals, a chair leg or a post); one with an invalid neighbour has no known shape and
 // is left out.
-template <typename Rotate>
-void linkUnsegmented(const std::vector<Eigen::Vector2d>& points, const Pose2D& T, const Rotate& rotate,
+template <typename Transform, typename Rotate>
+void linkUnsegmented(const std::vector<Eigen::Vector2d>& points, const Transform& T, const Rotate& rotate,
                      double link_m, double on_line_m, KeyframeIndex& ix) {
   const std::size_t beams = points.size();
   const auto valid = [&](std::size_t k) { return k < beams && finitePoint(points[k]); };
   const auto lineThrough = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     FiniteLine l;
     const Eigen::Vector2d d = b - a;
-    l.start = T * a;
+    l.start = T(a);
     l.length = d.norm();
     l.direction = rotate(d / l.length);
     l.normal = Eigen::Vector2d(-l.direction.y(), l.direction.x());
@@ -93,7 +93,7 @@ void linkUnsegmented(const std::vector<Eigen::Vector2d>& points, const Pose2D& T
       if (off <= on_line_m) {
         l = lineThrough(a, c);
       } else {
-        l.start = T * p;  // a lone point: length 0, paired by its x and y offsets
+        l.start = T(p);  // a lone point: length 0, paired by its x and y offsets
         l.normal = l.direction = Eigen::Vector2d::Zero();
       }
     } else {
@@ -122,13 +122,17 @@ void ScanRefiner::prepare(const std::vector<RefinementMapScan>& scans, Refinemen
     const Pose2D& T = m.T_key_scan;
     const double c = std::cos(T.yaw), sn = std::sin(T.yaw);
     const auto rotate = [&](const Eigen::Vector2d& v) { return Eigen::Vector2d(c * v.x() - sn * v.y(), sn * v.x() + c * v.y()); };
+    // T * p without a cosine and a sine per point (the same expression as Pose2D's).
+    const auto transform = [&](const Eigen::Vector2d& p) {
+      return Eigen::Vector2d(T.x + c * p.x() - sn * p.y(), T.y + sn * p.x() + c * p.y());
+    };
     const std::size_t beams = scan.points.size();
     ix.beam_line.assign(beams, -1);
     for (const Segment& s : scan.level(P.level).segments) {
       if (s.num_points < P.min_segment_points || !(s.length_m > 0.0)) continue;
       FiniteLine l;
       l.normal = rotate(s.normal);
-      l.start = T * s.start;
+      l.start = transform(s.start);
       l.rho = l.normal.dot(l.start);  // signed: the distance is n . q - rho either way
       l.length = s.length_m;
       l.direction = rotate((s.end - s.start) / s.length_m);
@@ -144,11 +148,11 @@ void ScanRefiner::prepare(const std::vector<RefinementMapScan>& scans, Refinemen
         for (std::size_t b = 0; b <= s.last_beam && b < beams; ++b) mark(b);
       }
     }
-    if (P.unsegmented_points) linkUnsegmented(scan.points, T, rotate, P.max_distance_m, P.robust_scale_m, ix);
+    if (P.unsegmented_points) linkUnsegmented(scan.points, transform, rotate, P.max_distance_m, P.robust_scale_m, ix);
     for (std::size_t b = 0; b < beams; ++b) {
       const Eigen::Vector2d& p = scan.points[b];
       if (ix.beam_line[b] < 0 || !std::isfinite(p.x()) || !std::isfinite(p.y())) continue;
-      const Eigen::Vector2d q = T * p;
+      const Eigen::Vector2d q = transform(p);
       ix.scratch.emplace_back(pseudoBearing(q.x(), q.y()), ix.beam_line[b]);
     }
   }
@@ -165,6 +169,26 @@ void ScanRefiner::prepare(const std::vector<RefinementMapScan>& scans, Refinemen
     ix.bearing[k] = ix.scratch[k].first;
     ix.line_of[k] = ix.scratch[k].second;
   }
+  // Each place's window of 2 w entries (wrapping around), its distinct lines in the order
+  // the window meets them: a line met again pairs exactly as the first time, so skipping it
+  // changes nothing.
+  const std::size_t n = ix.bearing.size();
+  const std::size_t w = std::min(n, P.bearing_window * (ix.scans > 1 ? 2 : 1));
+  ix.window = w;
+  ix.window_start.resize(n + 1);
+  ix.window_lines.clear();
+  ix.seen.assign(ix.lines.size(), -1);
+  for (std::size_t pos = 0; pos < n; ++pos) {
+    ix.window_start[pos] = static_cast<int>(ix.window_lines.size());
+    std::size_t k = (pos + n - w) % n;
+    for (std::size_t c = 0; c < 2 * w; ++c, k = k + 1 == n ? 0 : k + 1) {
+      const int id = ix.line_of[k];
+      if (ix.seen[static_cast<std::size_t>(id)] == static_cast<int>(pos)) continue;
+      ix.seen[static_cast<std::size_t>(id)] = static_cast<int>(pos);
+      ix.window_lines.push_back(id);
+    }
+  }
+  if (n > 0) ix.window_start[n] = static_cast<int>(ix.window_lines.size());
   ix.bin_start.resize(kBins + 1);
   std::size_t k = 0;
   for (int b = 0; b <= kBins; ++b) {
@@ -200,21 +224,13 @@ bool pairPoint(const KeyframeIndex& ix, const RefinerParams& P, const Eigen::Vec
     };
     covered = gap(after, beta) < kCoverage || gap(before, beta) < kCoverage;
   }
-  const long w = std::min(n, static_cast<long>(P.bearing_window * (ix.scans > 1 ? 2 : 1)));
+  const std::size_t place = static_cast<std::size_t>(pos < n ? pos : 0);
+  const int* id = ix.window_lines.data() + ix.window_start[place];
+  const int* const end = ix.window_lines.data() + ix.window_start[place + 1];
   double best = P.max_distance_m;
   bool found = false;
-  // A line already tried pairs the same way: the last two are skipped (a local map
-  // interleaves its keyframes' entries in bearing order).
-  int last = -1, before_last = -1;
-  long k = pos - w;
-  if (k < 0) k = ((k % n) + n) % n;  // the bearings wrap around (a full-turn scan)
-  for (long c = 0; c < 2 * w; ++c, ++k) {
-    if (k >= n) k -= n;
-    const int id = ix.line_of[static_cast<std::size_t>(k)];
-    if (id == last || id == before_last) continue;
-    before_last = last;
-    last = id;
-    const FiniteLine& l = ix.lines[static_cast<std::size_t>(id)];
+  for (; id != end; ++id) {
+    const FiniteLine& l = ix.lines[static_cast<std::size_t>(*id)];
     if (l.length > 0.0) {
       const double d = l.normal.dot(q) - l.rho;
       if (!(std::abs(d) < best)) continue;

@@ -146,6 +146,17 @@ struct RefinementKeyframe {
   std::vector<int> bin_start;
   /// Scans merged (a local map of several keyframes): the bearing window grows with them.
   std::size_t scans = 0;
+  /// Sorted entries searched on each side of a point's place in `bearing`: the preparing
+  /// refiner's bearing_window, doubled for a local map (at most the entries).
+  std::size_t window = 0;
+  /// The distinct lines of each place's window, in the order the window meets them:
+  /// place k (0 <= k < entries; the first entry at or after a point's pseudo-bearing, the
+  /// end wrapping to 0) holds window_lines[window_start[k] .. window_start[k + 1]).
+  /// Made once per keyframe, so that a point's pairing visits each line once.
+  std::vector<int> window_start;
+  std::vector<int> window_lines;
+  /// Preparation's scratch buffers.
+  std::vector<int> seen;
   std::vector<std::pair<double, int>> scratch;
 };
 
@@ -174,15 +185,16 @@ class ScanRefiner {
   /// @param initial starting T_key_curr (the segment match, or a prior)
   RefineResult refine(const Segmentation& keyframe, const Segmentation& current,
                       const Pose2D& initial) const;
-  /// The same against a prepared keyframe (no per-call preparation).
+  /// The same against a prepared keyframe (no per-call preparation; its bearing window is
+  /// that of the refiner that prepared it).
   RefineResult refine(const RefinementKeyframe& keyframe, const Segmentation& current,
                       const Pose2D& initial) const;
 
-  /// Prepares `keyframe` for refinements: O(beams).
+  /// Prepares `keyframe` for refinements: O(beams x bearing_window).
   void prepare(const Segmentation& keyframe, RefinementKeyframe& out) const;
   /// Prepares a local map: several scans' segments moved into the reference keyframe's
   /// frame (the points pair with the nearest line around their bearing, whichever scan it
-  /// came from). O(total beams x log).
+  /// came from). O(total beams x (log + bearing_window)).
   void prepare(const std::vector<RefinementMapScan>& scans, RefinementKeyframe& out) const;
 
   const RefinerParams& params() const { return params_; }
