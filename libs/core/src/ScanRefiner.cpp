@@ -241,7 +241,11 @@ bool pairPoint(const KeyframeIndex& ix, const RefinerParams& P, const Eigen::Vec
       normal = l.normal;
     } else {  // a lone point: its two coordinates' residuals (normal left zero)
       const Eigen::Vector2d diff = q - l.start;
-      const double d = diff.norm();
+      const double d2 = diff.squaredNorm();
+      // Most lone points are farther than the best so far: no square root for them (the
+      // slack keeps the test exact: only points the root would reject are skipped).
+      if (!(d2 < best * best * (1.0 + 1e-9))) continue;
+      const double d = std::sqrt(d2);
       if (!(d < best)) continue;
       best = d;
       residual = d;
@@ -269,6 +273,7 @@ struct Pairing {
 void accumulate(const KeyframeIndex& ix, const RefinerParams& P, const std::vector<Eigen::Vector2d>& pts,
                 const Pose2D& T, double yaw_scale, std::vector<Pairing>& pairs, bool reuse, Accumulator& acc) {
   const std::size_t covered = acc.covered;
+  const bool store = P.reassociate_m > 0.0;
   acc = Accumulator{};
   if (reuse) acc.covered = covered;
   else pairs.clear();
@@ -297,12 +302,14 @@ void accumulate(const KeyframeIndex& ix, const RefinerParams& P, const std::vect
       const bool paired = pairPoint(ix, P, q, r, n, offset, is_covered);
       acc.covered += is_covered;
       if (!paired) continue;
-      Pairing pr;
-      pr.point = static_cast<std::uint32_t>(i);
-      pr.normal = n;
-      if (n.x() != 0.0 || n.y() != 0.0) pr.rho = n.dot(q) - r;
-      else pr.lone = q - offset;
-      pairs.push_back(pr);
+      if (store) {  // only when a later iteration may reuse it (reassociate_m > 0)
+        Pairing pr;
+        pr.point = static_cast<std::uint32_t>(i);
+        pr.normal = n;
+        if (n.x() != 0.0 || n.y() != 0.0) pr.rho = n.dot(q) - r;
+        else pr.lone = q - offset;
+        pairs.push_back(pr);
+      }
     }
     ++acc.paired;
     const double w = 1.0 / (1.0 + r * r * inv_c2);  // Cauchy, on the distance
