@@ -27,6 +27,7 @@ inline double pseudoBearing(double x, double y) {
 }
 
 constexpr int kBins = 2048;
+static_assert((kBins & (kBins - 1)) == 0, "the bins' bounds are exact multiples");
 
 // The normal equations of one pairing pass (yaw scaled by D), and its counts.
 struct Accumulator {
@@ -176,23 +177,30 @@ void ScanRefiner::prepare(const std::vector<RefinementMapScan>& scans, Refinemen
   const std::size_t w = std::min(n, P.bearing_window * (ix.scans > 1 ? 2 : 1));
   ix.window = w;
   ix.window_start.resize(n + 1);
-  ix.window_lines.clear();
+  ix.window_lines.resize(n * std::min(2 * w, ix.lines.size()));  // the most it can hold
   ix.seen.assign(ix.lines.size(), -1);
-  for (std::size_t pos = 0; pos < n; ++pos) {
-    ix.window_start[pos] = static_cast<int>(ix.window_lines.size());
-    std::size_t k = (pos + n - w) % n;
-    for (std::size_t c = 0; c < 2 * w; ++c, k = k + 1 == n ? 0 : k + 1) {
-      const int id = ix.line_of[k];
-      if (ix.seen[static_cast<std::size_t>(id)] == static_cast<int>(pos)) continue;
-      ix.seen[static_cast<std::size_t>(id)] = static_cast<int>(pos);
-      ix.window_lines.push_back(id);
+  {
+    const int* const line_of = ix.line_of.data();
+    int* const seen = ix.seen.data();
+    int* const first = ix.window_lines.data();
+    int* out = first;
+    for (std::size_t pos = 0; pos < n; ++pos) {
+      ix.window_start[pos] = static_cast<int>(out - first);
+      std::size_t k = (pos + n - w) % n;
+      for (std::size_t c = 0; c < 2 * w; ++c, k = k + 1 == n ? 0 : k + 1) {
+        const int id = line_of[k];
+        if (seen[id] == static_cast<int>(pos)) continue;
+        seen[id] = static_cast<int>(pos);
+        *out++ = id;
+      }
     }
+    ix.window_start[n] = static_cast<int>(out - first);
+    ix.window_lines.resize(static_cast<std::size_t>(out - first));
   }
-  if (n > 0) ix.window_start[n] = static_cast<int>(ix.window_lines.size());
   ix.bin_start.resize(kBins + 1);
   std::size_t k = 0;
   for (int b = 0; b <= kBins; ++b) {
-    const double lo = 4.0 * b / kBins;
+    const double lo = b * (4.0 / kBins);  // exact: kBins is a power of two
     while (k < ix.bearing.size() && ix.bearing[k] < lo) ++k;
     ix.bin_start[static_cast<std::size_t>(b)] = static_cast<int>(k);
   }
