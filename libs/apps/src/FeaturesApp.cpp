@@ -237,7 +237,7 @@ void claimOutputs(const FeaturesOptions& o, OutputSet& outputs) {
                         {o.rois_out, "--rois-out"},
                         {o.figure_path, "--figure"},
                         {o.matches_out, "--matches-out"}},
-                       {{o.report_dir, "--report", {"features.md", "features.json"}}, {o.images_out, "--images-out"}},
+                       {{o.report_dir, "--report", {"features.md", "features.json"}}, {o.images_out, "--images-out", {}, {{"rois_", ".png"}}}},
                        {o.input, o.config_path, o.truth_path});
   if (!o.images_out.empty()) std::filesystem::create_directories(o.images_out);
 }

@@ -85,10 +85,10 @@ OdometryReport OdometryApp::run() {
 void OdometryApp::claimOutputs(OutputSet& outputs) const {
   const OdometryOptions& o = options_;
   installCleanupOnSignals();
-  // The inputs are also what the publishing of the -o folder never removes. Every file the
-  // folder may get is checked against the inputs and the other outputs.
+  // The inputs are also what the publishing of the -o folder never removes. Every file this
+  // run may write in the folder is checked against the inputs and the other outputs.
   outputs.claimOutputs({{o.write_rawlog, "--write-rawlog"}, {o.features_out, "--features-out"}},
-                       {{o.out_dir, "-o", pipeline::runOutputNames()}},
+                       {{o.out_dir, "-o", pipeline::runOutputNames(o.baseline_icp, o.baseline_icp_s2s, o.plots)}},
                        {o.input, gt_path_, o.relations_path, o.config_path});
 }
 
