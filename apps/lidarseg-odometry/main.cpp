@@ -92,8 +92,7 @@ std::optional<OdometryOptions> optionsOf(CommandLine& c) {
   o.write_rawlog = c.write_rawlog.getValue();
   o.features_out = c.features_out.getValue();
   o.write_landmarks = c.write_landmarks.getValue();
-  o.scanner_rotation_hz = c.scanner_hz.getValue();
-  if (c.scanner_hz.isSet() && o.scanner_rotation_hz == -1.0) o.scanner_rotation_hz = -2.0;  // refused as given
+  if (c.scanner_hz.isSet()) o.scanner_rotation_hz = c.scanner_hz.getValue();
   o.scan_stamp = c.scan_stamp.getValue();
   o.max_lost_ratio = c.max_lost.getValue();
   if (!(o.max_lost_ratio >= 0.0 && o.max_lost_ratio <= 1.0)) {

@@ -33,16 +33,17 @@ check "inspect -f -1" 2 "usage error: -f/--frame: '-1'" lidarseg-inspect log.log
 check "inspect --gallery -1" 2 "usage error: --gallery: '-1'" lidarseg-inspect log.log --gallery -1 -o out
 check "simulate --camera-every -1" 2 "usage error: --camera-every" lidarseg-simulate -w "$worlds/maze.world" -t "$worlds/maze.traj" --camera-every -1 -o out/
 check "simulate --seed -1" 2 "usage error: --seed" lidarseg-simulate -w "$worlds/maze.world" -t "$worlds/maze.traj" --seed -1 -o out/
-check "odometry --scanner-hz -5" 2 "usage error: --scanner-hz must be 0" lidarseg-odometry log.log --scanner-hz -5 -o out
-check "odometry --scanner-hz 1e-300" 2 "usage error: --scanner-hz must be 0" lidarseg-odometry log.log --scanner-hz 1e-300 -o out
-check "odometry --scanner-hz -1" 2 "usage error: --scanner-hz" lidarseg-odometry log.log --scanner-hz -1 -o out
+# The value as typed (it read "(got -2.000000)" for -1, "(got 0.000000)" for 1e-300).
+check "odometry --scanner-hz -5" 2 "usage error: --scanner-hz must be 0 (no correction) or from 0.1 to 1000 Hz (got -5)" lidarseg-odometry log.log --scanner-hz -5 -o out
+check "odometry --scanner-hz 1e-300" 2 "usage error: --scanner-hz must be 0 (no correction) or from 0.1 to 1000 Hz (got 1e-300)" lidarseg-odometry log.log --scanner-hz 1e-300 -o out
+check "odometry --scanner-hz -1" 2 "usage error: --scanner-hz must be 0 (no correction) or from 0.1 to 1000 Hz (got -1)" lidarseg-odometry log.log --scanner-hz -1 -o out
 # Unknown names and contradictory options: usage errors (they exited 1).
 check "odometry --scan-stamp foo" 2 "usage error: --scan-stamp: scan stamp 'foo'" lidarseg-odometry log.log --scan-stamp foo -o out
 check "simulate --scan-stamp foo" 2 "usage error: --scan-stamp" lidarseg-simulate -w "$worlds/maze.world" -t "$worlds/maze.traj" --scan-stamp foo -o out/
 check "simulate --sensor-model LMS100" 2 "usage error: --sensor-model: unknown sensor profile 'LMS100'" lidarseg-simulate -w "$worlds/maze.world" -t "$worlds/maze.traj" --sensor-model LMS100 -o out/
 check "simulate --building with -w" 2 "usage error: --building replaces" lidarseg-simulate --building 3 -w "$worlds/maze.world" -o out/
 check "inspect --draw d.txt" 2 "usage error: --draw 'd.txt': the name must end in .png or .svg" lidarseg-inspect log.log --draw d.txt
-check "features --gate -1" 2 "usage error: --gate must be" lidarseg-features log.log --gt log.log --gate -1 -o out
+check "features --gate -1" 2 "usage error: --gate must be a distance > 0 m (got -1)" lidarseg-features log.log --gt log.log --gate -1 -o out
 check "batch --sensor-model LMS100" 2 "usage error: --sensor-model: unknown sensor profile 'LMS100'" lidarseg-batch run --world "$worlds/maze.world" --trajectory "$worlds/maze.traj" --seeds 1-2 --sensor-model LMS100 -o out
 check "batch -j 100000" 2 "usage error: -j/--jobs must be in \[1, 256\]" lidarseg-batch run --world "$worlds/maze.world" --trajectory "$worlds/maze.traj" --seeds 1-2 -j 100000 -o out
 check "batch -j -1" 2 "usage error: -j/--jobs: '-1'" lidarseg-batch run --world "$worlds/maze.world" --trajectory "$worlds/maze.traj" --seeds 1-2 -j -1 -o out

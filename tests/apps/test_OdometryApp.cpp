@@ -202,7 +202,7 @@ TEST(OdometryApp, ASearchHypothesisMustClearlyBeatTheRefinementItWouldReplace) {
   };
   const auto run = [&](const std::string& config, const std::string& out) {
     OdometryOptions o = optionsFor(log, out);
-    o.scanner_rotation_hz = -1.0;
+    o.scanner_rotation_hz = std::nullopt;  // the configuration's
     o.use_odometry = true;
     o.log_reference = true;
     o.plots = false;

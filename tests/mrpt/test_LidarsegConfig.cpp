@@ -137,6 +137,42 @@ TEST(LidarsegConfig, DuplicatesAndStrayKeysAreErrorsNamingFileLineAndKey) {
   EXPECT_EQ(c.odometry.matcher.max_segments, 64u);
 }
 
+// Issue 16 (decision 84's gap): a key given twice inside a YAML flow mapping was kept
+// silently by the parser (the last value won); it is an error naming file:line and key,
+// compared without case as in block mappings, on one line or over several.
+TEST(LidarsegConfig, DuplicateKeysInYamlFlowMappingsAreErrorsNamingFileLineAndKey) {
+  const std::string one_line = writeTemp("flowtwice.yaml", "odometry:\n  keyframe_distance_m: 0.2\nmatcher: {iterations: 3, iterations: 4}\n");
+  EXPECT_EQ(errorOf(one_line), one_line + ":3 [matcher] iterations: given twice in a flow mapping (first at line 3); "
+                                          "the parser would keep only the last");
+  const std::string cased = writeTemp("flowcase.yaml", "matcher: {iterations: 3, max_segments: 64, Iterations: 400}\n");
+  EXPECT_EQ(errorOf(cased).rfind(cased + ":1 [matcher] Iterations: given twice in a flow mapping (first at line 1)", 0),
+            0u)
+      << errorOf(cased);
+  const std::string lines = writeTemp("flowlines.yaml", "matcher: {\n  iterations: 3,\n  \"max_segments\": 64,\n"
+                                                        "  'iterations': 5\n}\n");
+  // Over several lines the keys stand one per line: found by either check, with the same lines.
+  EXPECT_EQ(errorOf(lines).rfind(lines + ":4 [matcher] iterations: given twice", 0), 0u) << errorOf(lines);
+  EXPECT_NE(errorOf(lines).find("(first at line 2)"), std::string::npos) << errorOf(lines);
+  const std::string nested = writeTemp("flownested.yaml", "matcher: {\n  iterations: 3, max_segments: 64,\n"
+                                                          "  Max_Segments: 65}\n");
+  EXPECT_EQ(errorOf(nested).rfind(nested + ":3 [matcher] Max_Segments: given twice in a flow mapping (first at line 2)", 0),
+            0u)
+      << errorOf(nested);
+  const std::string document = writeTemp("flowdoc.yaml", "{matcher: {iterations: 3}, odometry: {}, Matcher: {iterations: 4}}\n");
+  EXPECT_EQ(errorOf(document).rfind(document + ":1: key 'Matcher': given twice in a flow mapping (first at line 1)", 0),
+            0u)
+      << errorOf(document);
+  // Equal keys in different mappings, and equal values, are fine; the flow mapping is read.
+  const std::string fine = writeTemp("flowfine.yaml", "matcher: {iterations: 3, max_segments: 64}\n"
+                                                      "odometry: {matcher: {iterations: 5}, keyframe_distance_m: 0.2}\n");
+  const std::string e = errorOf(fine);
+  EXPECT_EQ(e.find("given twice"), std::string::npos) << e;
+  const std::string plain = writeTemp("flowplain.yaml", "matcher: {iterations: 7, max_segments: 64}\n");
+  const LidarsegConfig c = LidarsegConfig::loadFile(plain);
+  EXPECT_EQ(c.odometry.matcher.iterations, 7u);
+  EXPECT_EQ(c.odometry.matcher.max_segments, 64u);
+}
+
 // Issue 16: an alias or an empty section made MRPT's YAML parser fail with its banner and an
 // assertion ("==== MRPT exception ====", "nVal.has_value()").
 TEST(LidarsegConfig, YamlAliasesAndEmptySectionsGetOneLineNamingFileAndLine) {

@@ -268,4 +268,89 @@ TEST(OutputLocks, TwoOutputsOnOnePathAreRefusedBeforeTheRun) {
   EXPECT_FALSE(fs::exists(dir));  // nothing made
 }
 
+// Issue 16: the folder's files checked against the inputs are those this run writes: the
+// ICP trajectory is written only with --baseline icp, so `--gt OUT/icp.tum -o OUT` without it
+// is no collision (it was refused: every file any run may write was checked), and with it
+// the ground truth would be overwritten: refused.
+TEST(OutputLocks, OnlyTheFilesThisRunWritesAreCheckedAgainstTheInputs) {
+  const std::string dir = kTmp + "/files-this-run-writes";
+  fs::remove_all(dir);
+  fs::create_directories(dir + "/oz");
+  const std::string gt = dir + "/oz/icp.tum";
+  std::ofstream(gt) << "0 0 0 0 0 0 0 1\n";
+  OdometryOptions o;
+  o.input = kAbsent;
+  o.out_dir = dir + "/oz";
+  o.gt_path = gt;
+  o.progress = false;
+  std::string e = errorOf([&] { OdometryApp(o).run(); });
+  EXPECT_EQ(e.find("is the input"), std::string::npos) << e;
+  EXPECT_NE(e.find(kAbsent), std::string::npos) << e;  // the run went on to its input
+  o.baseline_icp = true;
+  EXPECT_THROW(OdometryApp(o).run(), UsageError);
+  e = errorOf([&] { OdometryApp(o).run(); });
+  EXPECT_NE(e.find("-o '" + gt + "' is the input '" + gt + "'"), std::string::npos) << e;
+  // The plots likewise: trajectories.png is checked only when the run draws.
+  o.baseline_icp = false;
+  o.gt_path.clear();
+  o.auto_gt = false;
+  o.relations_path = dir + "/oz/trajectories.png";
+  std::ofstream(o.relations_path) << "x\n";
+  e = errorOf([&] { OdometryApp(o).run(); });
+  EXPECT_NE(e.find("is the input '" + o.relations_path + "'"), std::string::npos) << e;
+  o.plots = false;
+  e = errorOf([&] { OdometryApp(o).run(); });
+  EXPECT_EQ(e.find("is the input"), std::string::npos) << e;
+  EXPECT_EQ(slurp(gt), "0 0 0 0 0 0 0 1\n");
+}
+
+// Issue 16: an input inside a folder the tool fills with numbered files, named like one of
+// them (the inspector's frames/scan_N.png, lidarseg-features' rois_NNNNNN.png, lidarseg-people's
+// people_NNNNNN.png), is refused before the run: the check knew only the fixed names.
+TEST(OutputLocks, AnInputNamedLikeANumberedFileOfAnOutputFolderIsRefused) {
+  const std::string dir = kTmp + "/numbered";
+  fs::remove_all(dir);
+  fs::create_directories(dir + "/ir/frames");
+  const std::string text = "FLASER 3 1 1 1 0 0 0 0 0 0 1 h 1\n";
+
+  InspectOptions i;
+  i.input = dir + "/ir/frames/scan_3.png";
+  std::ofstream(i.input) << text;
+  i.report_dir = dir + "/ir";
+  EXPECT_THROW(InspectApp(i).run(), UsageError);
+  std::string e = errorOf([&] { InspectApp(i).run(); });
+  EXPECT_NE(e.find("-o '" + dir + "/ir' gets numbered files frames/scan_N.png, and the input '" + i.input +
+                   "' is named like one"),
+            std::string::npos)
+      << e;
+  EXPECT_EQ(slurp(i.input), text);
+  // Not a numbered name, or not in the numbered files' subfolder: no collision.
+  for (const std::string& other : {dir + "/ir/frames/scan_x.png", dir + "/ir/scan_3.png", dir + "/ir/frames/scan_3.svg"}) {
+    std::ofstream(other) << text;
+    i.input = other;
+    e = errorOf([&] { InspectApp(i).run(); });
+    EXPECT_EQ(e.find("numbered"), std::string::npos) << other << ": " << e;
+  }
+
+  FeaturesOptions f;
+  f.input = dir + "/fi/rois_000002.png";
+  fs::create_directories(dir + "/fi");
+  std::ofstream(f.input) << text;
+  f.out_csv = dir + "/fo.csv";
+  f.images_out = dir + "/fi/";
+  e = errorOf([&] { FeaturesApp(f).run(); });
+  EXPECT_NE(e.find("--images-out '" + dir + "/fi/' gets numbered files rois_N.png"), std::string::npos) << e;
+
+  PeopleOptions p;
+  p.input = kAbsent;
+  p.rois_path = dir + "/pd/people_12.png";
+  fs::create_directories(dir + "/pd");
+  std::ofstream(p.rois_path) << text;
+  p.out_csv = dir + "/po.csv";
+  p.draw_dir = dir + "/pd";
+  e = errorOf([&] { PeopleApp(p).run(); });
+  EXPECT_NE(e.find("--draw '" + dir + "/pd' gets numbered files people_N.png"), std::string::npos) << e;
+  EXPECT_EQ(slurp(p.rois_path), text);
+}
+
 }  // namespace lidarseg::apps

@@ -2,10 +2,12 @@
 // record is skipped with its place, nothing non-finite reaches an output, sizes are capped;
 // a log's laser is decided by what parsed, and a label it lacks fails with bounded memory.
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -59,6 +61,10 @@ struct ScanSpec {
   double pitch = 0.0;
   std::size_t beams = 181;
   double yaw = 0.0;
+  /// The scan's stamp (s) in place of the log's 0.1 s steps from 100 s; `invalid_stamp`:
+  /// MRPT's INVALID_TIMESTAMP (a log without stamps).
+  std::optional<double> stamp_s;
+  bool invalid_stamp = false;
 };
 
 mrpt::obs::CObservation2DRangeScan::Ptr scanAt(const ScanSpec& sp, double t) {
@@ -92,7 +98,10 @@ std::string writeRawlog(const std::string& name, const std::vector<ScanSpec>& sp
     odo->timestamp = mrpt::Clock::fromDouble(t);
     odo->odometry = mrpt::poses::CPose2D(sp.odo_x, 0.0, sp.yaw);
     frame.insert(odo);
-    frame.insert(scanAt(sp, t));
+    auto scan = scanAt(sp, t);
+    if (sp.stamp_s) scan->timestamp = mrpt::Clock::fromDouble(*sp.stamp_s);
+    if (sp.invalid_stamp) scan->timestamp = INVALID_TIMESTAMP;
+    frame.insert(scan);
     archive << frame;
     t += 0.1;
   }
@@ -165,6 +174,64 @@ TEST(RecordValidation, ATiltedScanPlaneIsRefusedWithItsEntryNotFlattened) {
   ASSERT_FALSE(reader.issues().empty());
   EXPECT_NE(reader.issues()[0].find("entry 4"), std::string::npos) << reader.issues()[0];
   EXPECT_NE(reader.issues()[0].find("tilted"), std::string::npos) << reader.issues()[0];
+}
+
+// The rawlog side of the stamp bound (the CARMEN side: CarmenLogReader's
+// AStampBeyondTheYear2286SkipsItsLineWithItsPlace): a scan stamped beyond 1e10 s is skipped
+// and counted with its entry, its stamp printed exactly (std::to_string printed six
+// decimals of a clock that ticks in 100 ns).
+TEST(RecordValidation, ARawlogScanStampedBeyondTheYear2286IsSkippedWithItsEntry) {
+  std::vector<ScanSpec> specs;
+  for (int k = 0; k < 6; ++k) specs.push_back({0.05 * k, 0.05 * k});
+  specs[2].stamp_s = 2e10;
+  specs[4].stamp_s = 12345678901.5;
+  specs[5].stamp_s = 9.9e9;  // within the bound: used
+  mrpt_adapter::LaserLogReader reader(writeRawlog("stamp_2286", specs));
+  std::size_t n = 0;
+  while (reader.next()) ++n;
+  EXPECT_EQ(n, 4u);
+  EXPECT_EQ(reader.skipped(), 2u);
+  ASSERT_EQ(reader.issues().size(), 2u);
+  EXPECT_NE(reader.issues()[0].find("entry 2"), std::string::npos) << reader.issues()[0];
+  EXPECT_NE(reader.issues()[0].find("timestamp 2e+10 s is beyond +-1e10 s (the year 2286): not a clock reading"),
+            std::string::npos)
+      << reader.issues()[0];
+  EXPECT_NE(reader.issues()[1].find("entry 4"), std::string::npos) << reader.issues()[1];
+  // Printed with every digit the stamp has (to 100 ns), not rounded to six decimals.
+  const std::string& issue = reader.issues()[1];
+  const auto from = issue.find("timestamp ") + 10, to = issue.find(" s is beyond");
+  ASSERT_NE(to, std::string::npos) << issue;
+  const std::string text = issue.substr(from, to - from);
+  EXPECT_EQ(std::strtod(text.c_str(), nullptr), mrpt::Clock::toDouble(mrpt::Clock::fromDouble(12345678901.5))) << issue;
+  EXPECT_NEAR(std::strtod(text.c_str(), nullptr), 12345678901.5, 1e-6) << issue;
+
+  // The whole run counts them with their places and writes only finite, increasing stamps.
+  const apps::OdometryReport r = runOn(writeRawlog("stamp_2286", specs), false);
+  EXPECT_EQ(r.frames, 4u);
+  EXPECT_EQ(r.skipped_count, 2u);
+  ASSERT_EQ(r.skipped.size(), 2u);
+  EXPECT_NE(r.skipped[0].find("entry 2"), std::string::npos) << r.skipped[0];
+  EXPECT_TRUE(allFinite(r.lidarseg.trajectory));
+}
+
+// A rawlog without stamps (every scan at MRPT's INVALID_TIMESTAMP, which mrpt::Clock::toDouble
+// reads as 0 s) is not refused by the stamp check: it runs on synthetic steps.
+TEST(RecordValidation, ARawlogWithInvalidTimestampsRunsOnSyntheticSteps) {
+  std::vector<ScanSpec> specs;
+  for (int k = 0; k < 20; ++k) {
+    specs.push_back({0.03 * k, 0.03 * k});
+    specs.back().invalid_stamp = true;
+  }
+  const apps::OdometryReport r = runOn(writeRawlog("invalid_stamps", specs), false);
+  EXPECT_EQ(r.frames, 20u);
+  EXPECT_EQ(r.skipped_count, 0u);
+  EXPECT_EQ(r.non_increasing_stamps, 19u);
+  ASSERT_EQ(r.lidarseg.trajectory.size(), 20u);
+  EXPECT_TRUE(allFinite(r.lidarseg.trajectory));
+  for (std::size_t k = 1; k < r.lidarseg.trajectory.size(); ++k) {
+    EXPECT_GT(r.lidarseg.trajectory[k].stamp_s, r.lidarseg.trajectory[k - 1].stamp_s) << k;
+  }
+  EXPECT_NEAR(r.lidarseg.trajectory.back().pose.x, 0.03 * 19, 0.03);
 }
 
 TEST(RecordValidation, ALaserThatChangesItsBeamCountIsWarnedAbout) {
@@ -386,7 +453,10 @@ std::string jpegFramesRawlog(const std::string& name, bool second_laser = false,
       mrpt::obs::CSensoryFrame frame;
       ScanSpec sp;
       sp.x = 0.05 * (k % 4);
-      frame.insert(scanAt(sp, t));
+      auto scan = scanAt(sp, t);
+    if (sp.stamp_s) scan->timestamp = mrpt::Clock::fromDouble(*sp.stamp_s);
+    if (sp.invalid_stamp) scan->timestamp = INVALID_TIMESTAMP;
+    frame.insert(scan);
       if (second_laser) {  // another laser in the same frame, under another label
         auto rear = scanAt(sp, t);
         rear->sensorLabel = "REAR";

@@ -1,4 +1,5 @@
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 
@@ -101,7 +102,45 @@ TEST(WorldFile, DoorOptionsThicknessFrameAndDouble) {
   EXPECT_EQ(errorOf("door open 0 0 1 0 double 3\n"), "test.world:1: unknown door option '3' (thickness, frame, double)");
 }
 
+// Doors that would give ground truth the scans do not show are refused with their lines
+// (issue 16): without these checks the first world gave two ground-truth doors, the second
+// an open and a closed door on one opening (0 sightings), the third a door cut into nothing.
+TEST(WorldFile, DoorsGivenTwiceOverlappingOrOnNoWallAreRefused) {
+  const std::string wall = "wall 0 0 10 0\n";
+  EXPECT_EQ(errorOf(wall + "door closed 4 0 5 0 0.1\n# again\ndoor closed 4 0 5 0 0.1\n"),
+            "test.world:4: the door of test.world:2 given again");
+  // The same opening given from the other jamb is the same door.
+  EXPECT_EQ(errorOf(wall + "door open 4 0 5 0\ndoor open 5 0 4 0\n"), "test.world:3: the door of test.world:2 given again");
+  EXPECT_EQ(errorOf(wall + "door open 4 0 5 0\ndoor closed 4 0 5 0 0.1\n"),
+            "test.world:3: closed door overlaps the open door of test.world:2 (one opening, two doors)");
+  EXPECT_EQ(errorOf(wall + "door ajar 4 0 5 0 30\ndoor open 4.5 0 5.5 0\n"),
+            "test.world:3: open door overlaps the ajar door of test.world:2 (one opening, two doors)");
+  // Off the wall's line (a wall at y = 0, a door at y = 1), and on its line beyond its end.
+  EXPECT_EQ(errorOf(wall + "\ndoor open 4 1 5 1\n"),
+            "test.world:3: door lies on no wall (no wall runs along its jambs' line within 1 mm)");
+  EXPECT_EQ(errorOf(wall + "door open 11 0 12 0\n"),
+            "test.world:2: door lies on no wall (no wall runs along its jambs' line within 1 mm)");
+  // Two doors sharing a jamb, and a door cutting a wall declared later, are fine.
+  const World w = parse("door open 4 0 5 0\ndoor closed 5 0 6 0 0.1\n" + wall);
+  EXPECT_EQ(w.doors().size(), 2u);
+}
+
+TEST(WorldFile, AWorldWithoutWallsIsRefused) {
+  EXPECT_EQ(errorOf(""), "test.world: no walls (a world needs at least one 'wall' or 'polyline')");
+  EXPECT_EQ(errorOf("# nothing\n\n"), "test.world: no walls (a world needs at least one 'wall' or 'polyline')");
+  EXPECT_EQ(errorOf("pillar 1 1 0.4\nbox 2 2 1 1\n"),
+            "test.world: no walls (a world needs at least one 'wall' or 'polyline')");
+  EXPECT_NO_THROW(parse("polyline 0 0 1 0 1 1\n"));
+}
+
 TEST(WorldFile, ShippedWorldsLoad) {
+  int worlds = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(LIDARSEG_CONFIG_DIR) + "/worlds")) {
+    if (entry.path().extension() != ".world") continue;
+    EXPECT_NO_THROW(loadWorldFile(entry.path().string())) << entry.path();
+    ++worlds;
+  }
+  EXPECT_GE(worlds, 2);
   const World maze = loadWorldFile(std::string(LIDARSEG_CONFIG_DIR) + "/worlds/maze.world");
   EXPECT_GT(maze.walls().size(), 20u);
   EXPECT_TRUE(maze.doors().empty());

@@ -16,6 +16,7 @@
 #include "lidarseg/pipeline/RecordGate.h"
 #include "ReportTools.h"
 #include "lidarseg/core/FeatureDetector.h"
+#include "lidarseg/core/NumberText.h"
 #include "lidarseg/core/ScanSegmenter.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/mrpt/LidarsegConfig.h"
@@ -224,7 +225,7 @@ FeaturesApp::FeaturesApp(FeaturesOptions options) : options_(std::move(options))
   }
   if (!options_.matches_out.empty() && options_.truth_path.empty()) throw UsageError("--matches-out needs --gt");
   if (!(options_.gate_m > 0.0 && options_.gate_m <= 1e6)) {
-    throw UsageError("--gate must be a distance > 0 m (got " + std::to_string(options_.gate_m) + ")");
+    throw UsageError("--gate must be a distance > 0 m (got " + numberText(options_.gate_m) + ")");
   }
 }
 
@@ -236,7 +237,7 @@ void claimOutputs(const FeaturesOptions& o, OutputSet& outputs) {
                         {o.rois_out, "--rois-out"},
                         {o.figure_path, "--figure"},
                         {o.matches_out, "--matches-out"}},
-                       {{o.report_dir, "--report", {"features.md", "features.json"}}, {o.images_out, "--images-out"}},
+                       {{o.report_dir, "--report", {"features.md", "features.json"}}, {o.images_out, "--images-out", {}, {{"rois_", ".png"}}}},
                        {o.input, o.config_path, o.truth_path});
   if (!o.images_out.empty()) std::filesystem::create_directories(o.images_out);
 }

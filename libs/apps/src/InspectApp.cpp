@@ -101,7 +101,7 @@ void claimOutputs(const InspectOptions& o, OutputSet& claimed) {
   // The pictures are claimed too (their folders locked), and checked with the report's files
   // against the inputs and each other.
   claimed.claimOutputs({{o.render_out, "--draw"}, {o.screenshot_out, "--screenshot"}},
-                       {{o.report_dir, "-o", inspect::reportFileNames()}}, inputs);
+                       {{o.report_dir, "-o", inspect::reportFileNames(), {{"frames/scan_", ".png"}}}}, inputs);
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include "lidarseg/pipeline/OutputFiles.h"
 #include "lidarseg/pipeline/RecordGate.h"
 #include "lidarseg/core/FeatureDetector.h"
+#include "lidarseg/core/NumberText.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/pipeline/OdometryRun.h"
 #include "lidarseg/pipeline/RawlogWriter.h"
@@ -35,7 +36,7 @@ namespace {
 pipeline::RunSettings settingsOf(const OdometryOptions& o) {
   pipeline::RunSettings s;
   if (!o.config_path.empty()) s.config = mrpt_adapter::LidarsegConfig::loadFile(o.config_path);
-  if (o.scanner_rotation_hz >= 0.0) s.config.odometry.scanner_rotation_hz = o.scanner_rotation_hz;
+  if (o.scanner_rotation_hz) s.config.odometry.scanner_rotation_hz = *o.scanner_rotation_hz;
   if (!o.scan_stamp.empty()) s.config.odometry.scan_stamp = scanStampFromString(o.scan_stamp);
   s.config.odometry.validate();
   s.use_odometry = o.use_odometry;
@@ -50,10 +51,9 @@ namespace {
 // The options' values, checked before anything is read or written (usage errors).
 void checkOptions(const OdometryOptions& o) {
   if (!o.scan_stamp.empty()) checkedOption("--scan-stamp", [&] { (void)scanStampFromString(o.scan_stamp); });
-  const double hz = o.scanner_rotation_hz;
-  if (hz != -1.0 && !(hz == 0.0 || (hz >= kMinScannerHz && hz <= kMaxScannerHz))) {
-    throw UsageError("--scanner-hz must be 0 (no correction) or from " + std::to_string(kMinScannerHz) + " to " +
-                     std::to_string(kMaxScannerHz) + " Hz (got " + std::to_string(hz) + ")");
+  if (const auto hz = o.scanner_rotation_hz; hz && !(*hz == 0.0 || (*hz >= kMinScannerHz && *hz <= kMaxScannerHz))) {
+    throw UsageError("--scanner-hz must be 0 (no correction) or from " + numberText(kMinScannerHz) + " to " +
+                     numberText(kMaxScannerHz) + " Hz (got " + numberText(*hz) + ")");
   }
   if (o.write_landmarks && o.write_rawlog.empty()) {
     throw UsageError("--write-landmarks adds landmarks to the rawlog of --write-rawlog, which is not given");
@@ -85,10 +85,10 @@ OdometryReport OdometryApp::run() {
 void OdometryApp::claimOutputs(OutputSet& outputs) const {
   const OdometryOptions& o = options_;
   installCleanupOnSignals();
-  // The inputs are also what the publishing of the -o folder never removes. Every file the
-  // folder may get is checked against the inputs and the other outputs.
+  // The inputs are also what the publishing of the -o folder never removes. Every file this
+  // run may write in the folder is checked against the inputs and the other outputs.
   outputs.claimOutputs({{o.write_rawlog, "--write-rawlog"}, {o.features_out, "--features-out"}},
-                       {{o.out_dir, "-o", pipeline::runOutputNames()}},
+                       {{o.out_dir, "-o", pipeline::runOutputNames(o.baseline_icp, o.baseline_icp_s2s, o.plots)}},
                        {o.input, gt_path_, o.relations_path, o.config_path});
 }
 

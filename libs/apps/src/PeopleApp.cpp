@@ -155,7 +155,7 @@ namespace {
 // Before any work: an output that is an input is refused, a second writer at once.
 void claimOutputs(const PeopleOptions& o, OutputSet& outputs) {
   outputs.claimOutputs({{o.out_csv, "--out"}},
-                       {{o.report_dir, "--report", {"people.md", "people.json"}}, {o.draw_dir, "--draw"}},
+                       {{o.report_dir, "--report", {"people.md", "people.json"}}, {o.draw_dir, "--draw", {}, {{"people_", ".png"}}}},
                        {o.input, o.rois_path, o.config_path});
   if (!o.draw_dir.empty()) fs::create_directories(o.draw_dir);
 }

@@ -7,12 +7,14 @@
 #include <stdexcept>
 #include <string>
 
+#include "lidarseg/core/NumberText.h"
+
 namespace lidarseg::detail {
 
 [[noreturn]] inline void failKey(const std::string& key, const std::string& requirement,
                                  double value) {
   std::ostringstream os;
-  os << key << " must be " << requirement << " (got " << value << ")";
+  os << key << " must be " << requirement << " (got " << numberText(value) << ")";
   throw std::invalid_argument(os.str());
 }
 
@@ -26,7 +28,7 @@ inline void requireNonNegative(const std::string& key, double value) {
 
 inline void requireInRange(const std::string& key, double value, double lo, double hi) {
   if (!(std::isfinite(value) && value >= lo && value <= hi)) {
-    failKey(key, "in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", value);
+    failKey(key, "in [" + numberText(lo) + ", " + numberText(hi) + "]", value);
   }
 }
 

@@ -8,8 +8,10 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 #include <mrpt/containers/yaml.h>
 
@@ -237,6 +239,84 @@ void checkYamlStructure(const std::string& path, const std::string& text) {
   failEmpty();
 }
 
+// Keys of YAML flow mappings (`{a: 1, b: 2}`, on one line or over several) checked for
+// duplicates, compared without case as the store compares them (issue 16): the parser
+// keeps the last of two equal keys silently. Runs after checkYamlNesting (bounded depth).
+void checkYamlFlowMappings(const std::string& path, const std::string& text) {
+  struct Scope {
+    bool mapping = false;
+    bool expecting_key = true;
+    std::string token;                // the key read so far
+    std::map<std::string, int> keys;  // lower-case key -> line
+    std::string section;              // the block section it is the value of (depth 1)
+  };
+  std::vector<Scope> scopes;
+  std::istringstream in(text);
+  std::string raw;
+  std::string section;  // the current block section (a key at indent 0)
+  const auto at = [&](int line) { return path + ":" + std::to_string(line); };
+  for (int number = 1; std::getline(in, raw); ++number) {
+    const std::string line = withoutYamlComment(raw);
+    if (scopes.empty()) {
+      const std::string t = trim(line);
+      if (t.empty()) continue;
+      if (line[0] != ' ' && line[0] != '\t' && t[0] != '{' && t[0] != '[') {
+        section = trim(t.substr(0, t.find(':')));
+      }
+    }
+    char quote = 0;
+    char previous = ' ';  // the last character outside quotes and blanks, of the flow text
+    for (std::size_t i = 0; i < line.size(); ++i) {
+      const char c = line[i];
+      Scope* top = scopes.empty() ? nullptr : &scopes.back();
+      const bool reading_key = top != nullptr && top->mapping && top->expecting_key;
+      if (quote != 0) {
+        if (c == quote) quote = 0, previous = c;
+        if (reading_key) top->token += c;
+        continue;
+      }
+      const char next = i + 1 < line.size() ? line[i + 1] : ' ';
+      // In block context only a '{' or '[' that starts a value opens a flow collection.
+      const bool opens = (c == '{' || c == '[') &&
+                         (top != nullptr || previous == ' ' || previous == ':' || previous == '-');
+      if (opens) {
+        Scope scope;
+        scope.mapping = c == '{';
+        scope.section = scopes.empty() ? section : std::string();
+        scopes.push_back(std::move(scope));
+      } else if (top != nullptr && (c == '}' || c == ']')) {
+        scopes.pop_back();
+        if (!scopes.empty() && scopes.back().mapping) scopes.back().expecting_key = false;
+      } else if (top != nullptr && c == ',') {
+        if (top->mapping) top->expecting_key = true, top->token.clear();
+      } else if (reading_key && c == ':' &&
+                 (next == ' ' || next == '\t' || next == ',' || next == '}' || next == '{' || next == '[' ||
+                  (!top->token.empty() && (previous == '"' || previous == '\'')))) {
+        std::string key = trim(top->token);
+        if (key.size() >= 2 && (key[0] == '"' || key[0] == '\'') && key.back() == key[0]) {
+          key = key.substr(1, key.size() - 2);
+        }
+        const auto [it, added] = top->keys.emplace(lowerText(key), number);
+        if (!added) {
+          const std::string where =
+              top->section.empty() ? at(number) + ": key '" + key + "'" : at(number) + " [" + top->section + "] " + key;
+          throw std::invalid_argument(where + ": given twice in a flow mapping (first at line " +
+                                      std::to_string(it->second) + "); the parser would keep only the last");
+        }
+        top->expecting_key = false;
+        top->token.clear();
+      } else if (c == '"' || c == '\'') {
+        quote = c;
+        if (reading_key) top->token += c;
+      } else if (reading_key) {
+        top->token += c;
+      }
+      if (c != ' ' && c != '\t') previous = c;
+    }
+    if (!scopes.empty() && scopes.back().mapping && scopes.back().expecting_key) scopes.back().token += ' ';
+  }
+}
+
 // INI checked line by line (issue 16): MRPT keeps the last of two equal keys silently and
 // ignores keys before the first [section].
 void checkIniStructure(const std::string& path, const std::string& text) {
@@ -292,6 +372,7 @@ LoadedConfig readConfigFile(const std::string& path) {
     checkYamlNesting(path, out.text);
     refuseYamlDirectives(path, out.text);
     checkYamlStructure(path, out.text);
+    checkYamlFlowMappings(path, out.text);
     loadYaml(path, out);
   } else {
     std::vector<std::string> sections;

@@ -9,6 +9,7 @@
 #include <mrpt/system/datetime.h>
 
 #include "lidarseg/core/Angles.h"
+#include "lidarseg/core/NumberText.h"
 #include "lidarseg/core/StampPolicy.h"
 #include "lidarseg/logs/CarmenLogReader.h"
 #include "lidarseg/mrpt/PoseConversion.h"
@@ -63,7 +64,7 @@ std::string checkRawlogScan(mrpt::obs::CObservation2DRangeScan& obs) {
   // A log without stamps (MRPT's INVALID_TIMESTAMP) runs on synthetic time steps.
   if (!std::isfinite(stamp)) return "timestamp is not finite";
   if (obs.timestamp != INVALID_TIMESTAMP && std::abs(stamp) > kMaxLogStampS) {
-    return "timestamp " + std::to_string(stamp) + " s is beyond +-1e10 s (the year 2286): not a clock reading";
+    return "timestamp " + numberText(stamp) + " s is beyond +-1e10 s (the year 2286): not a clock reading";
   }
   const std::size_t n = obs.getScanSize();
   if (n < 2 || n > kMaxBeams) return std::to_string(n) + " beams (need 2 to " + std::to_string(kMaxBeams) + ")";

@@ -305,6 +305,21 @@ std::string quoted(const PlannedOutput& o) {
   return o.option + " '" + o.path + "'";
 }
 
+// True when `input` is a file of `folder` named like `numbered` (PREFIX digits SUFFIX).
+bool isNumberedFile(const std::string& input, const std::string& folder, const NumberedName& numbered) {
+  const fs::path prefix(numbered.prefix);
+  const std::string stem = prefix.filename().string();
+  const fs::path input_path(input);
+  const std::string name = input_path.filename().string();
+  if (name.size() <= stem.size() + numbered.suffix.size()) return false;
+  if (name.compare(0, stem.size(), stem) != 0) return false;
+  if (name.compare(name.size() - numbered.suffix.size(), numbered.suffix.size(), numbered.suffix) != 0) return false;
+  const std::string digits = name.substr(stem.size(), name.size() - stem.size() - numbered.suffix.size());
+  if (digits.find_first_not_of("0123456789") != std::string::npos) return false;
+  const fs::path input_folder = input_path.has_parent_path() ? input_path.parent_path() : fs::path(".");
+  return samePath(input_folder.string(), (fs::path(folder) / prefix.parent_path()).string());
+}
+
 }  // namespace
 
 void OutputSet::claimOutputs(const std::vector<NamedOutput>& files, const std::vector<NamedOutput>& folders,
@@ -326,6 +341,16 @@ void OutputSet::claimOutputs(const std::vector<NamedOutput>& files, const std::v
   }
   for (const PlannedOutput& o : planned) {
     for (const std::string& input : inputs) refuseOverwritingInput(o.path, input, o.option);
+  }
+  for (const NamedOutput& o : folders) {
+    if (o.path.empty()) continue;
+    for (const NumberedName& numbered : o.numbered) {
+      for (const std::string& input : inputs) {
+        if (input.empty() || !isNumberedFile(input, o.path, numbered)) continue;
+        throw UsageError(o.option + " '" + o.path + "' gets numbered files " + numbered.prefix + "N" + numbered.suffix +
+                         ", and the input '" + input + "' is named like one: an output never overwrites its input");
+      }
+    }
   }
   std::error_code ec;
   for (const PlannedOutput& o : planned) {

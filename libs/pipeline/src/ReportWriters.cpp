@@ -244,6 +244,15 @@ std::vector<std::string> runOutputNames() {
           "timing.csv",   "results.md", "trajectories.png", "timing.png",         "summary.json"};
 }
 
+std::vector<std::string> runOutputNames(bool icp, bool icp_s2s, bool plots) {
+  std::vector<std::string> names = {"lidarseg.tum", "wheel-odometry.tum", "log-poses.tum", "timing.csv", "results.md",
+                                    "summary.json"};
+  if (icp) names.push_back("icp.tum");
+  if (icp_s2s) names.push_back("icp-s2s.tum");
+  if (plots) names.insert(names.end(), {"trajectories.png", "timing.png"});
+  return names;
+}
+
 std::vector<std::string> addRunOutputs(OutputSet& outputs, const std::string& out_dir, const OdometryReport& report,
                                        const eval::StampedTrajectory& log_poses,
                                        const eval::StampedTrajectory& wheel_odometry) {

@@ -1,4 +1,5 @@
 #include "lidarseg/sim/BuildingGenerator.h"
+#include "lidarseg/core/NumberText.h"
 
 #include <algorithm>
 #include <cmath>
@@ -524,18 +525,18 @@ class Generator {
 
 void requireRange(const char* lo_key, double lo, const char* hi_key, double hi, double min_allowed) {
   if (!(std::isfinite(lo) && lo >= min_allowed)) {
-    throw std::invalid_argument(std::string(lo_key) + " must be finite and >= " + std::to_string(min_allowed) +
-                                " (got " + std::to_string(lo) + ")");
+    throw std::invalid_argument(std::string(lo_key) + " must be finite and >= " + numberText(min_allowed) +
+                                " (got " + numberText(lo) + ")");
   }
   if (!(std::isfinite(hi) && hi >= lo)) {
     throw std::invalid_argument(std::string(hi_key) + " must be finite and >= " + lo_key + " (got " +
-                                std::to_string(hi) + ")");
+                                numberText(hi) + ")");
   }
 }
 
 void requireShare(const char* key, double v) {
   if (!(v >= 0.0 && v <= 1.0)) {
-    throw std::invalid_argument(std::string(key) + " must be in [0, 1] (got " + std::to_string(v) + ")");
+    throw std::invalid_argument(std::string(key) + " must be in [0, 1] (got " + numberText(v) + ")");
   }
 }
 
@@ -556,7 +557,7 @@ void BuildingParams::validate() const {
                double_door_max_width_m, 0.3);
   requireRange("ajar_min_angle_deg", ajar_min_angle_deg, "ajar_max_angle_deg", ajar_max_angle_deg, 1.0);
   if (ajar_max_angle_deg > 90.0) {
-    throw std::invalid_argument("ajar_max_angle_deg must be <= 90 (got " + std::to_string(ajar_max_angle_deg) + ")");
+    throw std::invalid_argument("ajar_max_angle_deg must be <= 90 (got " + numberText(ajar_max_angle_deg) + ")");
   }
   requireRange("room_min_width_m", room_min_width_m, "room_max_width_m", room_max_width_m,
                single_door_min_width_m + 2.0 * door_margin_m);
@@ -573,7 +574,7 @@ void BuildingParams::validate() const {
   requireRange("path_clearance_m", path_clearance_m, "path_clearance_m", path_clearance_m, 0.1);
   if (2.0 * path_clearance_m + 0.2 > corridor_min_width_m) {
     throw std::invalid_argument("path_clearance_m must leave the narrowest corridor passable (got " +
-                                std::to_string(path_clearance_m) + ")");
+                                numberText(path_clearance_m) + ")");
   }
   requireShare("max_double_door_share", max_double_door_share);
   requireShare("max_open_share", max_open_share);
@@ -585,7 +586,7 @@ void BuildingParams::validate() const {
   if (max_pillars > 100) throw std::invalid_argument("max_pillars must be <= 100 (got " + std::to_string(max_pillars) + ")");
   if (max_exits > 2) throw std::invalid_argument("max_exits must be <= 2 (got " + std::to_string(max_exits) + ")");
   if (!(speed_mps > 0.0 && std::isfinite(speed_mps))) {
-    throw std::invalid_argument("speed_mps must be finite and > 0 (got " + std::to_string(speed_mps) + ")");
+    throw std::invalid_argument("speed_mps must be finite and > 0 (got " + numberText(speed_mps) + ")");
   }
   if (!(turn_radius_m >= 0.0 && turn_radius_m <= path_clearance_m + 0.5)) {
     throw std::invalid_argument("turn_radius_m must be in [0, path_clearance_m + 0.5] (got " +

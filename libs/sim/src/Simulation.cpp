@@ -1,4 +1,5 @@
 #include "lidarseg/sim/Simulation.h"
+#include "lidarseg/core/NumberText.h"
 #include "lidarseg/core/Angles.h"
 
 #include <cmath>
@@ -10,16 +11,16 @@ namespace lidarseg::sim {
 namespace {
 void requirePositive(const char* key, double v) {
   if (!(std::isfinite(v) && v > 0.0)) {
-    throw std::invalid_argument(std::string(key) + " must be finite and > 0 (got " + std::to_string(v) + ")");
+    throw std::invalid_argument(std::string(key) + " must be finite and > 0 (got " + numberText(v) + ")");
   }
 }
 void requireNonNegative(const char* key, double v) {
   if (!(std::isfinite(v) && v >= 0.0)) {
-    throw std::invalid_argument(std::string(key) + " must be finite and >= 0 (got " + std::to_string(v) + ")");
+    throw std::invalid_argument(std::string(key) + " must be finite and >= 0 (got " + numberText(v) + ")");
   }
 }
 void requireFinite(const char* key, double v) {
-  if (!std::isfinite(v)) throw std::invalid_argument(std::string(key) + " must be finite (got " + std::to_string(v) + ")");
+  if (!std::isfinite(v)) throw std::invalid_argument(std::string(key) + " must be finite (got " + numberText(v) + ")");
 }
 }  // namespace
 
@@ -32,7 +33,7 @@ void SimulationParams::validate() const {
   requireNonNegative("lidar_z_m", lidar_z_m);
   requireNonNegative("field_of_view_rad", field_of_view_rad);
   if (field_of_view_rad > 2.0 * kPi + 1e-9) {
-    throw std::invalid_argument("field_of_view_rad must be <= 2 pi (got " + std::to_string(field_of_view_rad) + ")");
+    throw std::invalid_argument("field_of_view_rad must be <= 2 pi (got " + numberText(field_of_view_rad) + ")");
   }
   if (num_beams == 1 || num_beams > kMaxBeams) {
     throw std::invalid_argument("num_beams must be 0 (profile) or in [2, 100000] (got " + std::to_string(num_beams) +
@@ -102,8 +103,8 @@ Simulation::Simulation(const World& world, const Trajectory& trajectory, const S
       oracle_(world) {
   const double scans = std::floor(trajectory.duration() * params.sensor.frequency_hz) + 1.0;
   if (!(scans <= static_cast<double>(kMaxScans))) {
-    throw std::invalid_argument("the trajectory lasts " + std::to_string(trajectory.duration()) + " s: " +
-                                std::to_string(scans) + " scans at " + std::to_string(params.sensor.frequency_hz) +
+    throw std::invalid_argument("the trajectory lasts " + numberText(trajectory.duration()) + " s: " +
+                                std::to_string(scans) + " scans at " + numberText(params.sensor.frequency_hz) +
                                 " Hz, more than the " + std::to_string(kMaxScans) + " a simulation may write");
   }
   num_scans_ = static_cast<std::size_t>(scans);

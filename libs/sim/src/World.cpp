@@ -28,16 +28,29 @@ Eigen::Vector2d Door::hingeA() const { return jamb_a + recess_m * behind(); }
 Eigen::Vector2d Door::hingeB() const { return jamb_b + recess_m * behind(); }
 
 namespace {
+constexpr double kOnLine = 1e-3;  // m: a wall this close to the door's line holds it
+
+// True when p lies on the line through a with unit normal `left`.
+bool onLine(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& left) {
+  return std::abs(left.dot(p - a)) < kOnLine;
+}
+
+// Length shared by the opening [0, width] along d from a and the segment p-q on its line.
+double sharedLength(const Eigen::Vector2d& a, const Eigen::Vector2d& d, double width, const Eigen::Vector2d& p,
+                    const Eigen::Vector2d& q) {
+  const double tp = d.dot(p - a), tq = d.dot(q - a);
+  return std::min(width, std::max(tp, tq)) - std::max(0.0, std::min(tp, tq));
+}
+
 // Walls with the part between a and b cut out, for the walls lying on the line a-b.
 std::vector<Wall> cutOpening(const std::vector<Wall>& walls, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  constexpr double kOnLine = 1e-3;  // m: a wall this close to the door's line holds it
   const double width = (b - a).norm();
   const Eigen::Vector2d d = (b - a) / width;
   const Eigen::Vector2d left(-d.y(), d.x());
   std::vector<Wall> kept;
   kept.reserve(walls.size() + 2);
   for (const Wall& w : walls) {
-    const bool on_line = std::abs(left.dot(w.a - a)) < kOnLine && std::abs(left.dot(w.b - a)) < kOnLine;
+    const bool on_line = onLine(w.a, a, left) && onLine(w.b, a, left);
     if (!on_line) {
       kept.push_back(w);
       continue;
@@ -58,6 +71,25 @@ std::vector<Wall> cutOpening(const std::vector<Wall>& walls, const Eigen::Vector
   return kept;
 }
 }  // namespace
+
+bool overlap(const Door& a, const Door& b) {
+  const Eigen::Vector2d d = (a.jamb_b - a.jamb_a) / a.width();
+  const Eigen::Vector2d left(-d.y(), d.x());
+  return onLine(b.jamb_a, a.jamb_a, left) && onLine(b.jamb_b, a.jamb_a, left) &&
+         sharedLength(a.jamb_a, d, a.width(), b.jamb_a, b.jamb_b) > kOnLine;
+}
+
+bool World::holdsDoor(const Door& door) const {
+  const Eigen::Vector2d d = (door.jamb_b - door.jamb_a) / door.width();
+  const Eigen::Vector2d left(-d.y(), d.x());
+  for (const Wall& w : walls_) {
+    if (onLine(w.a, door.jamb_a, left) && onLine(w.b, door.jamb_a, left) &&
+        sharedLength(door.jamb_a, d, door.width(), w.a, w.b) > kOnLine) {
+      return true;
+    }
+  }
+  return false;
+}
 
 void World::addDoor(const Door& door) {
   const Eigen::Vector2d a = door.jamb_a, b = door.jamb_b;

@@ -104,9 +104,43 @@ void parseDoorOptions(const LineParser& p, const std::vector<std::string>& token
 
 }  // namespace
 
+namespace {
+
+// The same opening, whichever jamb comes first, and the same kind.
+bool sameDoor(const Door& a, const Door& b) {
+  constexpr double kSame = 1e-3;  // m, the tolerance doors cut walls with
+  const bool jambs = ((a.jamb_a - b.jamb_a).norm() < kSame && (a.jamb_b - b.jamb_b).norm() < kSame) ||
+                     ((a.jamb_a - b.jamb_b).norm() < kSame && (a.jamb_b - b.jamb_a).norm() < kSame);
+  return jambs && a.kind == b.kind;
+}
+
+// Doors that would be dropped or cut into one another: a door on no wall cuts nothing and
+// would be counted as ground truth the scans never show; two doors on one opening give two
+// ground-truth doors for one (or an open door's leaf where a closed one stands).
+void checkDoors(const World& walls, const std::vector<Door>& doors, const std::vector<int>& lines,
+                const std::string& source) {
+  const auto at = [&](std::size_t i) { return source + ":" + std::to_string(lines[i]); };
+  for (std::size_t j = 0; j < doors.size(); ++j) {
+    for (std::size_t i = 0; i < j; ++i) {
+      if (sameDoor(doors[i], doors[j])) throw std::runtime_error(at(j) + ": the door of " + at(i) + " given again");
+      if (overlap(doors[i], doors[j])) {
+        throw std::runtime_error(at(j) + ": " + toString(doors[j].kind) + " door overlaps the " +
+                                 toString(doors[i].kind) + " door of " + at(i) + " (one opening, two doors)");
+      }
+    }
+    if (!walls.holdsDoor(doors[j])) {
+      throw std::runtime_error(at(j) + ": door lies on no wall (no wall runs along its jambs' line within 1 mm)");
+    }
+  }
+}
+
+}  // namespace
+
 World parseWorld(std::istream& in, const std::string& source) {
   World world;
   std::vector<Door> doors;
+  std::vector<int> door_lines;
+  bool has_wall = false;
   std::string text;
   for (int number = 1; std::getline(in, text); ++number) {
     const auto hash = text.find('#');
@@ -122,6 +156,7 @@ World parseWorld(std::istream& in, const std::string& source) {
       const auto v = p.numbers(1, 4, 4);
       if ((point(v, 2) - point(v, 0)).norm() < kMinLength) p.fail("wall of zero length");
       world.addWall(point(v, 0), point(v, 2));
+      has_wall = true;
     } else if (key == "polyline") {
       if (tokens.size() < 5 || (tokens.size() - 1) % 2 != 0) {
         p.fail("'polyline' expects an even number (>= 4) of numbers, got " +
@@ -136,6 +171,7 @@ World parseWorld(std::istream& in, const std::string& source) {
         corners.push_back(point(v, i));
       }
       world.addPolyline(corners);
+      has_wall = true;
     } else if (key == "door") {
       if (tokens.size() < 2) p.fail("'door' needs a kind: open, closed or ajar");
       Door door;
@@ -166,6 +202,7 @@ World parseWorld(std::istream& in, const std::string& source) {
       if (door.width() < kMinLength) p.fail("door of zero width");
       parseDoorOptions(p, tokens, options, door);
       doors.push_back(door);
+      door_lines.push_back(number);
     } else if (key == "pillar") {
       const auto v = p.numbers(1, 3, 3);
       if (!(v[2] > 0.0)) p.fail("pillar size must be > 0");
@@ -185,6 +222,8 @@ World parseWorld(std::istream& in, const std::string& source) {
       p.fail("unknown keyword '" + key + "' (wall, polyline, door, pillar, box)");
     }
   }
+  if (!has_wall) throw std::runtime_error(source + ": no walls (a world needs at least one 'wall' or 'polyline')");
+  checkDoors(world, doors, door_lines, source);
   for (const Door& d : doors) world.addDoor(d);
   return world;
 }

@@ -1,4 +1,5 @@
 #include "lidarseg/vision/CameraModel.h"
+#include "lidarseg/core/NumberText.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -11,7 +12,7 @@ namespace lidarseg::vision {
 
 namespace {
 [[noreturn]] void fail(const std::string& key, const std::string& need, double value) {
-  throw std::invalid_argument(key + " must be " + need + " (got " + std::to_string(value) + ")");
+  throw std::invalid_argument(key + " must be " + need + " (got " + numberText(value) + ")");
 }
 constexpr double kNear = 1e-3;  // m: points closer to the camera plane are "behind"
 }  // namespace

@@ -1,4 +1,5 @@
 #include "lidarseg/vision/PeopleDetector.h"
+#include "lidarseg/core/NumberText.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +14,7 @@ namespace lidarseg::vision {
 
 namespace {
 [[noreturn]] void fail(const std::string& key, const std::string& need, double value) {
-  throw std::invalid_argument(key + " must be " + need + " (got " + std::to_string(value) + ")");
+  throw std::invalid_argument(key + " must be " + need + " (got " + numberText(value) + ")");
 }
 }  // namespace
 

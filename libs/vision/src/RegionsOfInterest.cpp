@@ -1,4 +1,5 @@
 #include "lidarseg/vision/RegionsOfInterest.h"
+#include "lidarseg/core/NumberText.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,11 +15,11 @@ constexpr double kNear = 0.05;  // m: the near clipping plane in front of the ca
 void RoiParams::validate() const {
   auto positive = [](const char* key, double v) {
     if (!(std::isfinite(v) && v > 0)) {
-      throw std::invalid_argument(std::string(key) + " must be finite and > 0 (got " + std::to_string(v) + ")");
+      throw std::invalid_argument(std::string(key) + " must be finite and > 0 (got " + numberText(v) + ")");
     }
   };
   if (!(std::isfinite(lidar_height_m) && lidar_height_m >= 0)) {
-    throw std::invalid_argument("lidar_height_m must be finite and >= 0 (got " + std::to_string(lidar_height_m) + ")");
+    throw std::invalid_argument("lidar_height_m must be finite and >= 0 (got " + numberText(lidar_height_m) + ")");
   }
   positive("door_height_m", door_height_m);
   positive("corner_strip_m", corner_strip_m);

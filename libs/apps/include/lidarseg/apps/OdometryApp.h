@@ -73,9 +73,9 @@ struct OdometryOptions {
   /// Doors and corners of every scan (the [features] section of the configuration), robot
   /// frame: `t,type,x,y,theta,width,confidence,scan,var_x,var_y,cov_xy,var_theta,var_width`.
   std::string features_out;
-  /// Scanner rotation frequency for rolling-shutter correction (Hz); -1 = the config's, 0 =
+  /// Scanner rotation frequency for rolling-shutter correction (Hz); none: the config's, 0 =
   /// none, else from kMinScannerHz to kMaxScannerHz (another value is a usage error).
-  double scanner_rotation_hz = -1.0;
+  std::optional<double> scanner_rotation_hz;
   /// Which beam's instant the log's stamps are ("first", "middle", "last"); empty: the
   /// configuration's [odometry] scan_stamp.
   std::string scan_stamp;

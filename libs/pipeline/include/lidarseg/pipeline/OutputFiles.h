@@ -72,13 +72,24 @@ class PendingFile {
   std::ofstream out_;
 };
 
+/// Numbered files a tool writes in an output folder: PREFIX, a number (any count of
+/// digits), SUFFIX, e.g. {"frames/scan_", ".png"} for `frames/scan_12.png`. PREFIX may start
+/// with a subfolder.
+struct NumberedName {
+  std::string prefix;
+  std::string suffix;
+};
+
 /// An output named on the command line: its path (empty: not asked for) and its option.
 /// For an output folder, `contents` are the names of the files the tool writes in it (those
-/// it may write in any run): each is checked against the inputs and the other outputs.
+/// this run may write): each is checked against the inputs and the other outputs;
+/// `numbered` the patterns of the numbered files it writes there: an input whose name in
+/// the folder matches one is refused (which numbers a run writes is only known once read).
 struct NamedOutput {
   std::string path;
   std::string option;
   std::vector<std::string> contents = {};
+  std::vector<NumberedName> numbered = {};
 };
 
 /// A set of outputs prepared under temporary names and put in place together by commit();
@@ -135,7 +146,8 @@ class OutputSet {
   /// What every tool does before its work, the one check of its command line's paths
   /// (issue 16), all before any folder is created or any lock taken:
   /// - an output (a file, a folder, or a file of a folder's `contents`) that is one of
-  ///   `inputs` is refused (refuseOverwritingInput);
+  ///   `inputs` is refused (refuseOverwritingInput), and so is an input in an output folder
+  ///   named like one of the folder's `numbered` files;
   /// - two outputs on one path are refused, naming both options (a file of one and a folder
   ///   of another included; two options naming the same folder are allowed, their files are
   ///   checked through `contents`);

@@ -64,6 +64,11 @@ struct Door {
   Eigen::Vector2d centre() const { return 0.5 * (jamb_a + jamb_b); }
 };
 
+/// True when the openings of `a` and `b` lie on the same line (within 1 mm, the tolerance
+/// World::addDoor cuts walls with) and share more than 1 mm of it: one opening cut twice,
+/// whatever the doors' kinds. Doors that only share a jamb do not overlap.
+bool overlap(const Door& a, const Door& b);
+
 /// A set of walls (and the doors they contain) in the world frame.
 class World {
  public:
@@ -77,6 +82,9 @@ class World {
   /// wall line, the leaf (or two leaves) of an ajar one hinged recess_m behind the jambs.
   void addDoor(const Door& door);
   const std::vector<Door>& doors() const { return doors_; }
+  /// True when a wall lies on the door's line (within 1 mm) and overlaps its opening by
+  /// more than 1 mm: addDoor would cut it. O(number of walls).
+  bool holdsDoor(const Door& door) const;
 
   void addWall(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                SurfaceKind kind = SurfaceKind::kWall) {

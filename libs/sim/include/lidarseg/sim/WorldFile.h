@@ -22,7 +22,9 @@ namespace lidarseg::sim {
 /// Doors are applied after every wall is read, so they may cut walls declared later.
 /// @param source name used in error messages (usually the file's path).
 /// @throws std::runtime_error "source:line: message" for an unknown keyword, a missing,
-/// extra or non-numeric value, or a degenerate item (a wall of zero length, ...).
+/// extra or non-numeric value, or a degenerate item (a wall of zero length, ...); for a
+/// door given twice, two doors on one opening (naming both lines), a door on no wall; and
+/// "source: no walls" for a world without a `wall` or `polyline`.
 World parseWorld(std::istream& in, const std::string& source);
 
 /// Reads a world file.
