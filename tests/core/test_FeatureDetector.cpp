@@ -374,6 +374,56 @@ TEST(FeatureDetector, RangesOnAGridAreMeasuredAndTheirStaircaseIsNoDoor) {
   EXPECT_GE(found, 8);  // of 10
 }
 
+// A closed leaf recessed into a thick wall, ranges on a 5 cm grid: a recess shallower than
+// the grid's staircase (3.5 cm) is no door, though found from the raw ranges; one deeper than
+// any grid the detector tries (10 cm: 12 and 20 cm) is found without the grid being measured
+// (decision 86), as it is from the raw ranges.
+TEST(FeatureDetector, ALeafIsJudgedAgainstTheRangesGridOnlyWhereTheGridDecides) {
+  const auto sick = testing::makeSensor(181, 180, 0.005);
+  const FeatureDetector detector;
+  SegmentationParams sp;
+  sp.noise.range_sigma_m = 0.01;
+  for (const double recess : {0.035, 0.12, 0.2}) {
+    sim::World w;
+    w.addWall({-10, 2}, {10, 2});
+    w.addWall({-10, 2.3}, {10, 2.3});
+    sim::Door leaf;
+    leaf.kind = sim::DoorKind::kClosed;
+    leaf.jamb_a = {-0.45, 2};
+    leaf.jamb_b = {0.45, 2};
+    leaf.recess_m = recess;
+    leaf.wall_thickness_m = 0.3;
+    w.addDoor(leaf);
+    int found_raw = 0, found_grid = 0, other = 0;
+    for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+      const Pose2D pose{-0.5 + 0.1 * static_cast<double>(seed), 0.0, kPi / 2};
+      Scan scan = testing::simulate(w, sick, pose, seed);
+      const Scan raw = scan;
+      for (double& r : scan.ranges_m) {
+        if (std::isfinite(r) && r < sick.max_range_m) r = 0.01 + 0.05 * std::round((r - 0.01) / 0.05);
+      }
+      for (const bool grid : {false, true}) {
+        const Segmentation seg = ScanSegmenter(sp).process(grid ? scan : raw);
+        for (const Feature& f : detector.detect(seg)) {
+          if (!isDoor(f.type)) continue;
+          if (f.type == FeatureType::kDoorClosed && (f.position - toSensor(pose, leaf.centre())).norm() < 0.3) {
+            ++(grid ? found_grid : found_raw);
+          } else {
+            ++other;
+          }
+        }
+      }
+    }
+    EXPECT_EQ(other, 0) << recess;
+    EXPECT_GE(found_raw, 5) << recess;  // of 10
+    if (recess < 0.05) {
+      EXPECT_EQ(found_grid, 0) << recess;
+    } else {
+      EXPECT_GE(found_grid, 9) << recess;
+    }
+  }
+}
+
 // A wall seen at a grazing angle by a 1-degree scanner, with a few returns lost in a row (a
 // dark or glossy stretch): the points are 0.3-0.4 m apart there and the lost beams leave a
 // door-wide gap with nothing seen through it. No door. The same place with a real open door

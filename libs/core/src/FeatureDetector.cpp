@@ -107,6 +107,11 @@ long roundRangeMm(double v) {
 // expression, so the same value; the member function lives in another translation unit.
 double distanceBehind(const Segment& s, const Eigen::Vector2d& q) { return s.normal.dot(q) - s.rho_m; }
 
+// The grids rangeQuantum tries (mm; each divides 100 mm), and the largest quantum it can
+// return, computed as it computes it.
+constexpr int kRangeGridsMm[4] = {10, 20, 50, 100};
+constexpr double kMaxRangeQuantum = kRangeGridsMm[3] * 1e-3;
+
 std::size_t beamsBetween(std::uint32_t last_of_a, std::uint32_t first_of_b, std::size_t num_beams) {
   // Beams strictly after last_of_a and strictly before first_of_b, in scan order (wrapping).
   const std::size_t n = num_beams;
@@ -268,7 +273,7 @@ double FeatureDetector::rangeQuantum(const Segmentation& segmentation, std::size
   // Share of the ranges on the best grid of each step (any offset). The counts on each
   // offset of the 50, 20 and 10 mm grids are folded from the 100 mm histogram (integer sums:
   // the same counts as summing every tenth, fifth or second class).
-  const int grids[4] = {10, 20, 50, 100};
+  const int* const grids = kRangeGridsMm;
   std::uint32_t on50[50], on20[20], on10[10];
   for (int o = 0; o < 50; ++o) on50[o] = hist[o] + hist[o + 50];
   for (int o = 0; o < 20; ++o) on20[o] = hist[o] + hist[o + 20] + hist[o + 40] + hist[o + 60] + hist[o + 80];
@@ -405,9 +410,26 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, const ScanGe
       };
       auto minRecess = [&] { return std::max(p.door_min_recess_m, quantumHere() * cos_gap); };
       // An ajar leaf's free end stands clearly behind the wall: beyond the noise band.
-      auto minLeafDepth = [&] {
-        const double q = quantumHere();
+      auto minLeafDepthFor = [&](double q) {
         return p.door_min_recess_m + p.door_noise_sigmas * std::sqrt(sigma * sigma + q * q / 12.0) * cos_gap;
+      };
+      auto minLeafDepth = [&] { return minLeafDepthFor(quantumHere()); };
+      // The quantum is one of a few steps, 0 to kMaxRangeQuantum, and the thresholds grow
+      // with it (each operation is monotonic in it, rounding included, the factors being
+      // non-negative): a depth beyond the largest step's threshold passes, and an ajar leaf's
+      // depth short of no step's fails, whatever the ranges' grid; the histogram is read
+      // only in between (most recessed leaves stand well behind 10 cm cos(incidence)).
+      const bool monotonic = cos_gap >= 0.0;  // false for a NaN
+      const double recess_any_quantum = kMaxRangeQuantum * cos_gap;
+      const double leaf_depth_any_quantum = minLeafDepthFor(kMaxRangeQuantum);
+      const double leaf_depth_no_quantum = minLeafDepthFor(0.0);
+      auto behindMinRecess = [&](double offset) {  // offset >= minRecess(), offset >= door_min_recess_m known
+        return (monotonic && offset >= recess_any_quantum) || offset >= minRecess();
+      };
+      auto behindMinLeafDepth = [&](double depth) {  // depth >= minLeafDepth()
+        if (monotonic && depth >= leaf_depth_any_quantum) return true;
+        if (monotonic && !(depth >= leaf_depth_no_quantum)) return false;
+        return depth >= minLeafDepth();
       };
       double closed_support = 0.0, ajar_support = 0.0;
       Eigen::Vector2d hinge_point = Eigen::Vector2d::Zero();
@@ -428,13 +450,13 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, const ScanGe
         if (sin_angle > sin_leaf_parallel_ && reveal_of_start != 0 && reveal_of_start == revealOf(s.end)) continue;
         const double offset = a.signedDistance(s.centroid);
         if (sin_angle <= sin_leaf_parallel_) {
-          if (offset >= p.door_min_recess_m && offset <= p.door_max_recess_m && offset >= minRecess()) {
+          if (offset >= p.door_min_recess_m && offset <= p.door_max_recess_m && behindMinRecess(offset)) {
             closed_support += static_cast<double>(s.num_points) / total;
           }
         } else if (offset > 0.0 && s.length_m >= p.door_min_ajar_leaf_m) {
           const double hinge = std::min(hingeDistance(s.start), hingeDistance(s.end));
           if (hinge <= p.door_hinge_tolerance_m && s.length_m / width > ajar_support &&
-              std::max(a.signedDistance(s.start), a.signedDistance(s.end)) >= minLeafDepth()) {
+              behindMinLeafDepth(std::max(a.signedDistance(s.start), a.signedDistance(s.end)))) {
             ajar_support = std::min(1.0, s.length_m / width);
             // The leaf's end on the wall line is the hinge, hence a jamb.
             hinge_point = std::abs(a.signedDistance(s.start)) < std::abs(a.signedDistance(s.end)) ? s.start : s.end;
