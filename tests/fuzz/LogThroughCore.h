@@ -15,7 +15,7 @@
 namespace lidarseg::fuzz {
 
 /// Reads the log at `path` to its end through the core. Checks: consecutive indices, an
-/// observation per record, finite stamps, no more issues listed than lines skipped, and
+/// scan per record (and an MRPT observation of it), finite stamps, no more issues listed than lines skipped, and
 /// errors that name the file.
 inline void readLogThroughCore(const std::string& path) {
   static const ScanSegmenter segmenter;
@@ -26,12 +26,13 @@ inline void readLogThroughCore(const std::string& path) {
     std::size_t n = 0;
     while (auto record = reader.next()) {
       require(record->index == n, "scan indices are consecutive");
-      require(record->observation != nullptr, "a record holds an observation");
+      require(record->scan.size() >= 2 && record->scan.layout != nullptr, "a record holds a scan");
       require(std::isfinite(record->stamp_s), "stamps are finite");
       ++n;
       try {  // as the apps do: a scan that cannot be converted is skipped with its place
-        const Scan scan = converter.convert(*record->observation);
-        segmenter.process(scan, segmentation);
+        segmenter.process(record->scan, segmentation);
+        const Scan scan = converter.convert(*mrpt_adapter::observationOf(*record));  // what ICP reads
+        require(scan.size() == record->scan.size(), "the observation has the record's beams");
       } catch (const std::invalid_argument&) {
       }
     }

@@ -7,6 +7,7 @@
 #include <zlib.h>
 
 #include "lidarseg/logs/CarmenLogReader.h"
+#include "lidarseg/logs/CarmenScan.h"
 
 using namespace lidarseg;
 using namespace lidarseg::logs;
@@ -241,4 +242,65 @@ TEST(CarmenLogReader, AStampBeyondTheYear2286SkipsItsLineWithItsPlace) {
   EXPECT_NE(reader.issues()[0].find("ipc_timestamp"), std::string::npos) << reader.issues()[0];
   EXPECT_NE(reader.issues()[0].find("not a time stamp"), std::string::npos) << reader.issues()[0];
   EXPECT_NE(reader.issues()[1].find("stamps.log:3"), std::string::npos) << reader.issues()[1];
+}
+
+// A laser line becomes the core's scan with no MRPT in between (issue 15): beams evenly
+// spaced over the aperture, centred on the scan frame's x axis, which carmenSensorOnRobot()
+// puts on the robot; the valid ranges are the line's own doubles; no return, zero and
+// non-finite ranges are invalid; a clockwise resolution reverses the beams' order.
+TEST(CarmenScan, ALineBecomesTheCoreScanAndItsMounting) {
+  CarmenLaser l;
+  l.type = "ROBOTLASER1";
+  l.stamp_s = 7.25;
+  l.start_angle_rad = -0.5 * M_PI;
+  l.angular_resolution_rad = M_PI / 180.0;
+  l.max_range_m = 30.0;
+  l.ranges_m.assign(181, 2.0);
+  l.ranges_m[3] = 2.123456789012345;  // more digits than a float holds
+  l.ranges_m[4] = 30.0;               // no return
+  l.ranges_m[5] = 0.0;
+  l.ranges_m[6] = std::nan("");
+  l.laser_on_robot = {0.2, -0.1, 0.05};
+  CentredLayoutCache layouts;
+  const Scan scan = carmenScan(l, layouts);
+  ASSERT_EQ(scan.size(), 181u);
+  EXPECT_DOUBLE_EQ(scan.stamp_s, 7.25);
+  EXPECT_NEAR(scan.layout->angle(0), -0.5 * M_PI, 1e-6);
+  EXPECT_NEAR(scan.layout->angle(90), 0.0, 1e-9);
+  EXPECT_NEAR(scan.layout->angle(180), 0.5 * M_PI, 1e-6);
+  EXPECT_EQ(scan.ranges_m[3], 2.123456789012345);
+  EXPECT_TRUE(scan.valid[3]);
+  EXPECT_FALSE(scan.valid[4]);
+  EXPECT_FALSE(scan.valid[5]);
+  EXPECT_FALSE(scan.valid[6]);
+  EXPECT_TRUE(std::isfinite(scan.ranges_m[6]));
+  EXPECT_NEAR(scan.max_range_m, 30.0, 1e-6);
+  // The scan frame's x axis is the middle of the aperture: here the laser's own axis.
+  const Pose2D mount = carmenSensorOnRobot(l);
+  EXPECT_NEAR(mount.x, 0.2, 1e-12);
+  EXPECT_NEAR(mount.y, -0.1, 1e-12);
+  EXPECT_NEAR(mount.yaw, 0.05, 1e-12);
+  // One layout per geometry for the whole log.
+  EXPECT_EQ(carmenScan(l, layouts).layout, scan.layout);
+
+  // A clockwise line starting at +60 degrees: its middle is at +30 degrees on the laser.
+  l.start_angle_rad = M_PI / 3.0;
+  l.angular_resolution_rad = -M_PI / 180.0;
+  l.ranges_m.assign(61, 1.5);
+  const Scan cw = carmenScan(l, layouts);
+  EXPECT_GT(cw.layout->angle(0), cw.layout->angle(60));
+  EXPECT_NEAR(cw.layout->angle(0), M_PI / 6.0, 1e-6);
+  EXPECT_NEAR(carmenSensorOnRobot(l).yaw, 0.05 + M_PI / 6.0, 1e-12);
+
+  // What the core cannot represent is refused, naming the line type.
+  l.angular_resolution_rad = 1e300;
+  try {
+    carmenScan(l, layouts);
+    ADD_FAILURE() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("ROBOTLASER1 has an invalid aperture"), std::string::npos) << e.what();
+  }
+  l.ranges_m.assign(1, 1.0);
+  l.angular_resolution_rad = 0.01;
+  EXPECT_THROW(carmenScan(l, layouts), std::invalid_argument);
 }

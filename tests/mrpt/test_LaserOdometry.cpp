@@ -92,16 +92,31 @@ TEST(LaserLogReader, CarmenLinesBecomeObservationsWithTheRightBeamBearings) {
   ASSERT_TRUE(r->log_pose);
   // The laser pose (1, 2, 0.3) minus the 0.2 m offset along the heading.
   EXPECT_NEAR(r->log_pose->x, 1.0 - 0.2 * std::cos(0.3), 1e-9);
-  const auto& obs = *r->observation;
-  EXPECT_NEAR(obs.sensorPose.x(), 0.2, 1e-9);
+  // The line is read into the core types with no MRPT observation (issue 15)...
+  EXPECT_EQ(r->observation, nullptr);
+  EXPECT_EQ(r->sensor, "FLASER");
+  EXPECT_NEAR(r->sensor_on_robot.x, 0.2, 1e-9);
   // Robot-frame bearing of beam i: -90 + i degrees (180 beams, 1 degree apart).
+  const double yaw = r->sensor_on_robot.yaw;
+  EXPECT_NEAR(r->scan.layout->angle(0) + yaw, -90 * kDeg, 1e-6);
+  EXPECT_NEAR(r->scan.layout->angle(179) + yaw, 89 * kDeg, 1e-6);
+  EXPECT_FALSE(r->scan.beamValid(5));
+  EXPECT_TRUE(r->scan.beamValid(6));
+  EXPECT_DOUBLE_EQ(r->scan.ranges_m[6], 2.0);
+  // ...and an MRPT consumer gets the same scan as an observation.
+  const auto obs = observationOf(*r);
+  ASSERT_NE(obs, nullptr);
+  EXPECT_EQ(obs->sensorLabel, "FLASER");
+  EXPECT_NEAR(obs->sensorPose.x(), 0.2, 1e-9);
+  EXPECT_NEAR(obs->sensorPose.yaw(), yaw, 1e-12);
+  EXPECT_NEAR(mrpt::Clock::toDouble(obs->timestamp), 12.5, 1e-6);
   ScanConverter converter;
-  const Scan scan = converter.convert(obs);
-  const double yaw = obs.sensorPose.yaw();
-  EXPECT_NEAR(scan.layout->angle(0) + yaw, -90 * kDeg, 1e-6);
-  EXPECT_NEAR(scan.layout->angle(179) + yaw, 89 * kDeg, 1e-6);
-  EXPECT_FALSE(scan.beamValid(5));
-  EXPECT_TRUE(scan.beamValid(6));
+  const Scan scan = converter.convert(*obs);
+  ASSERT_EQ(scan.size(), r->scan.size());
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    EXPECT_DOUBLE_EQ(scan.layout->angle(i), r->scan.layout->angle(i)) << i;
+    EXPECT_EQ(scan.beamValid(i), r->scan.beamValid(i)) << i;
+  }
   EXPECT_FALSE(reader.next());
 }
 

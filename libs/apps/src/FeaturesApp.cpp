@@ -98,7 +98,7 @@ class LogPass {
     ++report_.scans;
 
     // Features are in the sensor frame; the CSV speaks of the robot frame.
-    const auto& sp = record.observation->sensorPose;
+    const mrpt::poses::CPose3D sp = mrpt_adapter::sensorPose3D(record);
     last_ = LastScan{record.index, sp, features_};
     for (const Feature& f : features_) ++report_.detections[static_cast<std::size_t>(f.type)];
     pipeline::writeFeatureCsvRows(csv_, time.output_stamp_s, record.index, {sp.x(), sp.y(), sp.yaw()}, features_);

@@ -62,7 +62,7 @@ class ScanPass {
     const double cascade_us = microsecondsSince(t1);
     if (report_.scans == 0) {
       report_.beams_per_scan = scan.size();
-      report_.field_of_view_deg = static_cast<double>(record.observation->aperture) * kRadToDeg;
+      report_.field_of_view_deg = static_cast<double>(mrpt_adapter::observationOf(record)->aperture) * kRadToDeg;
       report_.max_range_m = scan.max_range_m;
     }
     ++report_.scans;

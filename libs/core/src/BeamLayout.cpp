@@ -69,4 +69,18 @@ void BeamLayout::precompute() {
   }
 }
 
+std::shared_ptr<const BeamLayout> CentredLayoutCache::get(std::size_t num_beams, double aperture_rad,
+                                                          bool counter_clockwise) {
+  const auto key = std::make_tuple(num_beams, aperture_rad, counter_clockwise);
+  const auto it = layouts_.find(key);
+  if (it != layouts_.end()) return it->second;
+  if (layouts_.size() >= kMaxLayouts) layouts_.clear();
+  const double step = aperture_rad / static_cast<double>(num_beams - 1);
+  auto layout = std::make_shared<const BeamLayout>(
+      counter_clockwise ? BeamLayout::uniform(num_beams, -0.5 * aperture_rad, step)
+                        : BeamLayout::uniform(num_beams, 0.5 * aperture_rad, -step));
+  layouts_.emplace(key, layout);
+  return layout;
+}
+
 }  // namespace lidarseg

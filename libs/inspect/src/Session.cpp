@@ -146,8 +146,7 @@ void Session::matchUpTo(std::size_t index) {
 }
 
 Pose2D Session::mountOfFirstScan() const {
-  const auto& sp = records_.front()->observation->sensorPose;
-  return {sp.x(), sp.y(), sp.yaw()};
+  return records_.front()->sensor_on_robot;
 }
 
 std::vector<Pose2D> Session::trajectory(std::size_t index) {
@@ -206,7 +205,7 @@ const Frame& Session::frame(std::size_t index) {
     if (!image || std::abs(mrpt::Clock::toDouble(image->timestamp) - f.stamp_s) > 0.05) continue;
     try {
       const CameraRois rois(path_, params_.camera, params_.rois);
-      const auto boxes = rois.project(*image, record.observation->sensorPose, f.features);
+      const auto boxes = rois.project(*image, mrpt_adapter::sensorPose3D(record), f.features);
       f.camera = rois.pixels(*image);
       drawRois(f.camera, boxes);
       f.rois = boxes.size();

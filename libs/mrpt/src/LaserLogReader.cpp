@@ -12,6 +12,8 @@
 #include "lidarseg/core/NumberText.h"
 #include "lidarseg/core/StampPolicy.h"
 #include "lidarseg/logs/CarmenLogReader.h"
+#include "lidarseg/logs/CarmenScan.h"
+#include "lidarseg/mrpt/ScanConverter.h"
 #include "lidarseg/mrpt/PoseConversion.h"
 #include "lidarseg/mrpt/RawlogScanReader.h"
 
@@ -25,28 +27,6 @@ bool endsWith(const std::string& s, const std::string& suffix) {
 
 // A CARMEN laser line as an MRPT observation: evenly spaced beams centred on the
 // sensor's x axis, the offset of the first beam carried by the sensor pose's yaw.
-mrpt::obs::CObservation2DRangeScan::Ptr toObservation(const logs::CarmenLaser& l) {
-  auto obs = mrpt::obs::CObservation2DRangeScan::Create();
-  const std::size_t n = l.ranges_m.size();
-  obs->sensorLabel = l.type;
-  obs->timestamp = mrpt::Clock::fromDouble(l.stamp_s);
-  const double res = l.angular_resolution_rad;
-  obs->aperture = static_cast<float>(std::abs(res) * static_cast<double>(n - 1));
-  obs->rightToLeft = res >= 0.0;
-  obs->maxRange = static_cast<float>(l.max_range_m);
-  const double centre = l.start_angle_rad + 0.5 * res * static_cast<double>(n - 1);
-  const Pose2D sensor = compose(l.laser_on_robot, Pose2D{0.0, 0.0, centre});
-  obs->sensorPose = mrpt::poses::CPose3D(sensor.x, sensor.y, 0.0, sensor.yaw, 0.0, 0.0);
-  obs->resizeScan(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const double r = l.ranges_m[i];
-    const bool valid = std::isfinite(r) && r > 0.0 && r < l.max_range_m;
-    obs->setScanRange(i, valid ? static_cast<float>(r) : obs->maxRange);
-    obs->setScanRangeValidity(i, valid);
-  }
-  return obs;
-}
-
 // The largest tilt (pitch or roll, rad) of a scan plane taken as horizontal: 0.6 deg, a
 // range error below 0.01 %.
 constexpr double kMaxTiltRad = 0.01;
@@ -91,18 +71,51 @@ std::string checkRawlogScan(mrpt::obs::CObservation2DRangeScan& obs) {
 
 }  // namespace
 
+mrpt::obs::CObservation2DRangeScan::Ptr observationOf(const LaserRecord& record) {
+  if (record.observation) return record.observation;
+  // A CARMEN line's scan: evenly spaced beams centred on the sensor's x axis (carmenScan()),
+  // never refused here (an MRPT consumer takes what the core took).
+  const Scan& scan = record.scan;
+  const std::size_t n = scan.size();
+  auto obs = mrpt::obs::CObservation2DRangeScan::Create();
+  obs->sensorLabel = record.sensor;
+  obs->timestamp = mrpt::Clock::fromDouble(record.stamp_s);
+  if (n >= 2 && scan.layout) {
+    const double first = scan.layout->angle(0), last = scan.layout->angle(n - 1);
+    obs->aperture = static_cast<float>(std::abs(last - first));
+    obs->rightToLeft = last >= first;
+  }
+  obs->maxRange = static_cast<float>(scan.max_range_m);
+  const Pose2D& s = record.sensor_on_robot;
+  obs->sensorPose = mrpt::poses::CPose3D(s.x, s.y, 0.0, s.yaw, 0.0, 0.0);
+  obs->resizeScan(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool valid = scan.valid[i] != 0;  // the line's own test (finite, > 0, < its maximum range)
+    obs->setScanRange(i, valid ? static_cast<float>(scan.ranges_m[i]) : obs->maxRange);
+    obs->setScanRangeValidity(i, valid);
+  }
+  return obs;
+}
+
+mrpt::poses::CPose3D sensorPose3D(const LaserRecord& record) {
+  if (record.observation) return record.observation->sensorPose;
+  const Pose2D& s = record.sensor_on_robot;
+  return mrpt::poses::CPose3D(s.x, s.y, 0.0, s.yaw, 0.0, 0.0);
+}
+
 void LaserLogReader::watchGeometry(LaserRecord& r) {
-  const auto& o = *r.observation;
   if (r.odometry && !(std::isfinite(r.odometry->x) && std::isfinite(r.odometry->y) && std::isfinite(r.odometry->yaw))) {
     warn(r.where + ": wheel odometry is not finite; not used");
     r.odometry.reset();
   }
-  const Geometry g{o.getScanSize(), o.aperture, o.rightToLeft, o.sensorPose.x(), o.sensorPose.y(), o.sensorPose.yaw()};
+  const BeamLayout& layout = *r.scan.layout;
+  const Geometry g{layout.size(), layout.angle(0), layout.angle(layout.size() - 1), r.sensor_on_robot.x,
+                   r.sensor_on_robot.y, r.sensor_on_robot.yaw};
   if (!geometry_) {
     geometry_ = g;
   } else if (!geometry_changed_ && !(g == *geometry_)) {
     geometry_changed_ = true;
-    warn(r.where + ": the laser '" + o.sensorLabel + "' changes its beam count, aperture or mounting (" +
+    warn(r.where + ": the laser '" + r.sensor + "' changes its beam count, aperture or mounting (" +
          std::to_string(geometry_->beams) + " -> " + std::to_string(g.beams) + " beams); each scan is taken as it is");
   }
 }
@@ -237,6 +250,7 @@ std::optional<LaserRecord> LaserLogReader::next() {
       r.where = where;
       r.stamp_s = mrpt::Clock::toDouble(scan->observation->timestamp);
       r.observation = scan->observation;
+      r.sensor = r.observation->sensorLabel;
       try {  // a scan the core cannot represent is skipped with its place, as before
         r.scan = converter_.convert(*r.observation);
       } catch (const std::invalid_argument& e) {
@@ -269,22 +283,17 @@ std::optional<LaserRecord> LaserLogReader::next() {
     LaserRecord r;
     r.where = path_ + ":" + std::to_string(laser->line);
     r.stamp_s = laser->stamp_s;
-    r.observation = toObservation(*laser);
-    // The core scan from the line's own (double) ranges: the observation's beams, layout
-    // and validity, without its float rounding. A line the core cannot represent (an
-    // aperture overflowing to infinity) is skipped with its place.
+    r.sensor = laser->type;
+    // The core scan straight from the line (no MRPT observation in between). A line the core
+    // cannot represent (an aperture overflowing to infinity) is skipped with its place.
     try {
-      r.scan = converter_.convert(*r.observation);
+      r.scan = logs::carmenScan(*laser, carmen_layouts_);
     } catch (const std::invalid_argument& e) {
       note(r.where + ": " + e.what() + "; line skipped");
       continue;
     }
     r.index = returned_++;
-    r.scan.stamp_s = r.stamp_s;
-    for (std::size_t i = 0; i < r.scan.ranges_m.size(); ++i) {
-      if (r.scan.valid[i] != 0) r.scan.ranges_m[i] = laser->ranges_m[i];
-    }
-    r.sensor_on_robot = sensorOnRobot(*r.observation);
+    r.sensor_on_robot = logs::carmenSensorOnRobot(*laser);
     // Raw wheel odometry: the last ODOM line when the log has them (corrected logs
     // rewrite the laser line's odometry fields), else the laser line's own fields.
     r.odometry = carmen_->lastOdometry() ? *carmen_->lastOdometry() : laser->robot_pose;

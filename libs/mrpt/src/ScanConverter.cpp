@@ -11,17 +11,7 @@ namespace lidarseg::mrpt_adapter {
 std::shared_ptr<const BeamLayout> ScanConverter::layoutFor(std::size_t num_beams,
                                                            double aperture_rad,
                                                            bool right_to_left) {
-  const auto key = std::make_tuple(num_beams, aperture_rad, right_to_left);
-  auto it = layouts_.find(key);
-  if (it != layouts_.end()) return it->second;
-  // A log whose aperture varies scan by scan must not grow the cache without bound.
-  if (layouts_.size() >= kMaxCachedLayouts) layouts_.clear();
-  const double step = aperture_rad / static_cast<double>(num_beams - 1);
-  auto layout = std::make_shared<const BeamLayout>(
-      right_to_left ? BeamLayout::uniform(num_beams, -0.5 * aperture_rad, step)
-                    : BeamLayout::uniform(num_beams, 0.5 * aperture_rad, -step));
-  layouts_.emplace(key, layout);
-  return layout;
+  return layouts_.get(num_beams, aperture_rad, right_to_left);
 }
 
 Scan ScanConverter::convert(const mrpt::obs::CObservation2DRangeScan& obs) {

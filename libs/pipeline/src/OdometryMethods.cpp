@@ -81,10 +81,13 @@ Pose2D IcpMethod::predictedIncrement(const ScanInput& scan) const {
 }
 
 void IcpMethod::process(const ScanInput& scan) {
+  // A CARMEN line has no observation of its own: made here, outside ICP's time (a reader
+  // of rawlogs would hand it over made).
+  const auto observation = mrpt_adapter::observationOf(scan.record);
   const auto t0 = Clock::now();
   auto current = std::make_unique<mrpt::maps::CSimplePointsMap>();
   current->insertionOptions.minDistBetweenLaserPoints = 0.0f;
-  current->loadFromRangeScan(*scan.record.observation);
+  current->loadFromRangeScan(*observation);
   bool renew = !reference_;
   if (reference_) {
     // From the reference: T_ref_curr = T_ref_last (+) predicted increment.

@@ -31,7 +31,8 @@ void RawlogWriter::close() {
 void RawlogWriter::write(const mrpt_adapter::LaserRecord& record,
                          const mrpt_adapter::LaserOdometryStep& step, double stamp_s,
                          const std::vector<Feature>& features) {
-  const auto& obs = *record.observation;
+  const auto observation = mrpt_adapter::observationOf(record);
+  const auto& obs = *observation;
   auto archive = mrpt::serialization::archiveFrom(out_);
   const Pose2D pose = mrpt_adapter::toPose2D(step.robot_pose.mean);
   const Pose2D inc = step.core.first ? Pose2D{} : relative(pose, last_pose_);
@@ -48,7 +49,7 @@ void RawlogWriter::write(const mrpt_adapter::LaserRecord& record,
   for (const auto& other : record.companions) {
     if (!std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(other)) frame.insert(other);
   }
-  frame.insert(record.observation);
+  frame.insert(observation);
   if (landmarks_) {
     auto landmarks = mrpt_adapter::makeBearingRangeObservation(features, obs.sensorPose,
                                                                obs.maxRange, obs.aperture);

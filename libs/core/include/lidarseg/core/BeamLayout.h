@@ -3,6 +3,9 @@
 /// Directions of the beams of a planar range sensor.
 
 #include <cstddef>
+#include <map>
+#include <memory>
+#include <tuple>
 #include <vector>
 
 namespace lidarseg {
@@ -62,6 +65,23 @@ class BeamLayout {
   std::vector<double> prefix_cc_, prefix_cs_, prefix_ss_;  // size() + 1 entries each
   double mean_increment_ = 0.0;
   bool wraps_ = false;
+};
+
+/// Layouts of sensors whose beams are evenly spaced over an aperture centred on the sensor's
+/// x axis (MRPT's observations, CARMEN laser lines): beam i at -aperture/2 + i * step
+/// counter-clockwise, or +aperture/2 - i * step clockwise, step = aperture / (beams - 1).
+/// Cached per (beams, aperture, direction), so a sensor's cosines and sines are computed once
+/// for a whole log; the cache holds at most kMaxLayouts (a log whose aperture varies scan by
+/// scan does not grow it without bound). Not thread-safe: one per reader.
+class CentredLayoutCache {
+ public:
+  static constexpr std::size_t kMaxLayouts = 16;
+  /// @param num_beams at least 2
+  /// @param aperture_rad finite and > 0 (the caller checks)
+  std::shared_ptr<const BeamLayout> get(std::size_t num_beams, double aperture_rad, bool counter_clockwise);
+
+ private:
+  std::map<std::tuple<std::size_t, double, bool>, std::shared_ptr<const BeamLayout>> layouts_;
 };
 
 }  // namespace lidarseg

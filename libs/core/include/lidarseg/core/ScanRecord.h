@@ -19,6 +19,8 @@ struct ScanRecord {
   std::size_t index = 0;
   /// Where the scan is in the file, for messages: "file, entry 12" or "file:345".
   std::string where;
+  /// The sensor: a rawlog's sensor label, a CARMEN line's type (FLASER, ...).
+  std::string sensor;
   /// Time of the scan in the log's clock (s); CARMEN: the line's ipc timestamp.
   double stamp_s = 0.0;
   /// The ranges, sensor frame (x forward, y left; m), `scan.stamp_s` = stamp_s.

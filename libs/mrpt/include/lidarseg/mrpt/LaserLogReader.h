@@ -30,12 +30,23 @@ enum class LogFormat { kRawlog, kCarmen };
 /// odometry, log pose) and the MRPT observation it came from, for the MRPT-side consumers
 /// (MRPT ICP, the rawlog writer).
 struct LaserRecord : ScanRecord {
-  /// The scan as an MRPT observation (CARMEN lines are converted: aperture, direction,
-  /// sensor pose, max range; float ranges). ScanRecord::scan keeps the log's own values.
+  /// The rawlog's own observation of the scan; null for a CARMEN line, which is read into
+  /// the core types with no MRPT in between (observationOf() makes one when an MRPT
+  /// consumer needs it: the ICP baseline, a rawlog writer).
   mrpt::obs::CObservation2DRangeScan::Ptr observation;
   /// Other observations read since the previous scan (rawlogs only).
   std::vector<mrpt::obs::CObservation::Ptr> companions;
 };
+
+/// The record's scan as an MRPT observation: the rawlog's own, or for a CARMEN line one made
+/// from the core record (float ranges, invalid beams flagged, the aperture, direction,
+/// maximum range, stamp, label and sensor pose of the record), as a CARMEN-to-MRPT
+/// converter would make it.
+mrpt::obs::CObservation2DRangeScan::Ptr observationOf(const LaserRecord& record);
+
+/// Pose of the record's laser on the robot in 3D: the rawlog observation's (its height, a
+/// camera projection needs it), or the planar sensor_on_robot of a CARMEN line (z = 0).
+mrpt::poses::CPose3D sensorPose3D(const LaserRecord& record);
 
 /// Streams the scans of a laser log of either format, one sensor only.
 class LaserLogReader {
@@ -80,11 +91,10 @@ class LaserLogReader {
   void watchGeometry(LaserRecord& record);
   struct Geometry {
     std::size_t beams;
-    float aperture;
-    bool right_to_left;
-    double x, y, yaw;
+    double first_angle, last_angle;  // of the scan's layout (sensor frame)
+    double x, y, yaw;                // sensor_on_robot
     bool operator==(const Geometry& o) const {
-      return beams == o.beams && aperture == o.aperture && right_to_left == o.right_to_left && x == o.x && y == o.y &&
+      return beams == o.beams && first_angle == o.first_angle && last_angle == o.last_angle && x == o.x && y == o.y &&
              yaw == o.yaw;
     }
   };
@@ -95,7 +105,8 @@ class LaserLogReader {
   std::string path_;
   LogFormat format_ = LogFormat::kRawlog;
   std::unique_ptr<RawlogScanReader> rawlog_;
-  ScanConverter converter_;  // observations to core scans (beam layouts cached)
+  ScanConverter converter_;  // rawlog observations to core scans (beam layouts cached)
+  CentredLayoutCache carmen_layouts_;  // CARMEN lines' beam layouts
   std::unique_ptr<logs::CarmenLogReader> carmen_;
   std::size_t returned_ = 0;
   std::size_t skipped_ = 0;

@@ -32,14 +32,14 @@ class ScanConverter {
   Scan convert(const mrpt::obs::CObservation2DRangeScan& obs);
 
   /// Layouts kept at most (one per beam count, aperture and direction met).
-  static constexpr std::size_t kMaxCachedLayouts = 16;
+  static constexpr std::size_t kMaxCachedLayouts = CentredLayoutCache::kMaxLayouts;
   /// The layout for a sensor with this geometry (cached).
   std::shared_ptr<const BeamLayout> layoutFor(std::size_t num_beams, double aperture_rad,
                                               bool right_to_left);
 
  private:
   double min_range_m_;
-  std::map<std::tuple<std::size_t, double, bool>, std::shared_ptr<const BeamLayout>> layouts_;
+  CentredLayoutCache layouts_;
 };
 
 /// The MRPT observation of a core scan (the inverse of ScanConverter::convert()).
