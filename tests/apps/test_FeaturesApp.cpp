@@ -11,6 +11,7 @@
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/obs/CSensoryFrame.h>
 
+#include "TempFiles.h"
 #include "lidarseg/apps/FeaturesApp.h"
 #include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/apps/SimulateApp.h"
@@ -23,13 +24,8 @@ namespace fs = std::filesystem;
 const std::string kWorlds = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/";
 const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/features";
 
-// This test's own folder: CTest runs the tests of a file as parallel processes, and every
-// tool locks its output folder for its whole run (issue 16).
-std::string testDir() {
-  const std::string dir = kTmp + "/" + ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+// This test's own folder (see testing::testFolder).
+std::string testDir() { return lidarseg::testing::testFolder(kTmp); }
 
 // 12 m of the hospital's bottom corridor (doors of every kind on both sides), simulated
 // once per test process under the test's own name.

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include "TempFiles.h"
 #include "EmptyPath.h"
 #include "lidarseg/apps/InspectApp.h"
 #include "lidarseg/apps/OdometryApp.h"
@@ -17,13 +18,8 @@ namespace {
 namespace fs = std::filesystem;
 const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/inspect";
 
-// This test's own folder: CTest runs the tests of a file as parallel processes, and every
-// tool locks its output folder for its whole run (issue 16).
-std::string testDir() {
-  const std::string dir = kTmp + "/" + ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+// This test's own folder (see testing::testFolder).
+std::string testDir() { return lidarseg::testing::testFolder(kTmp); }
 
 // 10 m of the hospital's corridor with a camera image every 10 scans, simulated once per
 // test process under the test's own name (CTest runs the tests of this file in parallel).

@@ -12,6 +12,7 @@
 #include <mrpt/obs/CRawlog.h>
 #include <nlohmann/json.hpp>
 
+#include "TempFiles.h"
 #include "lidarseg/eval/StampedTrajectory.h"
 #include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/eval/Csv.h"
@@ -25,18 +26,10 @@ namespace fs = std::filesystem;
 const std::string kWorlds = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/";
 const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/odometry";
 
-// This test's own folder: CTest runs the tests of a file as parallel processes, and every
-// tool locks its output folder for its whole run (issue 16).
-std::string testDir() {
-  const std::string dir = kTmp + "/" + ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+// This test's own folder (see testing::testFolder).
+std::string testDir() { return lidarseg::testing::testFolder(kTmp); }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using lidarseg::testing::slurp;
 
 // A 16 m stretch of the maze with a corner, simulated once per test process (each test
 // has its own files: CTest runs them in parallel).

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/videoio.hpp>
 
+#include "TempFiles.h"
 #include "ErrorOf.h"
 #include "lidarseg/apps/FeaturesApp.h"
 #include "lidarseg/apps/PeopleApp.h"
@@ -19,13 +20,8 @@ namespace {
 namespace fs = std::filesystem;
 const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/people";
 
-// This test's own folder: CTest runs the tests of a file as parallel processes, and every
-// tool locks its output folder for its whole run (issue 16).
-std::string testDir() {
-  const std::string dir = kTmp + "/" + ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+// This test's own folder (see testing::testFolder).
+std::string testDir() { return lidarseg::testing::testFolder(kTmp); }
 const std::string kVideo = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
 
 using lidarseg::testing::errorOf;

@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "TempFiles.h"
 #include "FolderEvents.h"
 
 #include "lidarseg/apps/SimulateApp.h"
@@ -22,18 +23,10 @@ namespace fs = std::filesystem;
 const std::string kWorlds = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/";
 const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/sim";
 
-// This test's own folder: CTest runs the tests of a file as parallel processes, and every
-// tool locks its output folder for its whole run (issue 16).
-std::string testDir() {
-  const std::string dir = kTmp + "/" + ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+// This test's own folder (see testing::testFolder).
+std::string testDir() { return lidarseg::testing::testFolder(kTmp); }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using lidarseg::testing::slurp;
 
 // A 12 m run along the hospital's bottom corridor, past four doors.
 SimulateOptions shortRun(const std::string& name, std::uint64_t seed) {

@@ -17,6 +17,7 @@
 
 #include <gtest/gtest.h>
 
+#include "TempFiles.h"
 #include "FolderEvents.h"
 #include <nlohmann/json.hpp>
 
@@ -28,10 +29,7 @@ namespace {
 namespace fs = std::filesystem;
 const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/output-files";
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
+using lidarseg::testing::slurp;
 
 std::string freshFolder(const std::string& name) {
   const std::string dir = kTmp + "/" + name;

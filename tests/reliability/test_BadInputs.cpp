@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 #include <zlib.h>
 
+#include "TempFiles.h"
 #include "SyntheticScenes.h"
 #include "lidarseg/apps/FeaturesApp.h"
 #include "lidarseg/apps/OdometryApp.h"
@@ -40,10 +41,7 @@ using apps::OdometryReport;
 
 const std::string kTmp = std::string(LIDARSEG_TEST_TMP_DIR) + "/bad-inputs";
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using lidarseg::testing::slurp;
 
 std::string put(const std::string& name, const std::string& bytes) {
   fs::create_directories(kTmp);

@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include "TempFiles.h"
 #include "ErrorOf.h"
 #include "lidarseg/apps/BatchApp.h"
 #include "lidarseg/apps/CommandLine.h"
@@ -51,10 +52,7 @@ class AnotherWriter {
 
 using lidarseg::testing::errorOf;
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
+using lidarseg::testing::slurp;
 
 // The input of every run below does not exist: a tool that read it before claiming its
 // output folder would report the missing input instead of the other writer.

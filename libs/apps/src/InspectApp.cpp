@@ -302,8 +302,9 @@ bool InspectorWindow::tuneKey(int k) {
     case '[': case ']': {
       const double f = factor(']');
       const double wd_m = session_.params().odometry.segmentation.wall_danielsson.threshold_m * f;
-      tune([f](auto& p) { p.odometry.segmentation.wall_danielsson.threshold_m *= f; },
-           "W-D threshold " + std::to_string(wd_m) + " m");
+      char status[48];
+      std::snprintf(status, sizeof status, "W-D threshold %.4g m", wd_m);
+      tune([f](auto& p) { p.odometry.segmentation.wall_danielsson.threshold_m *= f; }, status);
       return true;
     }
     case ';': case '\'':

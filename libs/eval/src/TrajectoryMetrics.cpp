@@ -1,4 +1,5 @@
 #include "lidarseg/eval/TrajectoryMetrics.h"
+#include "lidarseg/core/NumberText.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -42,7 +43,7 @@ TrajectoryErrors evaluateTrajectory(const StampedTrajectory& estimate,
   if (est.size() < 2) {
     throw std::invalid_argument("trajectory evaluation: only " + std::to_string(est.size()) +
                                 " estimated pose(s) have a ground-truth pose within " +
-                                std::to_string(tolerance_s) + " s");
+                                numberText(tolerance_s) + " s");
   }
   TrajectoryErrors out;
   out.associated = est.size();

@@ -1,4 +1,5 @@
 #include "lidarseg/logs/CarmenScan.h"
+#include "lidarseg/core/NumberText.h"
 
 #include <cmath>
 #include <string>
@@ -10,11 +11,11 @@ Scan carmenScan(const CarmenLaser& laser, CentredLayoutCache& layouts) {
   const double res = laser.angular_resolution_rad;
   if (n < 2 || !(res != 0.0)) {
     throw std::invalid_argument(laser.type + " with " + std::to_string(n) + " beam(s) and a resolution of " +
-                                std::to_string(res) + " rad: at least 2 beams and a non-zero resolution are needed");
+                                numberText(res) + " rad: at least 2 beams and a non-zero resolution are needed");
   }
   const float aperture = static_cast<float>(std::abs(res) * static_cast<double>(n - 1));
   if (!std::isfinite(aperture) || aperture <= 0.0f) {
-    throw std::invalid_argument(laser.type + " has an invalid aperture (" + std::to_string(aperture) + " rad)");
+    throw std::invalid_argument(laser.type + " has an invalid aperture (" + numberText(static_cast<double>(aperture)) + " rad)");
   }
   const double max_range = static_cast<double>(static_cast<float>(laser.max_range_m));
   Scan scan;

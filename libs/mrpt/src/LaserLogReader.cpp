@@ -2,6 +2,7 @@
 #include "lidarseg/mrpt/LaserOdometry.h"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -49,15 +50,17 @@ std::string checkRawlogScan(mrpt::obs::CObservation2DRangeScan& obs) {
   const std::size_t n = obs.getScanSize();
   if (n < 2 || n > kMaxBeams) return std::to_string(n) + " beams (need 2 to " + std::to_string(kMaxBeams) + ")";
   if (!std::isfinite(obs.aperture) || !(obs.aperture > 0.0f) || obs.aperture > 2.0f * static_cast<float>(kPi) + 1e-3f) {
-    return "aperture " + std::to_string(obs.aperture) + " rad is not in (0, 2 pi]";
+    return "aperture " + numberText(static_cast<double>(obs.aperture)) + " rad is not in (0, 2 pi]";
   }
   if (!std::isfinite(obs.maxRange) || !(obs.maxRange > 0.0f)) return "maximum range is not finite and > 0";
   if (!finitePose(obs.sensorPose)) return "sensor pose is not finite";
   const auto R = obs.sensorPose.getRotationMatrix();
   const double up = R(2, 2);  // the sensor's z axis, in the robot's z
   if (std::abs(up) < std::cos(kMaxTiltRad)) {
-    return "scan plane tilted by " + std::to_string(std::acos(std::min(1.0, std::abs(up))) * kRadToDeg) +
-           " deg (the planar pipeline needs it within " + std::to_string(kMaxTiltRad * kRadToDeg) + " deg of horizontal)";
+    char text[160];
+    std::snprintf(text, sizeof text, "scan plane tilted by %.3g deg (the planar pipeline needs it within %.2g deg of horizontal)",
+                  std::acos(std::min(1.0, std::abs(up))) * kRadToDeg, kMaxTiltRad * kRadToDeg);
+    return text;
   }
   const double yaw = std::atan2(R(1, 0), R(0, 0));  // where the sensor's x axis points
   if (up < 0.0) {

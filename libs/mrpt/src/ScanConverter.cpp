@@ -1,4 +1,5 @@
 #include "lidarseg/mrpt/ScanConverter.h"
+#include "lidarseg/core/NumberText.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -22,7 +23,7 @@ Scan ScanConverter::convert(const mrpt::obs::CObservation2DRangeScan& obs) {
   }
   if (!std::isfinite(obs.aperture) || obs.aperture <= 0.0f) {
     throw std::invalid_argument("CObservation2DRangeScan '" + obs.sensorLabel +
-                                "' has an invalid aperture (" + std::to_string(obs.aperture) +
+                                "' has an invalid aperture (" + numberText(static_cast<double>(obs.aperture)) +
                                 " rad)");
   }
   Scan scan;

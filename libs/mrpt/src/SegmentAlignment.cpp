@@ -1,4 +1,5 @@
 #include "lidarseg/mrpt/SegmentAlignment.h"
+#include "lidarseg/core/NumberText.h"
 
 #include <algorithm>
 #include <chrono>
@@ -256,8 +257,8 @@ mrpt::poses::CPose3DPDF::Ptr SegmentAlignment::Align3DPDF(
   if (std::abs(p.z()) > 1e-6 || std::abs(p.pitch()) > 1e-6 || std::abs(p.roll()) > 1e-6) {
     throw std::invalid_argument(
         "SegmentAlignment::Align3DPDF: segment matching is planar; the initial estimate has z = " +
-        std::to_string(p.z()) + ", pitch = " + std::to_string(p.pitch()) + ", roll = " +
-        std::to_string(p.roll()) + " (all must be 0)");
+        numberText(p.z()) + ", pitch = " + numberText(p.pitch()) + ", roll = " +
+        numberText(p.roll()) + " (all must be 0)");
   }
   mrpt::poses::CPosePDFGaussian initial2d(mrpt::poses::CPose2D(p.x(), p.y(), p.yaw()));
   const auto pdf2d = AlignPDF(m1, m2, initial2d, outInfo);

@@ -590,7 +590,7 @@ void BuildingParams::validate() const {
   }
   if (!(turn_radius_m >= 0.0 && turn_radius_m <= path_clearance_m + 0.5)) {
     throw std::invalid_argument("turn_radius_m must be in [0, path_clearance_m + 0.5] (got " +
-                                std::to_string(turn_radius_m) + ")");
+                                numberText(turn_radius_m) + ")");
   }
 }
 
