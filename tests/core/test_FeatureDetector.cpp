@@ -52,6 +52,13 @@ const Feature* nearest(const std::vector<Feature>& fs, const Eigen::Vector2d& p,
   return best;
 }
 
+// Ranges below the maximum rounded to a 5 cm grid from 1 cm, as some scanners report them.
+void onRangeGrid(Scan& scan, double max_range_m) {
+  for (double& r : scan.ranges_m) {
+    if (std::isfinite(r) && r < max_range_m) r = 0.01 + 0.05 * std::round((r - 0.01) / 0.05);
+  }
+}
+
 TEST(FeatureDetector, FindsAndClassifiesOpenClosedAndAjarDoors) {
   const sim::World w = wallWithThreeDoors();
   const auto lms = testing::makeSensor(541, 270, 0.012);
@@ -353,9 +360,7 @@ TEST(FeatureDetector, RangesOnAGridAreMeasuredAndTheirStaircaseIsNoDoor) {
     const Pose2D pose{-1.0 + 0.1 * static_cast<double>(seed), 0.0, kPi / 2};
     Scan scan = testing::simulate(w, sick, pose, seed);
     const Scan raw = scan;
-    for (double& r : scan.ranges_m) {
-      if (std::isfinite(r) && r < sick.max_range_m) r = 0.01 + 0.05 * std::round((r - 0.01) / 0.05);
-    }
+    onRangeGrid(scan, sick.max_range_m);
     SegmentationParams sp;
     sp.noise.range_sigma_m = 0.01;
     const Segmentation seg = ScanSegmenter(sp).process(scan);
@@ -399,9 +404,7 @@ TEST(FeatureDetector, ALeafIsJudgedAgainstTheRangesGridOnlyWhereTheGridDecides) 
       const Pose2D pose{-0.5 + 0.1 * static_cast<double>(seed), 0.0, kPi / 2};
       Scan scan = testing::simulate(w, sick, pose, seed);
       const Scan raw = scan;
-      for (double& r : scan.ranges_m) {
-        if (std::isfinite(r) && r < sick.max_range_m) r = 0.01 + 0.05 * std::round((r - 0.01) / 0.05);
-      }
+      onRangeGrid(scan, sick.max_range_m);
       for (const bool grid : {false, true}) {
         const Segmentation seg = ScanSegmenter(sp).process(grid ? scan : raw);
         for (const Feature& f : detector.detect(seg)) {

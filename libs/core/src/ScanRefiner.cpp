@@ -177,15 +177,19 @@ void ScanRefiner::prepare(const std::vector<RefinementMapScan>& scans, Refinemen
   const std::size_t w = std::min(n, P.bearing_window * (ix.scans > 1 ? 2 : 1));
   ix.window = w;
   ix.window_start.resize(n + 1);
-  ix.window_lines.resize(n * std::min(2 * w, ix.lines.size()));  // the most it can hold
+  // Grown as the lists fill (a place adds at most 2 w), so the memory follows what the lists
+  // hold: a few lines per place on real scans, not the 2 w of the worst case.
+  ix.window_lines.resize(std::min(n * 2 * w, 4 * n + 2 * w));
   ix.seen.assign(ix.lines.size(), -1);
   {
     const int* const line_of = ix.line_of.data();
     int* const seen = ix.seen.data();
-    int* const first = ix.window_lines.data();
-    int* out = first;
+    std::size_t used = 0;
     for (std::size_t pos = 0; pos < n; ++pos) {
-      ix.window_start[pos] = static_cast<int>(out - first);
+      if (ix.window_lines.size() - used < 2 * w) ix.window_lines.resize(std::max(2 * ix.window_lines.size(), used + 2 * w));
+      ix.window_start[pos] = static_cast<int>(used);
+      int* const first = ix.window_lines.data() + used;
+      int* out = first;
       std::size_t k = (pos + n - w) % n;
       for (std::size_t c = 0; c < 2 * w; ++c, k = k + 1 == n ? 0 : k + 1) {
         const int id = line_of[k];
@@ -193,9 +197,10 @@ void ScanRefiner::prepare(const std::vector<RefinementMapScan>& scans, Refinemen
         seen[id] = static_cast<int>(pos);
         *out++ = id;
       }
+      used += static_cast<std::size_t>(out - first);
     }
-    ix.window_start[n] = static_cast<int>(out - first);
-    ix.window_lines.resize(static_cast<std::size_t>(out - first));
+    ix.window_start[n] = static_cast<int>(used);
+    ix.window_lines.resize(used);
   }
   ix.bin_start.resize(kBins + 1);
   std::size_t k = 0;

@@ -26,8 +26,6 @@ bool endsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// A CARMEN laser line as an MRPT observation: evenly spaced beams centred on the
-// sensor's x axis, the offset of the first beam carried by the sensor pose's yaw.
 // The largest tilt (pitch or roll, rad) of a scan plane taken as horizontal: 0.6 deg, a
 // range error below 0.01 %.
 constexpr double kMaxTiltRad = 0.01;
