@@ -30,7 +30,7 @@ DEFAULT_RAWLOG="/usr/share/mrpt/datasets/2006-01ENE-21-SENA_Telecom Faculty_one_
 PACKAGES=(cmake g++ make pkg-config python3 libmrpt-dev mrpt-common mrpt-apps libeigen3-dev
           libopencv-dev libnanoflann-dev gnuplot-nox googletest libgtest-dev libbenchmark-dev zlib1g-dev nlohmann-json3-dev
           opencv-doc xvfb xauth xdotool chromium clang libclang-rt-14-dev)
-FUZZ_TARGETS=(fuzz_carmen_log fuzz_rawlog fuzz_sim_inputs fuzz_config fuzz_tables fuzz_scan_pipeline)
+FUZZ_TARGETS=(fuzz_carmen_log fuzz_rawlog fuzz_sim_inputs fuzz_config fuzz_tables fuzz_scan_pipeline fuzz_command_line)
 
 log() { echo "[run.sh] $*" >&2; }
 

@@ -26,6 +26,7 @@ check "odometry -n -1" 2 "usage error: -n/--max-scans: '-1' is not a whole numbe
 check "odometry -n ''" 2 "usage error: -n/--max-scans: '' is not a whole number" lidarseg-odometry log.log -n '' -o out
 check "features -n -1" 2 "usage error: -n/--max-scans" lidarseg-features log.log -n -1 -o out
 check "segment -n -1" 2 "usage error: -n/--max-scans" lidarseg-segment log.log -n -1 -o out
+check "odometry '-n -1' in one argument" 2 "usage error: -n/--max-scans: '-1' is not a whole number" lidarseg-odometry log.log '-n -1' -o out
 check "people --every -1" 2 "usage error: --every: '-1'" lidarseg-people log.log --roi 0,0,9,9 --every -1 -o out
 check "people --draw-every -1" 2 "usage error: --draw-every" lidarseg-people log.log --roi 0,0,9,9 --draw-every -1 -o out
 check "people -n -1" 2 "usage error: -n/--max-frames" lidarseg-people log.log --roi 0,0,9,9 -n -1 -o out

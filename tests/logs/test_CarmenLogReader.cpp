@@ -179,6 +179,31 @@ TEST(CarmenLogReader, AMalformedFirstLaserLineDoesNotDecideTheType) {
   EXPECT_NE(reader.issues()[1].find("g.log:3: FLASER: 1 beam(s)"), std::string::npos) << reader.issues()[1];
 }
 
+// Issue 16: a line whose geometry cannot make a scan is skipped with the field and the
+// value that stopped it (not with a beam count it does not lack).
+TEST(CarmenLogReader, AZeroResolutionOrANonPositiveMaximumRangeIsNamedWithItsValue) {
+  // ROBOTLASER1 type start fov res maxr acc rem n r.. nrem laser(3) robot(3) tv rv fs ss ta ts host lts
+  const auto robotLaser = [](const std::string& res, const std::string& max_range, double ts) {
+    const std::string t = std::to_string(ts);
+    return "ROBOTLASER1 0 -1.5 3.0 " + res + " " + max_range + " 0.01 0 5 1 1 1 1 1 0 0 0 0 0 0 0 0 0 0 0 0 " +
+           t + " h " + t + "\n";
+  };
+  const std::string text = robotLaser("0", "20", 1.0) + robotLaser("0.5", "0", 2.0) + robotLaser("0.5", "-3", 3.0) +
+                           robotLaser("0.5", "20", 4.0);
+  CarmenLogReader reader(writeText("h.log", text));
+  int good = 0;
+  while (reader.next()) ++good;
+  EXPECT_EQ(good, 1);
+  ASSERT_EQ(reader.issues().size(), 3u);
+  EXPECT_NE(reader.issues()[0].find("h.log:1: ROBOTLASER1: angular resolution 0 rad"), std::string::npos)
+      << reader.issues()[0];
+  EXPECT_NE(reader.issues()[1].find("h.log:2: ROBOTLASER1: maximum range 0 m"), std::string::npos)
+      << reader.issues()[1];
+  EXPECT_NE(reader.issues()[2].find("h.log:3: ROBOTLASER1: maximum range -3 m"), std::string::npos)
+      << reader.issues()[2];
+  for (const std::string& issue : reader.issues()) EXPECT_EQ(issue.find("beam"), std::string::npos) << issue;
+}
+
 TEST(CarmenLogReader, AnUnknownLaserTypeIsRefusedAtOnce) {
   const std::string path = writeText("h.log", flaser(5, 1.0, 0.0, 1.0));
   try {

@@ -88,8 +88,14 @@ std::optional<std::string> badUnsignedValue(TCLAP::CmdLine& cmd, const std::vect
     for (std::size_t i = 1; i < args.size(); ++i) {
       const std::string& t = args[i];
       if (t == "--") break;
+      const auto named = [&](const std::string& f) { return f == longName || (!shortName.empty() && f == shortName); };
       std::optional<std::string> value;
-      if ((t == longName || (!shortName.empty() && t == shortName)) && i + 1 < args.size()) {
+      // TCLAP also splits one argument at its first blank after the second character (the
+      // tools' delimiter): "-n -1" in one argument is -n given "-1".
+      const std::size_t blank = t.find(' ');
+      if (blank != std::string::npos && blank > 1 && named(t.substr(0, blank))) {
+        value = t.substr(blank + 1);
+      } else if (named(t) && i + 1 < args.size()) {
         value = args[i + 1];
       } else if (t.rfind(longName + "=", 0) == 0) {
         value = t.substr(longName.size() + 1);

@@ -1,5 +1,6 @@
 #include "lidarseg/logs/CarmenLogReader.h"
 #include "lidarseg/core/Angles.h"
+#include "lidarseg/core/NumberText.h"
 #include "lidarseg/core/StampPolicy.h"
 
 #include <cerrno>
@@ -169,9 +170,12 @@ bool CarmenLogReader::parseLaser(const std::string& type, const std::vector<std:
     throw std::invalid_argument(std::to_string(out.ranges_m.size()) + " beam(s) (need 2 or more)");
   }
   if (!std::isfinite(out.angular_resolution_rad) || out.angular_resolution_rad == 0.0) {
-    throw std::invalid_argument("angular resolution is 0");
+    throw std::invalid_argument("angular resolution " + numberText(out.angular_resolution_rad) +
+                                " rad: a non-zero resolution is needed");
   }
-  if (!(out.max_range_m > 0.0)) throw std::invalid_argument("maximum range is not > 0");
+  if (!(out.max_range_m > 0.0)) {
+    throw std::invalid_argument("maximum range " + numberText(out.max_range_m) + " m: it must be > 0");
+  }
   for (double& r : out.ranges_m) {
     if (isSickErrorCode(r)) r = std::numeric_limits<double>::infinity();
   }
