@@ -197,9 +197,15 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
     const Pose2D d = relative(r.T_key_curr, prior);
     return std::hypot(d.x, d.y) <= gate.translation_m && std::abs(d.yaw) <= gate.rotation_rad;
   };
+  // The gate stands for the prior's assumed error (bounded accelerations) and guards a
+  // prior whose refinement explains the scan as the last scans were explained. A doubtful
+  // one (it pairs clearly fewer points) is no such reference: the prior was wrong by more
+  // than assumed (a turn that starts within one scan of a slow scanner), and a hypothesis
+  // beyond the gate is judged by the rules below alone (decision 90).
+  const auto gateHolds = [&]() { return !doubtful(*reference); };
   const auto replaces = [&](const RefineResult& r, bool gated) {
     if (!reference || reference->status == RefineStatus::kFailed) return better(r, best);
-    if (r.status == RefineStatus::kFailed || (gated && !plausible(r))) return false;
+    if (r.status == RefineStatus::kFailed || (gated && gateHolds() && !plausible(r))) return false;
     // A degenerate hypothesis is free along its weak direction (a corridor's axis): the
     // points it pairs there say nothing about the position, so it does not replace a
     // reference that is constrained (decision 76).
@@ -286,6 +292,31 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
   return prior;
 }
 
+Pose2D SegmentOdometry::deskewWithRefinedMotion(const Scan& scan, int slot, double dt, const Twist2D& used,
+                                                const Pose2D& T_key_curr, OdometryStep& step) {
+  // The rotation rate the refinement measured, against the one the scan was deskewed with:
+  // at the start or the end of a turn they differ (the prediction lags), and with a slow
+  // scanner by much (a 5 Hz sweep of 180 degrees at 1.7 rad/s turns 0.17 rad). The scan is
+  // segmented again with the measured rate and refined from where it came to rest; the
+  // result is kept when it pairs at least as many points (decision 90).
+  const double sweep = scan.time_offsets_s.back() - scan.time_offsets_s.front();
+  const Pose2D measured = relative(compose(keyframe_pose_, T_key_curr), pose_);
+  Twist2D refined = used;
+  refined.omega = measured.yaw / dt;
+  if (!(std::abs(refined.omega - used.omega) * sweep > params_.deskew_tolerance_rad)) return T_key_curr;
+  segmentInto(scan, slot, refined, step);
+  RefineResult again = refiner_.refine(refine_keyframe_, segmentation_[slot], T_key_curr);
+  step.deskewed_again = true;
+  if (again.status == RefineStatus::kFailed || again.inliers < step.refine.inliers) {
+    segmentInto(scan, slot, used, step);  // keep the segments the estimate came from
+    return T_key_curr;
+  }
+  if (again.status == RefineStatus::kDegenerate) step.status = TrackStatus::kDegenerate;
+  else if (step.status == TrackStatus::kDegenerate) step.status = TrackStatus::kOk;
+  step.refine = std::move(again);
+  return step.refine.T_key_curr;
+}
+
 const Scan& SegmentOdometry::withBeamTimes(const Scan& scan) {
   if (!scan.time_offsets_s.empty() || !(params_.scanner_rotation_hz > 0.0) || !scan.layout) return scan;
   if (scan.layout != timed_layout_ || params_.scan_stamp != timed_stamp_) {
@@ -324,6 +355,7 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   const bool deskew = params_.deskew && !scan.time_offsets_s.empty();
   const Twist2D motion = deskew ? velocity_ : Twist2D{};
   segmentInto(scan, slot, motion, step);
+  Twist2D deskewed_with = motion;  // the motion the current segmentation was deskewed with
   current_ = slot;
 
   if (count_ == 0) {
@@ -364,6 +396,7 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
       MatchResult again = matchWithKeyframe(slot, prior_from_key, step);
       if (again.status != MatchStatus::kTooFewMatches || step.match.status == MatchStatus::kTooFewMatches) {
         step.match = std::move(again);
+        deskewed_with = corrected;
       } else {
         segmentInto(scan, slot, motion, step);  // keep the segments that gave the match
       }
@@ -374,6 +407,9 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   if (params_.refiner.enabled) {
     const auto t0 = std::chrono::steady_clock::now();
     T_key_curr = refineWithKeyframe(slot, prior_from_key, priorGate(dt, odometry_increment), step);
+    if (deskew && dt > 0.0 && step.refine.status != RefineStatus::kFailed) {
+      T_key_curr = deskewWithRefinedMotion(scan, slot, dt, deskewed_with, T_key_curr, step);
+    }
     step.refinement_us = microsecondsSince(t0);
     step.matching_us += step.refinement_us;
   } else {

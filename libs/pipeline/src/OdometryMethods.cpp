@@ -50,6 +50,7 @@ void LidarsegMethod::record(const ScanInput& scan) {
   m.searched.push_back(c.search.has_value() ? 1 : 0);
   m.searches += c.search.has_value();
   m.wide_searches += c.wide_search;
+  m.deskewed_again += c.deskewed_again;
   if (!c.first) {
     ++m.status_counts[toString(c.status)];
     if (c.match.status == MatchStatus::kTooFewMatches) ++m.match_failures[c.match.rejections.dominant()];

@@ -71,6 +71,7 @@ Json methodOf(const MethodReport& m) {
     j["lost_scans"] = m.lost_scans;
     j["searches"] = m.searches;
     j["wide_searches"] = m.wide_searches;
+    j["deskewed_again"] = m.deskewed_again;
     j["match_failures"] = Json::object();
     for (const auto& [k, v] : m.match_failures) j["match_failures"][k] = v;
   }

@@ -153,6 +153,9 @@ struct OdometryStep {
   std::optional<SearchResult> search;
   /// Whether the wider second search ran (OdometryParams::wide_search_factor).
   bool wide_search = false;
+  /// Whether the scan was deskewed again with the rotation rate its refinement measured
+  /// (the rate it was deskewed with differed by more than deskew_tolerance_rad over the sweep).
+  bool deskewed_again = false;
   /// How this scan was tracked; the pose is T_keyframe_curr of `refine` unless kLost.
   TrackStatus status = TrackStatus::kFirst;
   /// Whether this scan became the keyframe.
@@ -213,6 +216,11 @@ class SegmentOdometry {
   };
   PriorGate priorGate(double dt, const std::optional<Pose2D>& odometry_increment) const;
   Pose2D refineWithKeyframe(int slot, const Pose2D& prior, const PriorGate& gate, OdometryStep& step);
+  /// Segments the scan again with the rotation rate of T_key_curr when it differs from the
+  /// rate `used` by more than deskew_tolerance_rad over the sweep, and refines again from
+  /// T_key_curr; returns the pose kept.
+  Pose2D deskewWithRefinedMotion(const Scan& scan, int slot, double dt, const Twist2D& used, const Pose2D& T_key_curr,
+                                 OdometryStep& step);
   /// Prepares the keyframe (and the local map) for the refinements.
   void prepareKeyframe(OdometryStep& step);
   Twist2D meanVelocity(double stamp, double window) const;

@@ -51,6 +51,9 @@ struct MethodReport {
   /// lidarseg: how many scans also ran the wider second search (the segment match, the
   /// first search and every refinement failed; decision 83).
   std::size_t wide_searches = 0;
+  /// lidarseg: how many scans were segmented again with the rotation rate their refinement
+  /// measured (decision 90).
+  std::size_t deskewed_again = 0;
   /// lidarseg: the index of every lost scan (the first 1000).
   std::vector<std::size_t> lost_scans;
   std::size_t lost = 0;
