@@ -510,6 +510,23 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, const ScanGe
   }
 }
 
+// The flush-leaf pass is compiled twice on x86-64 Linux with GCC, for AVX2 and for the
+// baseline, and the loader picks one per CPU: its vectorised loops over every point of a
+// long wall (the per-beam terms with their division, the steps) take four doubles per
+// instruction instead of two. AVX2 brings no FMA (a separate target feature; GCC fuses a
+// multiply and an add only where FMA exists), each lane is the same correctly rounded
+// operation as the scalar one and no sum is reassociated (the prefix sums stay scalar, in
+// scan order): both copies give the same bits (decision 90). Not under ThreadSanitizer: the
+// loader runs the copy's selector before TSan's runtime is up, and the instrumented selector
+// crashes the program at start.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && \
+    !defined(__SANITIZE_THREAD__)
+#define LIDARSEG_FLUSH_LEAF_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define LIDARSEG_FLUSH_LEAF_CLONES
+#endif
+
+LIDARSEG_FLUSH_LEAF_CLONES
 void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const ScanGeometry& geometry,
                                          std::vector<Feature>& out) const {
   const FeatureDetectorParams& p = params_;
@@ -672,10 +689,12 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
     // smallest, for an end) is put to the window's test: the same list of starts and ends,
     // in the same order, as testing every step against its neighbours first and then the
     // window (decision 82). Branch-free, and the whole window compared (a fixed number of
-    // comparisons): testing only the steps outside the block, or only the blocks whose
-    // largest step reaches `edge`, took fewer instructions and more time (their loop
-    // lengths and branches follow the noise). The comparisons assume finite steps, as the
-    // plain sums are here; with a non-finite sum the run is searched as before.
+    // comparisons): testing only the steps outside the block, or branching on whether the
+    // block's largest step reaches `edge`, took fewer instructions and more time (their loop
+    // lengths and branches follow the noise); the extremes that reach `edge` are collected
+    // without a branch and tested in a loop of their own (decision 90). The comparisons
+    // assume finite steps, as the plain sums are here; with a non-finite sum the run is
+    // searched as before.
     std::size_t num_starts = 0, num_ends = 0;
     double* const step_p = steps.data();
     std::uint32_t *const start_p = starts.data(), *const end_p = ends.data();
@@ -715,10 +734,29 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
           i_min = smaller ? j : i_min;
         }
         start_p[num_starts] = static_cast<std::uint32_t>(i_max);
-        num_starts += (v_max >= edge) & largestWithin(i_max);
+        num_starts += v_max >= edge;
         end_p[num_ends] = static_cast<std::uint32_t>(i_min);
-        num_ends += (v_min <= -edge) & smallestWithin(i_min);
+        num_ends += v_min <= -edge;
       }
+      // The window's test only for the block extremes that reach `edge` (about half of them
+      // on a noisy wall), in a second loop: a start must pass both tests, and the tests are
+      // pure, so the list and its order are those of testing both in one loop, without
+      // spending the window's comparisons on the other half or branching on the noise
+      // (decision 90).
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < num_starts; ++i) {
+        const std::uint32_t k = start_p[i];
+        start_p[kept] = k;
+        kept += largestWithin(k);
+      }
+      num_starts = kept;
+      kept = 0;
+      for (std::size_t i = 0; i < num_ends; ++i) {
+        const std::uint32_t k = end_p[i];
+        end_p[kept] = k;
+        kept += smallestWithin(k);
+      }
+      num_ends = kept;
     } else {
       // First the neighbours' test, branch-free (the noise makes it unpredictable), then the
       // window's for the few left.
