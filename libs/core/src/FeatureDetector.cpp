@@ -516,7 +516,7 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, const ScanGe
 // instruction instead of two. AVX2 brings no FMA (a separate target feature; GCC fuses a
 // multiply and an add only where FMA exists), each lane is the same correctly rounded
 // operation as the scalar one and no sum is reassociated (the prefix sums stay scalar, in
-// scan order): both copies give the same bits (decision 90). Not under ThreadSanitizer: the
+// scan order): both copies give the same bits (decision 91). Not under ThreadSanitizer: the
 // loader runs the copy's selector before TSan's runtime is up, and the instrumented selector
 // crashes the program at start.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && \
@@ -692,7 +692,7 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
     // comparisons): testing only the steps outside the block, or branching on whether the
     // block's largest step reaches `edge`, took fewer instructions and more time (their loop
     // lengths and branches follow the noise); the extremes that reach `edge` are collected
-    // without a branch and tested in a loop of their own (decision 90). The comparisons
+    // without a branch and tested in a loop of their own (decision 91). The comparisons
     // assume finite steps, as the plain sums are here; with a non-finite sum the run is
     // searched as before.
     std::size_t num_starts = 0, num_ends = 0;
@@ -742,7 +742,7 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
       // on a noisy wall), in a second loop: a start must pass both tests, and the tests are
       // pure, so the list and its order are those of testing both in one loop, without
       // spending the window's comparisons on the other half or branching on the noise
-      // (decision 90).
+      // (decision 91).
       std::size_t kept = 0;
       for (std::size_t i = 0; i < num_starts; ++i) {
         const std::uint32_t k = start_p[i];
@@ -863,7 +863,7 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
     // when none of their abscissae exceeds this start's: every point they would pass is
     // then before this walk's limit too (the limit is the abscissa less door_min_wall_m, as
     // monotonic as the abscissa), so this walk stops at the same point. Otherwise they are
-    // walked first, in order. The same wall_from, so the same values (decision 91).
+    // walked first, in order. The same wall_from, so the same values (decision 92).
     std::size_t walk_a = 0, walked = 0;
     auto walkTo = [&](std::size_t k) {
       while (walk_a < k && along(walk_a) < along(k) - p.door_min_wall_m) ++walk_a;
