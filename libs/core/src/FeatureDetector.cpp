@@ -510,6 +510,23 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, const ScanGe
   }
 }
 
+// The flush-leaf pass is compiled twice on x86-64 Linux with GCC, for AVX2 and for the
+// baseline, and the loader picks one per CPU: its vectorised loops over every point of a
+// long wall (the per-beam terms with their division, the steps) take four doubles per
+// instruction instead of two. AVX2 brings no FMA (a separate target feature; GCC fuses a
+// multiply and an add only where FMA exists), each lane is the same correctly rounded
+// operation as the scalar one and no sum is reassociated (the prefix sums stay scalar, in
+// scan order): both copies give the same bits (decision 91). Not under ThreadSanitizer: the
+// loader runs the copy's selector before TSan's runtime is up, and the instrumented selector
+// crashes the program at start.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && \
+    !defined(__SANITIZE_THREAD__)
+#define LIDARSEG_FLUSH_LEAF_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define LIDARSEG_FLUSH_LEAF_CLONES
+#endif
+
+LIDARSEG_FLUSH_LEAF_CLONES
 void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const ScanGeometry& geometry,
                                          std::vector<Feature>& out) const {
   const FeatureDetectorParams& p = params_;
@@ -672,10 +689,12 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
     // smallest, for an end) is put to the window's test: the same list of starts and ends,
     // in the same order, as testing every step against its neighbours first and then the
     // window (decision 82). Branch-free, and the whole window compared (a fixed number of
-    // comparisons): testing only the steps outside the block, or only the blocks whose
-    // largest step reaches `edge`, took fewer instructions and more time (their loop
-    // lengths and branches follow the noise). The comparisons assume finite steps, as the
-    // plain sums are here; with a non-finite sum the run is searched as before.
+    // comparisons): testing only the steps outside the block, or branching on whether the
+    // block's largest step reaches `edge`, took fewer instructions and more time (their loop
+    // lengths and branches follow the noise); the extremes that reach `edge` are collected
+    // without a branch and tested in a loop of their own (decision 91). The comparisons
+    // assume finite steps, as the plain sums are here; with a non-finite sum the run is
+    // searched as before.
     std::size_t num_starts = 0, num_ends = 0;
     double* const step_p = steps.data();
     std::uint32_t *const start_p = starts.data(), *const end_p = ends.data();
@@ -715,10 +734,29 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
           i_min = smaller ? j : i_min;
         }
         start_p[num_starts] = static_cast<std::uint32_t>(i_max);
-        num_starts += (v_max >= edge) & largestWithin(i_max);
+        num_starts += v_max >= edge;
         end_p[num_ends] = static_cast<std::uint32_t>(i_min);
-        num_ends += (v_min <= -edge) & smallestWithin(i_min);
+        num_ends += v_min <= -edge;
       }
+      // The window's test only for the block extremes that reach `edge` (about half of them
+      // on a noisy wall), in a second loop: a start must pass both tests, and the tests are
+      // pure, so the list and its order are those of testing both in one loop, without
+      // spending the window's comparisons on the other half or branching on the noise
+      // (decision 91).
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < num_starts; ++i) {
+        const std::uint32_t k = start_p[i];
+        start_p[kept] = k;
+        kept += largestWithin(k);
+      }
+      num_starts = kept;
+      kept = 0;
+      for (std::size_t i = 0; i < num_ends; ++i) {
+        const std::uint32_t k = end_p[i];
+        end_p[kept] = k;
+        kept += smallestWithin(k);
+      }
+      num_ends = kept;
     } else {
       // First the neighbours' test, branch-free (the noise makes it unpredictable), then the
       // window's for the few left.
@@ -774,12 +812,8 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
     // behind the wall right beside it; a door's leaf steps back at its jambs. wall_from[i]:
     // the first point within door_min_wall_m before the i-th start; wall_to[m]: one past the
     // last point within door_min_wall_m after the m-th end's last leaf point (two pointers
-    // over the few steps, not over every point).
-    for (std::size_t i = 0, a = 0; i < num_starts; ++i) {
-      const std::size_t k = starts[i];
-      while (a < k && along(a) < along(k) - p.door_min_wall_m) ++a;
-      wall_from[i] = static_cast<std::uint32_t>(a);
-    }
+    // over the few steps, not over every point; wall_from only for the starts that pair,
+    // below).
     for (std::size_t m = 0, b = 0; m < num_ends; ++m) {
       const std::size_t e = ends[m];
       b = std::max(b, e);
@@ -788,12 +822,6 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
     }
     // The wall's mean and scatter on each side depend on one step only: computed once per
     // step (the same expressions, so the same values), not once per pair of steps.
-    for (std::size_t i = 0; i < num_starts; ++i) {
-      const std::size_t a = wall_from[i], k = starts[i];
-      if (k - a < p.door_min_sparse_wall_points) continue;  // never evaluated
-      before_mean[i] = mean(a, k);
-      before_ss[i] = scatter(a, k);
-    }
     for (std::size_t m = 0; m < num_ends; ++m) {
       const std::size_t e = ends[m], b = wall_to[m];
       if (b - e < p.door_min_sparse_wall_points) continue;  // never evaluated
@@ -828,17 +856,49 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
       leaf = {k, e, depth / std::sqrt(std::max(var_in / w_in + var / w_wall, 1e-24)), depth, wall};
       return true;
     };
+    // The wall before a start (its walk, mean and scatter) only for the starts put to
+    // `evaluate`, when first put (about half of them: the others have no end at a door's
+    // width). The walks chain: each goes on from where the one of the start before it
+    // stopped. The walks of the starts skipped since the last one walked may be left out
+    // when none of their abscissae exceeds this start's: every point they would pass is
+    // then before this walk's limit too (the limit is the abscissa less door_min_wall_m, as
+    // monotonic as the abscissa), so this walk stops at the same point. Otherwise they are
+    // walked first, in order. The same wall_from, so the same values (decision 92).
+    std::size_t walk_a = 0, walked = 0;
+    auto walkTo = [&](std::size_t k) {
+      while (walk_a < k && along(walk_a) < along(k) - p.door_min_wall_m) ++walk_a;
+    };
+    auto readyStart = [&](std::size_t ks) {
+      const double here = along(starts[ks]);
+      bool in_order = true;
+      for (std::size_t j = walked; j < ks; ++j) in_order &= along(starts[j]) <= here;
+      if (!in_order) {
+        for (std::size_t j = walked; j < ks; ++j) walkTo(starts[j]);
+      }
+      const std::size_t k = starts[ks];
+      walkTo(k);
+      wall_from[ks] = static_cast<std::uint32_t>(walk_a);
+      walked = ks + 1;
+      if (k - walk_a < p.door_min_sparse_wall_points) return;  // never evaluated
+      before_mean[ks] = mean(walk_a, k);
+      before_ss[ks] = scatter(walk_a, k);
+    };
     std::size_t first_end = 0;
     for (std::size_t ks = 0; ks < num_starts; ++ks) {
       const std::size_t k = starts[ks];
       if (k < p.door_min_wall_points || along(k) - along(0) < p.door_min_wall_m) continue;
       while (first_end < num_ends && ends[first_end] <= k) ++first_end;
+      bool ready = false;
       for (std::size_t m = first_end; m < num_ends; ++m) {
         const std::size_t e = ends[m];
         const double width = along(e) - along(k);
         if (width > p.door_max_width_m) break;
         if (width < p.door_min_width_m || e - k < p.door_min_gap_beams) continue;
         if (n - e < p.door_min_wall_points || along(n - 1) - along(e) < p.door_min_wall_m) continue;
+        if (!ready) {
+          readyStart(ks);
+          ready = true;
+        }
         Leaf c;
         if (evaluate(ks, m, c) && c.t >= p.door_shallow_min_sigmas) candidates.push_back(c);
       }
