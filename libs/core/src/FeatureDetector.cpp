@@ -738,25 +738,6 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
         end_p[num_ends] = static_cast<std::uint32_t>(i_min);
         num_ends += v_min <= -edge;
       }
-      // The window's test only for the block extremes that reach `edge` (about half of them
-      // on a noisy wall), in a second loop: a start must pass both tests, and the tests are
-      // pure, so the list and its order are those of testing both in one loop, without
-      // spending the window's comparisons on the other half or branching on the noise
-      // (decision 91).
-      std::size_t kept = 0;
-      for (std::size_t i = 0; i < num_starts; ++i) {
-        const std::uint32_t k = start_p[i];
-        start_p[kept] = k;
-        kept += largestWithin(k);
-      }
-      num_starts = kept;
-      kept = 0;
-      for (std::size_t i = 0; i < num_ends; ++i) {
-        const std::uint32_t k = end_p[i];
-        end_p[kept] = k;
-        kept += smallestWithin(k);
-      }
-      num_ends = kept;
     } else {
       // First the neighbours' test, branch-free (the noise makes it unpredictable), then the
       // window's for the few left.
@@ -776,6 +757,14 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
       const std::size_t k_last = n - W;
       keepStep(k_last, step_p[k_last] >= edge && step_p[k_last - 1] < step_p[k_last],
                step_p[k_last] <= -edge && step_p[k_last - 1] > step_p[k_last]);
+    }
+    // Then the window's test, only for the candidates kept so far (the block extremes that
+    // reach `edge`, about half of them on a noisy wall; or the steps that pass their
+    // neighbours' test), in a loop of its own: a start must pass both tests, and the tests
+    // are pure, so the list and its order are those of testing both in one loop, without
+    // spending the window's comparisons on the others or branching on the noise
+    // (decision 91).
+    {
       std::size_t kept = 0;
       for (std::size_t i = 0; i < num_starts; ++i) {
         const std::uint32_t k = start_p[i];
