@@ -140,6 +140,68 @@ TEST(CorrelativeSearch, AScoreFloorReturnsOnlyPosesThatBeatIt) {
   EXPECT_EQ(none.score, 0.0);
 }
 
+// The score the search maximises, recomputed here from the likelihood grid with every
+// lookup tested: the search's best equals the maximum over every pose of the window, also
+// with a keyframe grid clipped around the sensor (max_grid_cells), where many of the current
+// scan's points fall near its edge or beyond it and the search reads them its other ways.
+TEST(CorrelativeSearch, TheBestIsTheMaximumOfTheScoreRecomputedCellByCell) {
+  const sim::World world = testing::officeScene();
+  const auto key = pointsAt(world, {0.0, 1.0, 0.0}, 9);
+  const auto cur = pointsAt(world, {0.25, 1.1, 0.05}, 10);
+  for (const std::size_t grid_cells : {std::size_t{1200}, std::size_t{60}, std::size_t{40}}) {
+    SCOPED_TRACE("max_grid_cells " + std::to_string(grid_cells));
+    SearchParams p;
+    p.linear_window_m = 0.4;       // W = 8 cells
+    p.angular_window_rad = 0.1;    // A = 10 steps
+    p.angular_step_rad = 0.01;
+    p.max_points = 5000;           // every valid point is used
+    p.coarse_cells = 4;
+    p.max_grid_cells = grid_cells;
+    const CorrelativeSearch search(p);
+    SearchGrid g;
+    search.prepare(key, g);
+    const SearchResult r = search.search(g, cur, Pose2D{});
+    ASSERT_TRUE(r.found);
+
+    const int pad = g.pad, pw = g.w + 2 * pad, ph = g.h + 2 * pad;
+    const std::vector<SearchGrid::Cell>& likelihood = g.levels.back();
+    std::size_t n = 0, outside = 0;
+    for (const auto& q : cur) n += std::isfinite(q.x()) && std::isfinite(q.y());
+    const auto sumAt = [&](int a, int ix, int iy) {
+      const double yaw = (a - 10) * 0.01, c = std::cos(yaw), s = std::sin(yaw);
+      long sum = 0;
+      for (const auto& q : cur) {
+        if (!(std::isfinite(q.x()) && std::isfinite(q.y()))) continue;
+        const double x = c * q.x() - s * q.y(), y = s * q.x() + c * q.y();
+        const int i = static_cast<int>(std::floor((x - g.x0) / g.res)) + ix + pad;
+        const int j = static_cast<int>(std::floor((y - g.y0) / g.res)) + iy + pad;
+        if (i < 0 || j < 0 || i >= pw || j >= ph) {
+          ++outside;
+          continue;
+        }
+        sum += likelihood[static_cast<std::size_t>(j) * static_cast<std::size_t>(pw) + static_cast<std::size_t>(i)];
+      }
+      return sum;
+    };
+    long best = -1;
+    for (int a = 0; a <= 20; ++a) {
+      for (int iy = -8; iy <= 8; ++iy) {
+        for (int ix = -8; ix <= 8; ++ix) best = std::max(best, sumAt(a, ix, iy));
+      }
+    }
+    const double scale = SearchGrid::kCellMax * static_cast<double>(n);
+    EXPECT_DOUBLE_EQ(r.score, static_cast<double>(best) / scale);
+    const int a = static_cast<int>(std::lround(r.T_key_curr.yaw / 0.01)) + 10;
+    const int ix = static_cast<int>(std::lround(r.T_key_curr.x / g.res));
+    const int iy = static_cast<int>(std::lround(r.T_key_curr.y / g.res));
+    EXPECT_EQ(sumAt(a, ix, iy), best);
+    EXPECT_DOUBLE_EQ(r.prior_score, static_cast<double>(sumAt(10, 0, 0)) / scale);
+    if (grid_cells < 100) {
+      EXPECT_GT(outside, 0u);  // the clipped grids do leave points outside
+    }
+  }
+}
+
 TEST(CorrelativeSearch, EmptyInputsAndBadParameters) {
   const std::vector<Eigen::Vector2d> none;
   const std::vector<Eigen::Vector2d> nan(10, Eigen::Vector2d(std::nan(""), 1.0));

@@ -26,10 +26,7 @@ struct Padded {
   }
 };
 
-Padded paddedOf(const SearchGrid& g) {
-  const int pad = g.sides.empty() ? 0 : g.sides.front();
-  return {pad, g.w + 2 * pad, g.h + 2 * pad};
-}
+Padded paddedOf(const SearchGrid& g) { return {g.pad, g.w + 2 * g.pad, g.h + 2 * g.pad}; }
 
 // A block of poses: rotation index, first translation offsets (cells), and the bound (or,
 // for a single cell, the exact score) of every pose in it, as a sum of quantised cells.
@@ -38,9 +35,16 @@ struct Block {
   int rot, ix, iy;
 };
 
+// The points of each rotation, at the prior translation, in two kinds: those whose cell
+// stays inside the padded grid at every translation of the window ("inside": a linear index,
+// read without a test), and the others (their cell, each lookup tested). A point outside at
+// every translation scores 0 and is left out. Scores are sums of integers, so the order of
+// the terms changes nothing.
 struct Workspace {
   std::vector<Eigen::Vector2d> pts;
-  std::vector<int> cells;  // per rotation: (ci, cj) of every used point, at the prior translation
+  std::vector<int> linear;  // per rotation: the inside points' linear indices (padded grid), first `inside[rot]`
+  std::vector<int> cells;   // per rotation: (ci, cj) of the other points, from `inside[rot]` to `used[rot]`
+  std::vector<int> inside, used;
   std::vector<Block> top;
 };
 
@@ -50,16 +54,24 @@ struct Workspace {
 class BranchAndBound {
  public:
   // Only poses scoring above `floor` (a sum of cells) are looked for.
-  BranchAndBound(const SearchGrid& g, const std::vector<int>& cells, int n, int W, int A, double step,
-                 int floor, SearchResult& result)
-      : g_(g), pad_(paddedOf(g)), cells_(cells), n_(n), W_(W), A_(A), step_(step), result_(result), best_(floor) {}
+  BranchAndBound(const SearchGrid& g, const Workspace& ws, int n, int W, int A, double step, int floor,
+                 SearchResult& result)
+      : g_(g), pad_(paddedOf(g)), ws_(ws), n_(n), W_(W), A_(A), step_(step), result_(result), best_(floor) {}
 
-  // The sum of the points' cells (integers: exact, so the bounds hold to the last unit).
+  // The sum of the points' cells (integers: exact, so the bounds hold to the last unit), at
+  // translation offsets (dx, dy) within the window (|dx|, |dy| <= W).
   int score(std::size_t level, int rot, int dx, int dy) const {
     const std::vector<SearchGrid::Cell>& grid = g_.levels[level];
-    const int* c = &cells_[static_cast<std::size_t>(rot) * static_cast<std::size_t>(n_) * 2];
+    const std::size_t r = static_cast<std::size_t>(rot);
+    const std::size_t first = r * static_cast<std::size_t>(n_);
+    const int inside = ws_.inside[r], used = ws_.used[r];
+    const int* lin = &ws_.linear[first];
+    const SearchGrid::Cell* cell = grid.data();
+    const int shift = dy * pad_.w + dx;  // lin[i] + shift is in the padded grid for inside points
     int sum = 0;
-    for (int i = 0; i < n_; ++i) sum += pad_.at(grid, c[2 * i] + dx, c[2 * i + 1] + dy);
+    for (int i = 0; i < inside; ++i) sum += cell[lin[i] + shift];
+    const int* c = &ws_.cells[2 * first];
+    for (int i = inside; i < used; ++i) sum += pad_.at(grid, c[2 * i] + dx, c[2 * i + 1] + dy);
     return sum;
   }
   // A score as the mean likelihood of the points, in [0, 1].
@@ -117,7 +129,7 @@ class BranchAndBound {
  private:
   const SearchGrid& g_;
   Padded pad_;
-  const std::vector<int>& cells_;
+  const Workspace& ws_;
   int n_, W_, A_;
   double step_;
   SearchResult& result_;
@@ -185,6 +197,10 @@ void CorrelativeSearch::prepare(const std::vector<Eigen::Vector2d>& key, SearchG
     if (s == 1) break;
   }
   g.levels.resize(g.sides.size());
+  // At least the top-level block (a block left of the grid reads what it covers of it), and
+  // the search's translation window: the points of the keyframe's outermost walls then stay
+  // inside the padded grid at every translation (read without a test).
+  g.pad = std::max(g.sides.front(), static_cast<int>(std::floor(P.linear_window_m / P.resolution_m + 1e-9)));
   const Padded pad = paddedOf(g);
   const std::size_t cells = static_cast<std::size_t>(pad.w) * static_cast<std::size_t>(pad.h);
 
@@ -292,24 +308,46 @@ SearchResult CorrelativeSearch::search(const SearchGrid& g, const std::vector<Ei
   const int n = static_cast<int>(ws.pts.size());
   const int rotations = 2 * A + 1;
 
-  // Cells of every point at each rotation and at the prior translation.
-  ws.cells.resize(static_cast<std::size_t>(rotations) * static_cast<std::size_t>(n) * 2);
+  // Cells of every point at each rotation and at the prior translation, sorted into the
+  // kinds of Workspace. Every lookup is at an offset within [-W, W] of these cells.
+  const Padded pad = paddedOf(g);
+  const std::size_t per_rotation = static_cast<std::size_t>(n);
+  ws.linear.resize(static_cast<std::size_t>(rotations) * per_rotation);
+  ws.cells.resize(static_cast<std::size_t>(rotations) * per_rotation * 2);
+  ws.inside.assign(static_cast<std::size_t>(rotations), 0);
+  ws.used.assign(static_cast<std::size_t>(rotations), 0);
+  const auto within = [W](int padded, int side) { return padded - W >= 0 && padded + W < side; };
+  const auto reachable = [W](int padded, int side) { return padded + W >= 0 && padded - W < side; };
   for (int a = 0; a < rotations; ++a) {
     const double yaw = prior.yaw + (a - A) * step;
     const double c = std::cos(yaw), s = std::sin(yaw);
+    const std::size_t first = static_cast<std::size_t>(a) * per_rotation;
+    int inside = 0, other = 0;
     for (int i = 0; i < n; ++i) {
       const Eigen::Vector2d& p = ws.pts[static_cast<std::size_t>(i)];
       const double x = prior.x + c * p.x() - s * p.y(), y = prior.y + s * p.x() + c * p.y();
       const double fx = std::clamp((x - g.x0) / g.res, -1e6, 1e6), fy = std::clamp((y - g.y0) / g.res, -1e6, 1e6);
-      const std::size_t at = (static_cast<std::size_t>(a) * static_cast<std::size_t>(n) + static_cast<std::size_t>(i)) * 2;
-      ws.cells[at] = static_cast<int>(std::floor(fx));
-      ws.cells[at + 1] = static_cast<int>(std::floor(fy));
+      const int ci = static_cast<int>(std::floor(fx)), cj = static_cast<int>(std::floor(fy));
+      const int pi = ci + pad.pad, pj = cj + pad.pad;
+      if (within(pi, pad.w) && within(pj, pad.h)) {
+        ws.linear[first + static_cast<std::size_t>(inside++)] = pj * pad.w + pi;
+      } else if (reachable(pi, pad.w) && reachable(pj, pad.h)) {
+        const std::size_t at = (first + static_cast<std::size_t>(n - 1 - other++)) * 2;  // filled from the end
+        ws.cells[at] = ci;
+        ws.cells[at + 1] = cj;
+      }
     }
+    // The others, moved to follow the inside points.
+    if (inside < n - other) std::copy(ws.cells.begin() + static_cast<std::ptrdiff_t>((first + static_cast<std::size_t>(n - other)) * 2),
+              ws.cells.begin() + static_cast<std::ptrdiff_t>((first + per_rotation) * 2),
+              ws.cells.begin() + static_cast<std::ptrdiff_t>((first + static_cast<std::size_t>(inside)) * 2));
+    ws.inside[static_cast<std::size_t>(a)] = inside;
+    ws.used[static_cast<std::size_t>(a)] = inside + other;
   }
   const int floor_sum = min_score > 0.0
                             ? static_cast<int>(std::llround(std::min(min_score, 1.0) * SearchGrid::kCellMax * static_cast<double>(n)))
                             : -1;
-  BranchAndBound bnb(g, ws.cells, n, W, A, step, floor_sum, result);
+  BranchAndBound bnb(g, ws, n, W, A, step, floor_sum, result);
   result.prior_score = bnb.meanLikelihood(bnb.score(g.levels.size() - 1, A, 0, 0));
 
   // Top level: every rotation x block of K x K translations, best bound first.

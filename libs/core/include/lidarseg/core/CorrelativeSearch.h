@@ -66,10 +66,13 @@ struct SearchGrid {
   using Cell = std::uint8_t;
   static constexpr int kCellMax = 255;
   /// levels[l]: block side sides[l] (cells); levels.back() is the likelihood itself (side 1),
-  /// levels[0] the top-level bound (side coarse_cells). Row-major, padded by sides[0] cells
-  /// on every side.
+  /// levels[0] the top-level bound (side coarse_cells). Row-major, padded by `pad` cells on
+  /// every side.
   std::vector<std::vector<Cell>> levels;
   std::vector<int> sides;
+  /// Cells of padding on each side: the larger of sides[0] and the translation window of the
+  /// parameters that prepared it, in cells.
+  int pad = 0;
   /// Working buffer of prepare() (kept to reuse its allocation).
   std::vector<Cell> scratch;
   /// Whether prepare() filled it (a default grid holds no keyframe).
