@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
     if (command != "run" && command != "one") return usage();
     TCLAP::ValueArg<std::string> world("", "world", "world file", true, "", "FILE", cmd);
     TCLAP::ValueArg<std::string> trajectory("", "trajectory", "trajectory file", true, "", "FILE", cmd);
-    TCLAP::ValueArg<std::string> sensor("", "sensor-model", "simulated sensor: lms100, utm30lx, sick180", false, "lms100",
+    TCLAP::ValueArg<std::string> sensor("", "sensor-model", "simulated sensor: lms100, utm30lx, sick180, rplidar360", false, "lms100",
                                         "NAME", cmd);
     TCLAP::ValueArg<std::string> sim_config("", "sim-config", "INI with [simulation]", false, "", "FILE", cmd);
     TCLAP::ValueArg<std::string> config("c", "config", "INI with lidarseg-odometry's sections", false, "", "FILE", cmd);

@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
                                             "a generated building of this seed and its loop, instead of -w/-t "
                                             "(also writes PREFIX.world, PREFIX.traj, PREFIX.doors.csv)",
                                             false, 0, "SEED", cmd);
-    TCLAP::ValueArg<std::string> sensor("", "sensor-model", "simulated sensor: lms100, utm30lx, sick180", false, "lms100",
+    TCLAP::ValueArg<std::string> sensor("", "sensor-model", "simulated sensor: lms100, utm30lx, sick180, rplidar360", false, "lms100",
                                         "NAME", cmd);
     TCLAP::ValueArg<std::string> config("c", "config", "INI/YAML with a [simulation] section", false, "", "FILE", cmd);
     TCLAP::ValueArg<std::uint64_t> seed("", "seed", "noise seed (same seed, same bytes)", false, 1, "N", cmd);

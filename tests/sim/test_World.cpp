@@ -125,6 +125,16 @@ TEST(SensorModel, ProfilesMatchTheirDataSheets) {
   EXPECT_EQ(utm.sigmaAt(9.9), 0.01);
   EXPECT_EQ(utm.sigmaAt(10.1), 0.03);
   EXPECT_EQ(SensorModel::sick180().layout->size(), 181u);
+  // A full turn: the beams wrap around (segments may continue across the seam), and the
+  // sweep lasts the whole period but one beam.
+  const SensorModel rp = SensorModel::rplidar360();
+  EXPECT_EQ(rp.layout->size(), 360u);
+  EXPECT_TRUE(rp.layout->wrapsAround());
+  EXPECT_NEAR(rp.layout->meanIncrement(), lidarseg::testing::kDeg, 1e-12);
+  EXPECT_EQ(rp.sigmaAt(3.9), 0.02);
+  EXPECT_EQ(rp.sigmaAt(4.1), 0.05);
+  EXPECT_NEAR(ScanSimulator(World{}, rp, 1).sweepDuration(), 359.0 / 360.0 / 5.5, 1e-12);
+  EXPECT_FALSE(SensorModel::lms100().layout->wrapsAround());
 }
 
 }  // namespace

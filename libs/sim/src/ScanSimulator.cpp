@@ -32,6 +32,20 @@ SensorModel SensorModel::utm30lx() {
 
 SensorModel SensorModel::sick180() { return profile(181, 180.0, 80.0, 0.05, 0.01, 75.0); }
 
+SensorModel SensorModel::rplidar360() {
+  SensorModel m;
+  // A full turn at 1 degree, centred on x as MRPT describes it (aperture 359 degrees: beams
+  // from -179.5 to +179.5 degrees), so its scans convert to CObservation2DRangeScan.
+  m.layout = std::make_shared<BeamLayout>(BeamLayout::centred(360, 2.0 * kPi * 359.0 / 360.0));
+  m.max_range_m = 12.0;
+  m.min_range_m = 0.15;
+  m.range_sigma_m = 0.02;
+  m.far_range_m = 4.0;
+  m.far_range_sigma_m = 0.05;
+  m.frequency_hz = 5.5;
+  return m;
+}
+
 ScanSimulator::ScanSimulator(const World& world, SensorModel sensor, std::uint64_t seed)
     : sensor_(std::move(sensor)), caster_(world), rng_(seed) {
   if (!sensor_.layout) throw std::invalid_argument("ScanSimulator: sensor has no beam layout");

@@ -76,7 +76,8 @@ SensorModel sensorProfile(const std::string& name) {
   if (name == "lms100") return SensorModel::lms100();
   if (name == "utm30lx") return SensorModel::utm30lx();
   if (name == "sick180") return SensorModel::sick180();
-  throw std::invalid_argument("unknown sensor profile '" + name + "' (lms100, utm30lx, sick180)");
+  if (name == "rplidar360") return SensorModel::rplidar360();
+  throw std::invalid_argument("unknown sensor profile '" + name + "' (lms100, utm30lx, sick180, rplidar360)");
 }
 
 namespace {

@@ -17,7 +17,7 @@ struct SimulateOptions {
   /// (sim::generateBuilding with its default parameters) and its loop; the run also writes
   /// PREFIX.world, PREFIX.traj (the same run again with -w/-t) and PREFIX.doors.csv.
   std::optional<std::uint64_t> building_seed;
-  std::string sensor = "lms100";  ///< sensor profile: lms100, utm30lx, sick180
+  std::string sensor = "lms100";  ///< sensor profile: lms100, utm30lx, sick180, rplidar360
   /// Optional INI/YAML with a [simulation] section (config/simulate.ini).
   std::string config_path;
   std::uint64_t seed = 1;  ///< noise seed: the same seed gives the same bytes

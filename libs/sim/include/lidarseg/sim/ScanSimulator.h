@@ -35,6 +35,11 @@ struct SensorModel {
   static SensorModel utm30lx();
   /// A 180-degree scanner at 1 deg (181 beams), 80 m, sigma 0.01 m (SICK LMS200-like).
   static SensorModel sick180();
+  /// A low-cost spinning 360-degree scanner (RPLIDAR A1-like): a full turn at 1 deg (360
+  /// beams from -179.5 to +179.5 deg), 5.5 Hz, 0.15-12 m, sigma 0.02 m under 4 m and 0.05 m
+  /// beyond. Its sweep lasts the whole period (0.18 s): a robot turning at 1 rad/s turns
+  /// 0.18 rad during one scan.
+  static SensorModel rplidar360();
 
   /// Scan frequency (Hz): the time between beams is 1 / (frequency * beams per turn).
   double frequency_hz = 50.0;
