@@ -36,6 +36,11 @@ struct Accumulator {
   Eigen::Vector3d g = Eigen::Vector3d::Zero();
   double wr2 = 0.0, wsum = 0.0, inlier_r2 = 0.0;
   std::size_t paired = 0, covered = 0, inliers = 0;
+  // With a sweep model: the rate's column (against x, y, scaled yaw), its own term, gradient.
+  double h3[3] = {0.0, 0.0, 0.0};
+  double h33 = 0.0, g3 = 0.0;
+  double hu3[3] = {0.0, 0.0, 0.0};  // the same, unweighted
+  double hu33 = 0.0;
 };
 
 // The constrained directions as columns (at most 3, no heap allocation per scan).
@@ -284,7 +289,8 @@ struct Pairing {
 // `pairs`; with it true the stored pairings are used as they are (no search: the step since
 // they were made is small), and `covered` is kept from the pass that made them.
 void accumulate(const KeyframeIndex& ix, const RefinerParams& P, const std::vector<Eigen::Vector2d>& pts,
-                const Pose2D& T, double yaw_scale, std::vector<Pairing>& pairs, bool reuse, Accumulator& acc) {
+                const Pose2D& T, double yaw_scale, std::vector<Pairing>& pairs, bool reuse, Accumulator& acc,
+                const std::vector<double>* times = nullptr) {
   const std::size_t covered = acc.covered;
   const bool store = P.reassociate_m > 0.0;
   acc = Accumulator{};
@@ -327,8 +333,18 @@ void accumulate(const KeyframeIndex& ix, const RefinerParams& P, const std::vect
     ++acc.paired;
     const double w = 1.0 / (1.0 + r * r * inv_c2);  // Cauchy, on the distance
     // One row per residual: along the line's normal, or the x and y of a point's offset.
+    const double t = times != nullptr ? (*times)[reuse ? pairs[i].point : i] : 0.0;
     const auto add = [&](double nx, double ny, double ri) {
-      const double j0 = nx, j1 = ny, j2 = (ny * rx - nx * ry) * yaw_scale;
+      const double turn = ny * rx - nx * ry;
+      if (times != nullptr) {  // the sweep's rate: the point turns by c t about the sensor
+        const double j3 = turn * t;
+        acc.h3[0] += w * nx * j3, acc.h3[1] += w * ny * j3, acc.h3[2] += w * turn * yaw_scale * j3;
+        acc.h33 += w * j3 * j3;
+        acc.g3 += w * j3 * ri;
+        acc.hu3[0] += nx * j3, acc.hu3[1] += ny * j3, acc.hu3[2] += turn * yaw_scale * j3;
+        acc.hu33 += j3 * j3;
+      }
+      const double j0 = nx, j1 = ny, j2 = turn * yaw_scale;
       hu[0] += j0 * j0, hu[1] += j0 * j1, hu[2] += j0 * j2, hu[3] += j1 * j1, hu[4] += j1 * j2, hu[5] += j2 * j2;
       const double w0 = w * j0, w1 = w * j1, w2 = w * j2;
       h[0] += w0 * j0, h[1] += w0 * j1, h[2] += w0 * j2, h[3] += w1 * j1, h[4] += w1 * j2, h[5] += w2 * j2;
@@ -400,17 +416,22 @@ ScanRefiner::ScanRefiner(const RefinerParams& params) : params_(params) { params
 
 namespace {
 // The valid points, evenly thinned to at most `limit`.
-void collectPoints(const Segmentation& current, std::size_t limit, std::vector<Eigen::Vector2d>& out) {
+// With `times` (per beam), the kept points' times go to `out_times`.
+void collectPoints(const Segmentation& current, std::size_t limit, std::vector<Eigen::Vector2d>& out,
+                   const std::vector<double>* times = nullptr, std::vector<double>* out_times = nullptr) {
   out.clear();
+  if (out_times != nullptr) out_times->clear();
   std::size_t valid = 0;
   for (const Eigen::Vector2d& p : current.points) valid += std::isfinite(p.x()) && std::isfinite(p.y());
   const double stride = std::max(1.0, static_cast<double>(valid) / static_cast<double>(limit));
   double next = 0.0;
   std::size_t k = 0;
-  for (const Eigen::Vector2d& p : current.points) {
+  for (std::size_t b = 0; b < current.points.size(); ++b) {
+    const Eigen::Vector2d& p = current.points[b];
     if (!(std::isfinite(p.x()) && std::isfinite(p.y()))) continue;
     if (static_cast<double>(k++) >= next) {
       out.push_back(p);
+      if (out_times != nullptr) out_times->push_back((*times)[b]);
       next += stride;
     }
   }
@@ -426,13 +447,21 @@ RefineResult ScanRefiner::refine(const Segmentation& keyframe, const Segmentatio
 
 RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segmentation& current,
                                  const Pose2D& initial) const {
+  return refine(keyframe, current, initial, nullptr);
+}
+
+RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segmentation& current,
+                                 const Pose2D& initial, const SweepModel* sweep) const {
   const RefinerParams& P = params_;
   RefineResult result;
   result.T_key_curr = initial;
   const double u2 = P.unconstrained_sigma_m * P.unconstrained_sigma_m;
   result.covariance = Eigen::Vector3d(u2, u2, 0.1).asDiagonal();
-  thread_local std::vector<Eigen::Vector2d> points;
-  collectPoints(current, P.max_points, points);
+  const bool sweeping = sweep != nullptr && sweep->time_offsets_s != nullptr &&
+                        sweep->time_offsets_s->size() == current.points.size() && sweep->prior_sigma_rad_s > 0.0;
+  thread_local std::vector<Eigen::Vector2d> points, turned;
+  thread_local std::vector<double> times;
+  collectPoints(current, P.max_points, points, sweeping ? sweep->time_offsets_s : nullptr, sweeping ? &times : nullptr);
   result.points = points.size();
   if (points.size() < P.min_points || keyframe.bearing.empty()) return result;
 
@@ -474,20 +503,68 @@ RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segme
   // last pairing (the final step is below convergence_m, or the iterations ran out).
   thread_local std::vector<Pairing> pairs;
   bool reuse = false;
+  // The sweep's rate correction c (rad/s) and its prior's weight in the normal equations'
+  // units (a point's variance over the rate's).
+  double c = 0.0;
+  const double lambda = sweeping ? P.min_point_sigma_m * P.min_point_sigma_m /
+                                       (sweep->prior_sigma_rad_s * sweep->prior_sigma_rad_s)
+                                 : 0.0;
+  double t_max = 0.0;
+  for (double t : times) t_max = std::max(t_max, std::abs(t));
+  Eigen::Matrix3d H_pose;  // the pose's information, the rate eliminated (Schur complement)
+  Eigen::Vector3d g_pose;
   for (std::size_t it = 0; it < P.max_iterations; ++it) {
-    accumulate(keyframe, P, points, T, D(2), pairs, reuse, acc);
-    if (acc.paired < P.min_points || !decompose(acc.Hu)) return result;
+    if (sweeping) {
+      // The points turned by c t about the sensor (exact rotation: c t reaches 0.3 rad).
+      turned.resize(points.size());
+      for (std::size_t i = 0; i < points.size(); ++i) {
+        const double a = c * times[i], ca = std::cos(a), sa = std::sin(a);
+        const Eigen::Vector2d& p = points[i];
+        turned[i] = Eigen::Vector2d(ca * p.x() - sa * p.y(), sa * p.x() + ca * p.y());
+      }
+    }
+    accumulate(keyframe, P, sweeping ? turned : points, T, D(2), pairs, reuse, acc, sweeping ? &times : nullptr);
+    // With the sweep's rate unknown too, what constrains the pose is what the rate does not
+    // explain: the directions are judged on the unweighted information with the rate
+    // eliminated (a corridor's along-axis cue may be spent on bending its walls).
+    Eigen::Matrix3d Hu = acc.Hu;
+    if (sweeping) {
+      const Eigen::Vector3d hu3(acc.hu3[0], acc.hu3[1], acc.hu3[2]);
+      Hu -= hu3 * hu3.transpose() / (acc.hu33 + lambda);
+    }
+    if (acc.paired < P.min_points || !decompose(Hu)) return result;
+    H_pose = acc.H;
+    g_pose = acc.g;
+    Eigen::Vector3d h3 = Eigen::Vector3d::Zero();
+    double s33 = 1.0, g3 = 0.0;
+    if (sweeping) {
+      h3 = Eigen::Vector3d(acc.h3[0], acc.h3[1], acc.h3[2]);
+      s33 = acc.h33 + lambda;
+      g3 = acc.g3 + lambda * c;
+      H_pose -= h3 * h3.transpose() / s33;
+      g_pose -= h3 * (g3 / s33);
+    }
     // Step in the constrained subspace only (the weak directions keep their value).
     const Basis Vs = strongBasis();
-    const Reduced Hs = Vs.transpose() * acc.H * Vs;
-    Eigen::Vector3d step = -Vs * Hs.ldlt().solve(Vs.transpose() * acc.g);
+    const Reduced Hs = Vs.transpose() * H_pose * Vs;
+    Eigen::Vector3d step = -Vs * Hs.ldlt().solve(Vs.transpose() * g_pose);
     if (!step.allFinite()) return result;
+    double dc = 0.0;
+    if (sweeping) {
+      // Within 3 prior sigmas: beyond, a corridor's points fit as well turned by a quarter
+      // or a half turn at the sweep's end (the pose then flips), which no robot does.
+      const double bound = 3.0 * sweep->prior_sigma_rad_s;
+      dc = -(g3 + h3.dot(step)) / s33;
+      if (!std::isfinite(dc)) return result;
+      dc = std::clamp(c + dc, -bound, bound) - c;
+      c += dc;
+    }
     step = step.cwiseProduct(D);  // back to (m, m, rad)
     T.x += step.x();
     T.y += step.y();
     T.yaw = wrapAngle(T.yaw + step.z());
     result.iterations = it + 1;
-    const double moved = std::max(std::hypot(step.x(), step.y()), std::abs(step.z()) * L);
+    const double moved = std::max({std::hypot(step.x(), step.y()), std::abs(step.z()) * L, std::abs(dc) * t_max * L});
     if (moved < P.convergence_m) {
       result.converged = true;
       break;
@@ -496,6 +573,7 @@ RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segme
     reuse = moved < P.reassociate_m;
   }
   result.T_key_curr = T;
+  result.sweep_rate_correction = c;
   result.inliers = acc.inliers;
   result.covered = acc.covered;
   result.inlier_ratio = inlierRatioOf(acc);
@@ -504,7 +582,7 @@ RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segme
   const double dof = std::max(1.0, acc.wsum - 3.0);
   const double sigma2 = std::max(acc.wr2 / dof, P.min_point_sigma_m * P.min_point_sigma_m);
   const Basis Vs = strongBasis();
-  const Reduced Hs = Vs.transpose() * acc.H * Vs;
+  const Reduced Hs = Vs.transpose() * H_pose * Vs;
   Eigen::Matrix3d cov_scaled = Vs * Hs.inverse() * Vs.transpose() * (sigma2 * P.correlation_length_points);
   for (int k = 0; k < 3; ++k) {
     if (strong_mask(k) == 0.0) cov_scaled += V.col(k) * V.col(k).transpose() * u2;

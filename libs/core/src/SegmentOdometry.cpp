@@ -101,6 +101,7 @@ void SegmentOdometry::reset() {
   keyframe_pose_ = {};
   history_size_ = 0;
   velocity_ = {};
+  sweep_omega_.reset();
   map_size_ = 0;
   search_grid_.ready = false;
 }
@@ -180,7 +181,7 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
   };
   // 1. From the segment match.
   RefineResult best;
-  if (matched) best = refiner_.refine(refine_keyframe_, cur, m.T_prev_curr);
+  if (matched) best = refiner_.refine(refine_keyframe_, cur, m.T_prev_curr, sweep_);
   // 2. From the prior, when the match failed, moved far from the prior (it may have locked
   // onto a wrong couple: a repeated door, a corridor), its refinement is doubtful, or that
   // refinement was still moving when its iterations ran out (a start off along a corridor
@@ -231,7 +232,7 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
            dyaw * dyaw > k2 * (gate.sigma_rad * gate.sigma_rad + r.covariance(2, 2));
   };
   if (!matched || far || doubtful(best) || !best.converged || disagrees(best)) {
-    reference = refiner_.refine(refine_keyframe_, cur, prior);
+    reference = refiner_.refine(refine_keyframe_, cur, prior, sweep_);
     if (!matched || !replaces(best, false)) best = *reference;
   }
   bool recovered = false;
@@ -240,7 +241,7 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
     if (!search_grid_.ready) search_.prepare(key.points, search_grid_);
     step.search = search_.search(search_grid_, cur.points, prior);
     if (step.search->found) {
-      RefineResult r = refiner_.refine(refine_keyframe_, cur, step.search->T_key_curr);
+      RefineResult r = refiner_.refine(refine_keyframe_, cur, step.search->T_key_curr, sweep_);
       // It must also clearly beat the hypothesis it would replace, when that one holds: the
       // best of the prior's and the match's refinements is rarely wrong by a small margin,
       // and a corridor pairs almost as many points one bay further (decision 81).
@@ -265,7 +266,7 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
       step.wide_search = true;
       if (wide.found) {
         step.search = wide;
-        RefineResult r = refiner_.refine(refine_keyframe_, cur, wide.T_key_curr);
+        RefineResult r = refiner_.refine(refine_keyframe_, cur, wide.T_key_curr, sweep_);
         if (r.status == RefineStatus::kOk) {
           best = std::move(r);
           recovered = true;
@@ -353,7 +354,10 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   // The current scan goes in the slot that is not the keyframe's.
   const int slot = count_ == 0 ? 0 : 1 - keyframe_;
   const bool deskew = params_.deskew && !scan.time_offsets_s.empty();
-  const Twist2D motion = deskew ? velocity_ : Twist2D{};
+  Twist2D motion = deskew ? velocity_ : Twist2D{};
+  // The last scan's sweep, when its rate was estimated, is the latest measure of the rate
+  // (with first-beam stamps it spans the interval to this scan).
+  if (deskew && sweep_omega_) motion.omega = *sweep_omega_;
   segmentInto(scan, slot, motion, step);
   Twist2D deskewed_with = motion;  // the motion the current segmentation was deskewed with
   current_ = slot;
@@ -404,12 +408,35 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   }
 
   Pose2D T_key_curr = step.match.T_prev_curr;
+  // A sweep whose rate the prior knows too poorly (the rate may have changed by the angular
+  // acceleration's bound times dt, which turns the sweep's last beam by more than
+  // deskew_tolerance_rad) has its rate estimated with the pose, when the scan is a full turn:
+  // its first and last beams see the same walls a sweep apart, which fixes the rate; a
+  // partial sweep bends a corridor's walls about as well at any rate near the truth, and
+  // the estimate then runs off (decision 95).
+  const double sweep_s = deskew ? std::abs(scan.time_offsets_s.back() - scan.time_offsets_s.front()) : 0.0;
+  const double rate_sigma = params_.prior_angular_accel_rad_s2 * (std::isfinite(dt) && dt > 0.0 ? dt : 0.0);
+  sweep_ = nullptr;
+  if (deskew && params_.estimate_sweep_rate && scan.layout && scan.layout->wrapsAround() &&
+      rate_sigma * sweep_s > params_.deskew_tolerance_rad) {
+    sweep_model_.time_offsets_s = &scan.time_offsets_s;
+    sweep_model_.prior_sigma_rad_s = rate_sigma;
+    sweep_ = &sweep_model_;
+  }
   if (params_.refiner.enabled) {
     const auto t0 = std::chrono::steady_clock::now();
     T_key_curr = refineWithKeyframe(slot, prior_from_key, priorGate(dt, odometry_increment), step);
-    if (deskew && dt > 0.0 && step.refine.status != RefineStatus::kFailed) {
+    if (sweep_ != nullptr && step.refine.status != RefineStatus::kFailed) {
+      // The scan segmented again with the rate found, as the next keyframe will be seen.
+      Twist2D swept = deskewed_with;
+      swept.omega += step.refine.sweep_rate_correction;
+      if (swept.omega != deskewed_with.omega) segmentInto(scan, slot, swept, step);
+      sweep_omega_ = swept.omega;
+    } else if (deskew && dt > 0.0 && step.refine.status != RefineStatus::kFailed) {
       T_key_curr = deskewWithRefinedMotion(scan, slot, dt, deskewed_with, T_key_curr, step);
     }
+    if (step.refine.status == RefineStatus::kFailed) sweep_omega_.reset();
+    sweep_ = nullptr;
     step.refinement_us = microsecondsSince(t0);
     step.matching_us += step.refinement_us;
   } else {

@@ -70,6 +70,7 @@ struct OdometryKeys {
     visit("velocity_window_s", p.velocity_window_s);
     visit("angular_velocity_window_s", p.angular_velocity_window_s);
     visit("deskew_tolerance_rad", p.deskew_tolerance_rad);
+    visit("estimate_sweep_rate", p.estimate_sweep_rate);
     visit("scanner_rotation_hz", p.scanner_rotation_hz);
     visit("scan_stamp", p.scan_stamp);
     visit("recovery", p.recovery);

@@ -124,6 +124,21 @@ struct RefineResult {
   bool converged = false;
   /// Unit direction (keyframe frame) along which the translation is unconstrained.
   Eigen::Vector2d degenerate_direction = Eigen::Vector2d::Zero();
+  /// With a SweepModel: the correction to the rotation rate the current scan was deskewed
+  /// with (rad/s), estimated with the pose (0 without one).
+  double sweep_rate_correction = 0.0;
+};
+
+/// The current scan's sweep as a fourth unknown of the refinement: each point was measured
+/// time_offsets_s[beam] after the scan's stamp and deskewed with a rotation rate that may be
+/// wrong by a correction c (rad/s); the point is turned by c t about the sensor and c is
+/// estimated with the pose, under a zero-mean prior of standard deviation prior_sigma_rad_s,
+/// within 3 of them.
+/// A sweep as long as the period (a 360-degree scanner at 5 Hz) spans the motion to the next
+/// scan, which no prior from the past knows at a turn's onset; the scan's own distortion does.
+struct SweepModel {
+  const std::vector<double>* time_offsets_s = nullptr;  ///< per beam of the current scan (s)
+  double prior_sigma_rad_s = 1.0;
 };
 
 /// A keyframe prepared for refinement (ScanRefiner::prepare): its usable segments as finite
@@ -189,6 +204,10 @@ class ScanRefiner {
   /// that of the refiner that prepared it).
   RefineResult refine(const RefinementKeyframe& keyframe, const Segmentation& current,
                       const Pose2D& initial) const;
+  /// The same with the sweep's rotation rate estimated too (see SweepModel; `sweep` null or
+  /// without times: the overload above).
+  RefineResult refine(const RefinementKeyframe& keyframe, const Segmentation& current, const Pose2D& initial,
+                      const SweepModel* sweep) const;
 
   /// Prepares `keyframe` for refinements: O(beams x bearing_window).
   void prepare(const Segmentation& keyframe, RefinementKeyframe& out) const;

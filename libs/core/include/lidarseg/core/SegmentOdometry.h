@@ -107,6 +107,11 @@ struct OdometryParams {
   /// When the rotation measured by the match differs from the one used to correct the
   /// scan by more than this over a sweep (rad), the scan is corrected again and re-matched.
   double deskew_tolerance_rad = 0.002;
+  /// Estimate a full-turn sweep's rotation rate with its pose (ScanRefiner's SweepModel)
+  /// when the rate may have changed since the last scan by enough to turn the sweep's last
+  /// beam by more than deskew_tolerance_rad (prior_angular_accel_rad_s2 x dt x sweep): a
+  /// 360-degree scanner at 5-10 Hz. Faster scanners and partial sweeps are not affected.
+  bool estimate_sweep_rate = true;
   /// Rotation frequency of the scanner's mirror (Hz) for scans without per-beam times:
   /// beam i is then taken at i * (beam spacing) / (2 pi f) after the first, as a spinning
   /// scanner measures them (e.g. 50 for a SICK LMS100 at 50 Hz). 0 = the beams of such
@@ -254,6 +259,11 @@ class SegmentOdometry {
   Pose2D history_pose_[kHistory];
   std::size_t history_size_ = 0;
   Twist2D velocity_;
+  /// The current scan's sweep model when its rate is estimated (nullptr otherwise), and the
+  /// rate the last scan's sweep was estimated at (the next scan is deskewed with it).
+  const SweepModel* sweep_ = nullptr;
+  SweepModel sweep_model_;
+  std::optional<double> sweep_omega_;
   Pose2D pose_;           // T_odom_sensor of the last scan
   Pose2D keyframe_pose_;  // T_odom_sensor of the keyframe
   Scan timed_;            // a scan given beam times from scanner_rotation_hz
