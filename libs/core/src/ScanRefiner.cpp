@@ -504,13 +504,18 @@ RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segme
   thread_local std::vector<Pairing> pairs;
   bool reuse = false;
   // The sweep's rate correction c (rad/s) and its prior's weight in the normal equations'
-  // units (a point's variance over the rate's).
+  // units (a point's variance, as the covariance below counts it, over the rate's).
   double c = 0.0;
-  const double lambda = sweeping ? P.min_point_sigma_m * P.min_point_sigma_m /
+  bool at_bound = false;  // c held at its bound: the pose is then solved with c fixed
+  const double lambda = sweeping ? P.min_point_sigma_m * P.min_point_sigma_m * P.correlation_length_points /
                                        (sweep->prior_sigma_rad_s * sweep->prior_sigma_rad_s)
                                  : 0.0;
   double t_max = 0.0;
-  for (double t : times) t_max = std::max(t_max, std::abs(t));
+  if (sweeping) {
+    for (double t : times) t_max = std::max(t_max, std::abs(t));
+  } else {
+    times.clear();
+  }
   Eigen::Matrix3d H_pose;  // the pose's information, the rate eliminated (Schur complement)
   Eigen::Vector3d g_pose;
   for (std::size_t it = 0; it < P.max_iterations; ++it) {
@@ -550,13 +555,25 @@ RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segme
     Eigen::Vector3d step = -Vs * Hs.ldlt().solve(Vs.transpose() * g_pose);
     if (!step.allFinite()) return result;
     double dc = 0.0;
+    at_bound = false;
     if (sweeping) {
       // Within 3 prior sigmas: beyond, a corridor's points fit as well turned by a quarter
       // or a half turn at the sweep's end (the pose then flips), which no robot does.
       const double bound = 3.0 * sweep->prior_sigma_rad_s;
       dc = -(g3 + h3.dot(step)) / s33;
       if (!std::isfinite(dc)) return result;
-      dc = std::clamp(c + dc, -bound, bound) - c;
+      const double held = std::clamp(c + dc, -bound, bound) - c;
+      if (held != dc) {
+        // The rate is held: the pose's step for that rate, not for the one the reduced
+        // system assumed (its gradient moves with the rate through the coupling h3).
+        at_bound = true;
+        dc = held;
+        H_pose = acc.H;
+        g_pose = acc.g + h3 * dc;
+        const Reduced Hf = Vs.transpose() * H_pose * Vs;
+        step = -Vs * Hf.ldlt().solve(Vs.transpose() * g_pose);
+        if (!step.allFinite()) return result;
+      }
       c += dc;
     }
     step = step.cwiseProduct(D);  // back to (m, m, rad)
@@ -579,7 +596,7 @@ RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segme
   result.inlier_ratio = inlierRatioOf(acc);
   result.rms_m = acc.inliers > 0 ? std::sqrt(acc.inlier_r2 / static_cast<double>(acc.inliers)) : 0.0;
   // Residual variance (robustly weighted), floored; information of correlated points shared.
-  const double dof = std::max(1.0, acc.wsum - 3.0);
+  const double dof = std::max(1.0, acc.wsum - (sweeping && !at_bound ? 4.0 : 3.0));
   const double sigma2 = std::max(acc.wr2 / dof, P.min_point_sigma_m * P.min_point_sigma_m);
   const Basis Vs = strongBasis();
   const Reduced Hs = Vs.transpose() * H_pose * Vs;

@@ -358,6 +358,7 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   // The last scan's sweep, when its rate was estimated, is the latest measure of the rate
   // (with first-beam stamps it spans the interval to this scan).
   if (deskew && sweep_omega_) motion.omega = *sweep_omega_;
+  sweep_omega_.reset();  // set again below only when this scan's rate is estimated
   segmentInto(scan, slot, motion, step);
   Twist2D deskewed_with = motion;  // the motion the current segmentation was deskewed with
   current_ = slot;
@@ -417,7 +418,7 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   const double sweep_s = deskew ? std::abs(scan.time_offsets_s.back() - scan.time_offsets_s.front()) : 0.0;
   const double rate_sigma = params_.prior_angular_accel_rad_s2 * (std::isfinite(dt) && dt > 0.0 ? dt : 0.0);
   sweep_ = nullptr;
-  if (deskew && params_.estimate_sweep_rate && scan.layout && scan.layout->wrapsAround() &&
+  if (params_.refiner.enabled && deskew && params_.estimate_sweep_rate && scan.layout && scan.layout->wrapsAround() &&
       rate_sigma * sweep_s > params_.deskew_tolerance_rad) {
     sweep_model_.time_offsets_s = &scan.time_offsets_s;
     sweep_model_.prior_sigma_rad_s = rate_sigma;
@@ -435,8 +436,7 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
     } else if (deskew && dt > 0.0 && step.refine.status != RefineStatus::kFailed) {
       T_key_curr = deskewWithRefinedMotion(scan, slot, dt, deskewed_with, T_key_curr, step);
     }
-    if (step.refine.status == RefineStatus::kFailed) sweep_omega_.reset();
-    sweep_ = nullptr;
+    sweep_ = nullptr;  // it points at this call's scan
     step.refinement_us = microsecondsSince(t0);
     step.matching_us += step.refinement_us;
   } else {
