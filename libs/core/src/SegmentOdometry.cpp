@@ -214,8 +214,10 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
     // A constant-velocity prior comes from the last estimates: a reference refined from it
     // whose iterations ran out while it still moved does not hold against one that came to
     // rest (it was sliding away along a corridor, and the next prior would start from there:
-    // the error feeds itself). Wheel odometry does not depend on the estimates.
-    if (!gate.wheel_odometry && !reference->converged && r.converged) return true;
+    // the error feeds itself). Wheel odometry does not depend on the estimates. It must pair
+    // at least as many points: a reference creeping along a corridor still explains the scan
+    // better than a match that converged one bay away with fewer points (decision 96).
+    if (!gate.wheel_odometry && !reference->converged && r.converged && r.inliers >= reference->inliers) return true;
     return static_cast<double>(r.inliers) > (1.0 + params_.prior_preference) * static_cast<double>(reference->inliers);
   };
   // The match's refinement and the prior disagree beyond both their uncertainties (a
