@@ -167,7 +167,8 @@ SegmentOdometry::PriorGate SegmentOdometry::priorGate(double dt, const std::opti
           odometry_increment.has_value()};
 }
 
-Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const PriorGate& gate, OdometryStep& step) {
+Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const PriorGate& gate,
+                                          const SweepModel* sweep, OdometryStep& step) {
   const Segmentation& key = segmentation_[keyframe_];
   const Segmentation& cur = segmentation_[slot];
   const MatchResult& m = step.match;
@@ -181,7 +182,7 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
   };
   // 1. From the segment match.
   RefineResult best;
-  if (matched) best = refiner_.refine(refine_keyframe_, cur, m.T_prev_curr, sweep_);
+  if (matched) best = refiner_.refine(refine_keyframe_, cur, m.T_prev_curr, sweep);
   // 2. From the prior, when the match failed, moved far from the prior (it may have locked
   // onto a wrong couple: a repeated door, a corridor), its refinement is doubtful, or that
   // refinement was still moving when its iterations ran out (a start off along a corridor
@@ -234,7 +235,7 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
            dyaw * dyaw > k2 * (gate.sigma_rad * gate.sigma_rad + r.covariance(2, 2));
   };
   if (!matched || far || doubtful(best) || !best.converged || disagrees(best)) {
-    reference = refiner_.refine(refine_keyframe_, cur, prior, sweep_);
+    reference = refiner_.refine(refine_keyframe_, cur, prior, sweep);
     if (!matched || !replaces(best, false)) best = *reference;
   }
   bool recovered = false;
@@ -243,7 +244,7 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
     if (!search_grid_.ready) search_.prepare(key.points, search_grid_);
     step.search = search_.search(search_grid_, cur.points, prior);
     if (step.search->found) {
-      RefineResult r = refiner_.refine(refine_keyframe_, cur, step.search->T_key_curr, sweep_);
+      RefineResult r = refiner_.refine(refine_keyframe_, cur, step.search->T_key_curr, sweep);
       // It must also clearly beat the hypothesis it would replace, when that one holds: the
       // best of the prior's and the match's refinements is rarely wrong by a small margin,
       // and a corridor pairs almost as many points one bay further (decision 81).
@@ -268,7 +269,7 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
       step.wide_search = true;
       if (wide.found) {
         step.search = wide;
-        RefineResult r = refiner_.refine(refine_keyframe_, cur, wide.T_key_curr, sweep_);
+        RefineResult r = refiner_.refine(refine_keyframe_, cur, wide.T_key_curr, sweep);
         if (r.status == RefineStatus::kOk) {
           best = std::move(r);
           recovered = true;
@@ -419,17 +420,18 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   // the estimate then runs off (decision 95).
   const double sweep_s = deskew ? std::abs(scan.time_offsets_s.back() - scan.time_offsets_s.front()) : 0.0;
   const double rate_sigma = params_.prior_angular_accel_rad_s2 * (std::isfinite(dt) && dt > 0.0 ? dt : 0.0);
-  sweep_ = nullptr;
+  SweepModel sweep_model;
+  const SweepModel* sweep = nullptr;
   if (params_.refiner.enabled && deskew && params_.estimate_sweep_rate && scan.layout && scan.layout->wrapsAround() &&
       rate_sigma * sweep_s > params_.deskew_tolerance_rad) {
-    sweep_model_.time_offsets_s = &scan.time_offsets_s;
-    sweep_model_.prior_sigma_rad_s = rate_sigma;
-    sweep_ = &sweep_model_;
+    sweep_model.time_offsets_s = &scan.time_offsets_s;
+    sweep_model.prior_sigma_rad_s = rate_sigma;
+    sweep = &sweep_model;
   }
   if (params_.refiner.enabled) {
     const auto t0 = std::chrono::steady_clock::now();
-    T_key_curr = refineWithKeyframe(slot, prior_from_key, priorGate(dt, odometry_increment), step);
-    if (sweep_ != nullptr && step.refine.status != RefineStatus::kFailed) {
+    T_key_curr = refineWithKeyframe(slot, prior_from_key, priorGate(dt, odometry_increment), sweep, step);
+    if (sweep != nullptr && step.refine.status != RefineStatus::kFailed) {
       // The scan segmented again with the rate found, as the next keyframe will be seen.
       Twist2D swept = deskewed_with;
       swept.omega += step.refine.sweep_rate_correction;
@@ -438,7 +440,6 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
     } else if (deskew && dt > 0.0 && step.refine.status != RefineStatus::kFailed) {
       T_key_curr = deskewWithRefinedMotion(scan, slot, dt, deskewed_with, T_key_curr, step);
     }
-    sweep_ = nullptr;  // it points at this call's scan
     step.refinement_us = microsecondsSince(t0);
     step.matching_us += step.refinement_us;
   } else {

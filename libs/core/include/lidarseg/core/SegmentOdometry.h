@@ -220,7 +220,10 @@ class SegmentOdometry {
     bool wheel_odometry = false;
   };
   PriorGate priorGate(double dt, const std::optional<Pose2D>& odometry_increment) const;
-  Pose2D refineWithKeyframe(int slot, const Pose2D& prior, const PriorGate& gate, OdometryStep& step);
+  /// `sweep`: the scan's sweep model when its rotation rate is estimated with the pose
+  /// (decision 95), else nullptr.
+  Pose2D refineWithKeyframe(int slot, const Pose2D& prior, const PriorGate& gate, const SweepModel* sweep,
+                            OdometryStep& step);
   /// Segments the scan again with the rotation rate of T_key_curr when it differs from the
   /// rate `used` by more than deskew_tolerance_rad over the sweep, and refines again from
   /// T_key_curr; returns the pose kept.
@@ -259,10 +262,8 @@ class SegmentOdometry {
   Pose2D history_pose_[kHistory];
   std::size_t history_size_ = 0;
   Twist2D velocity_;
-  /// The current scan's sweep model when its rate is estimated (nullptr otherwise), and the
-  /// rate the last scan's sweep was estimated at (the next scan is deskewed with it).
-  const SweepModel* sweep_ = nullptr;
-  SweepModel sweep_model_;
+  /// The rate the last scan's sweep was estimated at, when it was (the next scan is
+  /// deskewed with it).
   std::optional<double> sweep_omega_;
   Pose2D pose_;           // T_odom_sensor of the last scan
   Pose2D keyframe_pose_;  // T_odom_sensor of the keyframe
