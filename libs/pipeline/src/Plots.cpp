@@ -1,6 +1,8 @@
 #include "lidarseg/pipeline/Plots.h"
+#include "lidarseg/pipeline/OutputFiles.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +18,7 @@
 
 #include <fcntl.h>
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -27,20 +30,30 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A scratch folder removed with everything in it when the plot is done.
+// A scratch folder removed with everything in it when the plot is done, and by the SIGINT/
+// SIGTERM handler if the process is stopped meanwhile (it is registered before it is made).
 class ScratchFolder {
  public:
   ScratchFolder() {
+    static std::atomic<unsigned long> counter{0};
     const char* tmp = std::getenv("TMPDIR");
-    std::string pattern = std::string(tmp != nullptr && *tmp != '\0' ? tmp : "/tmp") + "/lidarseg-plot.XXXXXX";
-    if (::mkdtemp(pattern.data()) == nullptr) {
-      throw std::runtime_error("cannot make a scratch folder for a plot: " + std::string(std::strerror(errno)));
+    const std::string base = std::string(tmp != nullptr && *tmp != '\0' ? tmp : "/tmp") + "/lidarseg-plot." +
+                             std::to_string(::getpid()) + ".";
+    for (int attempt = 0;; ++attempt) {
+      path_ = base + std::to_string(counter++);
+      registerTemporaryFolder(path_);
+      if (::mkdir(path_.c_str(), 0700) == 0) return;
+      const int error = errno;
+      releaseTemporary(path_);
+      if (error != EEXIST || attempt >= 100) {
+        throw std::runtime_error("cannot make a scratch folder for a plot ('" + path_ + "'): " + std::strerror(error));
+      }
     }
-    path_ = pattern;
   }
   ~ScratchFolder() {
     std::error_code ec;
     fs::remove_all(path_, ec);
+    releaseTemporary(path_);
   }
   ScratchFolder(const ScratchFolder&) = delete;
   ScratchFolder& operator=(const ScratchFolder&) = delete;
