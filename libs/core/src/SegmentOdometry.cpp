@@ -277,6 +277,30 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
       }
     }
   }
+  // 4b. A degenerate fit is free along its weak direction (a corridor's axis): it kept there
+  // the value its hypothesis started from (a segment match or a search one bay away), which
+  // the scan does not support more than any other. The prior's value there is the only
+  // information (the motion model, or wheel odometry): the fit is refined again from it, at
+  // most the prior's gate away, and that is kept when it pairs at least as many points or is
+  // constrained in every direction (decision 98). Only a direction the fit leaves truly free
+  // counts (its variance there is the unconstrained one's, not a yaw-mostly weak direction
+  // whose translation part the points do constrain).
+  if (params_.degenerate_along_prior && best.status == RefineStatus::kDegenerate) {
+    const Eigen::Vector2d& u = best.degenerate_direction;
+    const double u2 = params_.refiner.unconstrained_sigma_m * params_.refiner.unconstrained_sigma_m;
+    const bool free = u.dot(best.covariance.topLeftCorner<2, 2>() * u) > 0.5 * u2;
+    const double off = std::clamp(u.x() * (prior.x - best.T_key_curr.x) + u.y() * (prior.y - best.T_key_curr.y),
+                                  -gate.translation_m, gate.translation_m);
+    if (free && std::abs(off) > params_.refiner.robust_scale_m) {
+      Pose2D start = best.T_key_curr;
+      start.x += off * u.x();
+      start.y += off * u.y();
+      RefineResult along = refiner_.refine(refine_keyframe_, cur, start, sweep);
+      if (along.status == RefineStatus::kOk || (along.status == RefineStatus::kDegenerate && along.inliers >= best.inliers)) {
+        best = std::move(along);
+      }
+    }
+  }
   step.refine = best;
   if (best.status != RefineStatus::kFailed) {
     // The running mean of the inlier ratio (about the last 10 scans).

@@ -80,6 +80,7 @@ struct OdometryKeys {
     visit("search_when_doubtful", p.search_when_doubtful);
     visit("wide_search_factor", p.wide_search_factor);
     visit("check_match_against_prior", p.check_match_against_prior);
+    visit("degenerate_along_prior", p.degenerate_along_prior);
     visit("prior_gate_sigmas", p.prior_gate_sigmas);
     visit("prior_accel_m_s2", p.prior_accel_m_s2);
     visit("prior_angular_accel_rad_s2", p.prior_angular_accel_rad_s2);

@@ -122,7 +122,11 @@ struct RefineResult {
   /// The last Gauss-Newton step moved the points less than convergence_m (false: the
   /// iterations ran out while the pose was still moving, e.g. sliding along a corridor).
   bool converged = false;
-  /// Unit direction (keyframe frame) along which the translation is unconstrained.
+  /// With status kDegenerate: the translation part of the least constrained direction of the
+  /// information (x, y, yaw scaled by rms_range_m), normalised (keyframe frame); zero when that
+  /// part is negligible. When the weak direction is mostly yaw this points where the
+  /// translation is constrained: the covariance along it tells (unconstrained_sigma_m^2 when
+  /// it is truly free).
   Eigen::Vector2d degenerate_direction = Eigen::Vector2d::Zero();
   /// With a SweepModel: the correction to the rotation rate the current scan was deskewed
   /// with (rad/s), estimated with the pose (0 without one).

@@ -58,6 +58,12 @@ struct OdometryParams {
   /// when the match moved beyond max_distance_m (decision 75). With wheel odometry it acts
   /// only when odometry_error_ratio is set (otherwise the prior's error is unbounded).
   bool check_match_against_prior = true;
+  /// Whether a degenerate fit (free along one direction: a corridor's axis) takes its pose
+  /// along that direction from the prior, refined again from there. The scan says nothing
+  /// along it, and the value the fit kept is wherever its hypothesis started: a segment match
+  /// or a search hypothesis one bay away, which the constant-velocity prior then carries on
+  /// through the whole corridor (decision 98). With wheel odometry, the odometry's value.
+  bool degenerate_along_prior = true;
   /// How far the prior may plausibly be wrong, which bounds how far from it the correlative
   /// search's hypothesis may replace the prior's own refinement while that one holds:
   /// prior_gate_sigmas standard deviations of the prior's error, and never less than
