@@ -18,6 +18,7 @@
 #include "lidarseg/eval/Csv.h"
 #include "lidarseg/apps/SimulateApp.h"
 #include "lidarseg/mrpt/RawlogScanReader.h"
+#include "lidarseg/pipeline/OutputFiles.h"
 #include "lidarseg/pipeline/ReportWriters.h"
 
 namespace lidarseg::apps {
@@ -133,6 +134,36 @@ TEST(OdometryApp, SimulatedRunBothMethodsEveryOutput) {
   std::getline(gt, gt_line);
   std::getline(gt, gt_line);
   EXPECT_EQ(line.substr(0, 15), gt_line.substr(0, 15));
+}
+
+// Relations none of which falls on the log's scans (absolute stamps against a log with
+// relative ones, or another log's relations) are said so, with both time spans, and give no
+// statistic, not a perfect 0 (found by a reliability attack: "0/2984 | 0.0000", exit 0). A
+// tolerance outside (0, 0.5] s is a usage error.
+TEST(OdometryApp, RelationsThatPairWithNoScanGiveAWarningAndNoStatistics) {
+  const std::string prefix = simulatedPrefix();
+  const std::string relations = testDir() + "/elsewhere.relations";
+  std::ofstream(relations) << "976052905.1 976052905.3 0.1 0 0 0 0 0\n976052906.1 976052906.3 0.1 0 0 0 0 0\n";
+  OdometryOptions o = optionsFor(prefix + ".rawlog", "out_no_relation");
+  o.relations_path = relations;
+  o.plots = false;
+  fs::remove_all(o.out_dir);
+  const OdometryReport r = OdometryApp(o).run();
+  ASSERT_TRUE(r.lidarseg.relations);
+  EXPECT_EQ(r.lidarseg.relations->evaluated, 0u);
+  bool warned = false;
+  for (const std::string& w : r.warnings) warned = warned || w.find("none of the 2 relations pairs") != std::string::npos;
+  EXPECT_TRUE(warned);
+  const auto json = nlohmann::json::parse(slurp(o.out_dir + "/summary.json"));
+  EXPECT_TRUE(json.at("methods").at("lidarseg").at("relations").at("translation_m").at("mean").is_null());
+  EXPECT_NE(slurp(o.out_dir + "/results.md").find("| lidarseg | 0/2 | — |"), std::string::npos);
+
+  for (const double bad : {-1.0, 0.0, 1e300}) {
+    OdometryOptions b = optionsFor(prefix + ".rawlog", "");
+    b.relations_path = relations;
+    b.relations_tolerance_s = bad;
+    EXPECT_THROW(OdometryApp(b).run(), pipeline::UsageError) << bad;
+  }
 }
 
 TEST(OdometryApp, CarmenLogOfTheSameRunGivesTheSameAccuracy) {

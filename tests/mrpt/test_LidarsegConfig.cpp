@@ -137,6 +137,28 @@ TEST(LidarsegConfig, DuplicatesAndStrayKeysAreErrorsNamingFileLineAndKey) {
   EXPECT_EQ(c.odometry.matcher.max_segments, 64u);
 }
 
+// Issue 16 (a reliability attack's findings): lines the parsers would skip or documents they
+// would ignore are errors naming file:line, not a run on the defaults.
+TEST(LidarsegConfig, LinesAndDocumentsAParserWouldIgnoreAreErrorsNamingFileAndLine) {
+  const std::string no_equals = writeTemp("noequals.ini", "[matcher]\n; fine\niterations 1000000000\n");
+  EXPECT_EQ(errorOf(no_equals), no_equals + ":3: 'iterations 1000000000' is not a 'key = value' line (nor a "
+                                            "[section], a comment or blank)");
+  const std::string yaml_as_ini = writeTemp("yamlini.ini", "segmentation:\n  wd_threshold_m: 0.5\n");
+  EXPECT_EQ(errorOf(yaml_as_ini).rfind(yaml_as_ini + ":1: 'segmentation:' is not a 'key = value' line", 0), 0u)
+      << errorOf(yaml_as_ini);
+  const std::string open_section = writeTemp("opensection.ini", "[matcher\niterations = 3\n");
+  EXPECT_EQ(errorOf(open_section), open_section + ":1: '[matcher' opens a section without closing it ('[name]')");
+  const std::string two_docs =
+      writeTemp("twodocs.yaml", "---\nsegmentation:\n  wd_threshold_m: 0.05\n---\nmatcher:\n  iterations: 1000000000\n");
+  EXPECT_EQ(errorOf(two_docs),
+            two_docs + ":4: a second YAML document (or a document end '...'); a parameter file holds one");
+  const std::string doc_end = writeTemp("docend.yaml", "segmentation:\n  wd_threshold_m: 0.05\n...\nmatcher: 3\n");
+  EXPECT_EQ(errorOf(doc_end).rfind(doc_end + ":3: a second YAML document", 0), 0u) << errorOf(doc_end);
+  // One document with its start marker is fine.
+  const std::string one_doc = writeTemp("onedoc.yaml", "# a comment\n---\nmatcher:\n  iterations: 3\n");
+  EXPECT_EQ(LidarsegConfig::loadFile(one_doc).odometry.matcher.iterations, 3u);
+}
+
 // Issue 16 (decision 84's gap): a key given twice inside a YAML flow mapping was kept
 // silently by the parser (the last value won); it is an error naming file:line and key,
 // compared without case as in block mappings, on one line or over several.

@@ -142,6 +142,24 @@ TEST(RecordValidation, ANaNWheelOdometryReadingIsDroppedAndNoPoseIsNaN) {
   EXPECT_TRUE(named) << "no warning names the bad reading's entry";
 }
 
+// A finite but absurd odometry reading (1e300 m) is as corrupt as a NaN: summed or
+// differenced, it overflows every later pose (found by a reliability attack: 1.7e308 gave inf
+// in results.md and a 309-digit pose in the TUM file, exit 0).
+TEST(RecordValidation, AnOdometryReadingBeyondAThousandKilometresIsDroppedWithItsEntry) {
+  std::vector<ScanSpec> specs;
+  for (int k = 0; k < 30; ++k) specs.push_back({0.05 * k, 0.05 * k});
+  specs[10].odo_x = 1e300;
+  const apps::OdometryReport r = runOn(writeRawlog("huge_odometry", specs), true);
+  EXPECT_EQ(r.frames, 30u);
+  EXPECT_TRUE(allFinite(r.lidarseg.trajectory));
+  EXPECT_NEAR(r.lidarseg.trajectory.back().pose.x, 0.05 * 29, 0.05);
+  bool named = false;
+  for (const auto& w : r.warnings) {
+    named = named || (w.find("entry 10:") != std::string::npos && w.find("beyond +-1e6") != std::string::npos);
+  }
+  EXPECT_TRUE(named) << "no warning names the bad reading's entry";
+}
+
 TEST(RecordValidation, AnUpsideDownLaserGivesTheSameTrajectoryAsAnUprightOne) {
   std::vector<ScanSpec> upright, flipped;
   // Moving and turning left: a mirrored scan would turn the estimate right.
@@ -416,7 +434,31 @@ TEST(InputPlumbing, AMalformedFirstCarmenLaserLineIsSkippedWithItsLineAndTheLogR
   EXPECT_THROW(mrpt_adapter::LaserLogReader(path, "NOPE"), std::invalid_argument);
 }
 
-// Where each JPEG image of a rawlog starts its scan (its start-of-scan marker FF DA).
+// A CARMEN laser line whose pose field is finite but absurd (1.7e308) is skipped with its
+// line and field, like a non-finite one; the other scans are read.
+TEST(RecordValidation, ACarmenPoseFieldBeyondAThousandKilometresSkipsItsLineNamingTheField) {
+  fs::create_directories(kTmp);
+  const std::string path = kTmp + "/huge_pose.log";
+  {
+    std::ofstream out(path);
+    for (int k = 0; k < 20; ++k) {
+      out << "FLASER 181";
+      for (int i = 0; i < 181; ++i) out << " " << roomRange(0.02 * k, -kPi / 2 + kPi * i / 180.0);
+      const std::string x = k == 6 ? "1.7e308" : std::to_string(0.02 * k);
+      out << " " << x << " 0 0 " << 0.02 * k << " 0 0 " << 10 + 0.1 * k << " host " << 10 + 0.1 * k << "\n";
+    }
+  }
+  mrpt_adapter::LaserLogReader reader(path);
+  std::size_t n = 0;
+  while (reader.next()) ++n;
+  EXPECT_EQ(n, 19u);
+  EXPECT_EQ(reader.skipped(), 1u);
+  ASSERT_EQ(reader.issues().size(), 1u);
+  EXPECT_NE(reader.issues()[0].find(path + ":7:"), std::string::npos) << reader.issues()[0];
+  EXPECT_NE(reader.issues()[0].find("field 'x' = '1.7e308'"), std::string::npos) << reader.issues()[0];
+}
+
+// Where each JPEG image of a rawlog starts its scan (its start-of-scan marker FF DA).// Where each JPEG image of a rawlog starts its scan (its start-of-scan marker FF DA).
 std::vector<std::size_t> jpegScans(const std::string& bytes) {
   std::vector<std::size_t> sos;
   for (std::size_t i = 0; i + 1 < bytes.size(); ++i) {

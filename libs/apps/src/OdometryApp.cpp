@@ -55,6 +55,12 @@ void checkOptions(const OdometryOptions& o) {
     throw UsageError("--scanner-hz must be 0 (no correction) or from " + numberText(kMinScannerHz) + " to " +
                      numberText(kMaxScannerHz) + " Hz (got " + numberText(*hz) + ")");
   }
+  // Freiburg relations are at most a few seconds apart: a tolerance of a second or more pairs
+  // a relation with unrelated scans, and 0 or less pairs none.
+  if (!(o.relations_tolerance_s > 0.0 && o.relations_tolerance_s <= kMaxRelationsToleranceS)) {
+    throw UsageError("--relations-tolerance must be above 0 and at most " + numberText(kMaxRelationsToleranceS) +
+                     " s (got " + numberText(o.relations_tolerance_s) + ")");
+  }
   if (o.write_landmarks && o.write_rawlog.empty()) {
     throw UsageError("--write-landmarks adds landmarks to the rawlog of --write-rawlog, which is not given");
   }

@@ -1,6 +1,7 @@
 #include "lidarseg/logs/CarmenLogReader.h"
 #include "lidarseg/core/Angles.h"
 #include "lidarseg/core/NumberText.h"
+#include "lidarseg/core/ScanRecord.h"
 #include "lidarseg/core/StampPolicy.h"
 
 #include <cerrno>
@@ -56,6 +57,17 @@ double stampNumber(const std::vector<std::string>& f, std::size_t i, const char*
   if (std::abs(v) > kMaxLogStampS) {
     throw std::invalid_argument(std::string("field '") + name + "' = '" + f[i] +
                                 "' is beyond +-1e10 s (the year 2286): not a time stamp");
+  }
+  return v;
+}
+
+// A pose field (m or rad): finite and within kMaxLogCoordinate (1e6: 1000 km, or a heading
+// of 1e6 rad, is no robot's pose; 1e308 would overflow every later difference).
+double poseNumber(const std::vector<std::string>& f, std::size_t i, const char* name) {
+  const double v = finiteNumber(f, i, name);
+  if (std::abs(v) > kMaxLogCoordinate) {
+    throw std::invalid_argument(std::string("field '") + name + "' = '" + f[i] +
+                                "' is beyond +-1e6 (m or rad): not a pose");
   }
   return v;
 }
@@ -134,10 +146,10 @@ bool CarmenLogReader::parseLaser(const std::string& type, const std::vector<std:
                                   std::to_string(base + 14) + " for " + std::to_string(n) +
                                   " ranges and " + std::to_string(nr) + " remissions");
     }
-    out.laser_pose = {finiteNumber(f, base, "laser_x"), finiteNumber(f, base + 1, "laser_y"),
-                      finiteNumber(f, base + 2, "laser_theta")};
-    out.robot_pose = {finiteNumber(f, base + 3, "robot_x"), finiteNumber(f, base + 4, "robot_y"),
-                      finiteNumber(f, base + 5, "robot_theta")};
+    out.laser_pose = {poseNumber(f, base, "laser_x"), poseNumber(f, base + 1, "laser_y"),
+                      poseNumber(f, base + 2, "laser_theta")};
+    out.robot_pose = {poseNumber(f, base + 3, "robot_x"), poseNumber(f, base + 4, "robot_y"),
+                      poseNumber(f, base + 5, "robot_theta")};
     out.stamp_s = stampNumber(f, base + 11, "ipc_timestamp");
     out.laser_on_robot = relative(out.laser_pose, out.robot_pose);
   } else {
@@ -148,9 +160,9 @@ bool CarmenLogReader::parseLaser(const std::string& type, const std::vector<std:
     }
     out.ranges_m.resize(n);
     for (std::size_t i = 0; i < n; ++i) out.ranges_m[i] = number(f, 2 + i, "range");
-    out.laser_pose = {finiteNumber(f, n + 2, "x"), finiteNumber(f, n + 3, "y"), finiteNumber(f, n + 4, "theta")};
-    out.robot_pose = {finiteNumber(f, n + 5, "odom_x"), finiteNumber(f, n + 6, "odom_y"),
-                      finiteNumber(f, n + 7, "odom_theta")};
+    out.laser_pose = {poseNumber(f, n + 2, "x"), poseNumber(f, n + 3, "y"), poseNumber(f, n + 4, "theta")};
+    out.robot_pose = {poseNumber(f, n + 5, "odom_x"), poseNumber(f, n + 6, "odom_y"),
+                      poseNumber(f, n + 7, "odom_theta")};
     out.stamp_s = stampNumber(f, n + 8, "ipc_timestamp");
     const double fov_deg = paramDouble("laser_" + side + "_laser_fov", 180.0);
     double res_deg = paramDouble("laser_" + side + "_laser_resolution", 0.0);
@@ -195,7 +207,7 @@ std::optional<CarmenLaser> CarmenLogReader::next() {
     }
     if (type == "ODOM") {
       try {
-        odometry_ = Pose2D{finiteNumber(f, 1, "x"), finiteNumber(f, 2, "y"), finiteNumber(f, 3, "theta")};
+        odometry_ = Pose2D{poseNumber(f, 1, "x"), poseNumber(f, 2, "y"), poseNumber(f, 3, "theta")};
       } catch (const std::invalid_argument& e) {
         report(std::string("ODOM: ") + e.what());
       }

@@ -131,6 +131,26 @@ void refuseYamlDirectives(const std::string& path, const std::string& text) {
     if (c == '\n') ++line;
   }
 }
+
+// One YAML document per parameter file: the parser reads the first and ignores the rest, so
+// a second document's keys (even invalid ones) would be dropped without a word. A "---"
+// after any content, or a "..." document end, is refused with its line.
+void refuseSecondYamlDocument(const std::string& path, const std::string& text) {
+  std::istringstream in(text);
+  std::string line;
+  bool content = false;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const bool start = line.rfind("---", 0) == 0 && (line.size() == 3 || line[3] == ' ' || line[3] == '\t');
+    const bool end = line.rfind("...", 0) == 0 && (line.size() == 3 || line[3] == ' ' || line[3] == '\t');
+    if (end || (start && content)) {
+      throw std::invalid_argument(path + ":" + std::to_string(number) +
+                                  ": a second YAML document (or a document end '...'); a parameter file holds one");
+    }
+    const auto first = line.find_first_not_of(" \t");
+    if (!start && first != std::string::npos && line[first] != '#') content = true;
+  }
+}
 }  // namespace
 
 namespace {
@@ -329,12 +349,21 @@ void checkIniStructure(const std::string& path, const std::string& text) {
     const std::string t = trim(line);
     if (t.empty() || t[0] == '#' || t[0] == ';' || t[0] == '@' || t.rfind("//", 0) == 0) continue;
     if (t[0] == '[') {
+      if (t.find(']') == std::string::npos) {
+        throw std::invalid_argument(path + ":" + std::to_string(number) + ": '" + t +
+                                    "' opens a section without closing it ('[name]')");
+      }
       section = trim(t.substr(1, t.find(']') - 1));
       in_section = true;
       continue;
     }
     const auto sep = t.find('=');
-    if (sep == std::string::npos) continue;
+    if (sep == std::string::npos) {
+      // MRPT skips such a line silently: a key written 'key value' or 'key: value' (YAML)
+      // would leave its default in place without a word.
+      throw std::invalid_argument(path + ":" + std::to_string(number) + ": '" + t.substr(0, 80) +
+                                  "' is not a 'key = value' line (nor a [section], a comment or blank)");
+    }
     const std::string key = trim(t.substr(0, sep));
     if (!in_section) {
       throw std::invalid_argument(path + ":" + std::to_string(number) + ": key '" + key +
@@ -371,6 +400,7 @@ LoadedConfig readConfigFile(const std::string& path) {
   if (out.yaml) {
     checkYamlNesting(path, out.text);
     refuseYamlDirectives(path, out.text);
+    refuseSecondYamlDocument(path, out.text);
     checkYamlStructure(path, out.text);
     checkYamlFlowMappings(path, out.text);
     loadYaml(path, out);

@@ -1,8 +1,10 @@
 #include "lidarseg/mrpt/RawlogScanReader.h"
+#include "lidarseg/core/ScanRecord.h"
 #include "lidarseg/vision/ImageFile.h"
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -326,12 +328,21 @@ void RawlogScanReader::checkCompressedEnd() const {
   }
 }
 
+namespace {
+// An odometry pose or increment usable as such: finite and within kMaxLogCoordinate (a
+// corrupt 1e308 would overflow every later sum of increments).
+bool usablePose(const mrpt::poses::CPose2D& p) {
+  const auto ok = [](double v) { return std::isfinite(v) && std::abs(v) <= kMaxLogCoordinate; };
+  return ok(p.x()) && ok(p.y()) && ok(p.phi());
+}
+}  // namespace
+
 RawlogScanReader::~RawlogScanReader() = default;
 
 void RawlogScanReader::dropOdometry(const char* what) {
   ++dropped_odometry_count_;
   const std::string message =
-      "rawlog '" + path_ + "', entry " + std::to_string(entries_read_ - 1) + ": " + what + " is not finite; not used";
+      "rawlog '" + path_ + "', entry " + std::to_string(entries_read_ - 1) + ": " + what + " is not finite or beyond +-1e6 (m or rad); not used";
   if (dropped_odometry_.size() < 100) dropped_odometry_.push_back(message);
   dropped_odometry_tally_.add(message);
 }
@@ -373,7 +384,7 @@ void RawlogScanReader::take(const mrpt::obs::CObservation::Ptr& obs) {
   if (auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(obs)) {
     const auto& p = odo->odometry;
     // A non-finite reading is not kept: it would poison every later odometry pose.
-    if (std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.phi())) {
+    if (usablePose(p)) {
       odometry_ = p;
     } else {
       dropOdometry("an odometry reading");
@@ -496,7 +507,7 @@ std::optional<RawlogScan> RawlogScanReader::next() {
       if (auto move = actions->getBestMovementEstimation()) {
         const mrpt::poses::CPose2D increment = move->poseChange->getMeanVal();
         // A non-finite increment is dropped: summed, it would poison every later pose.
-        if (std::isfinite(increment.x()) && std::isfinite(increment.y()) && std::isfinite(increment.phi())) {
+        if (usablePose(increment)) {
           odometry_ = odometry_ ? *odometry_ + increment : increment;
         } else {
           dropOdometry("a robot movement");

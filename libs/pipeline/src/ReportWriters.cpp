@@ -22,6 +22,9 @@ namespace {
 Json number(double v) { return finiteOrNull(v); }
 
 Json summaryOf(const Summary& s, double scale) {
+  if (s.count == 0) {  // nothing evaluated: no statistic, not a perfect 0
+    return Json{{"mean", nullptr}, {"std", nullptr}, {"median", nullptr}, {"p99", nullptr}, {"max", nullptr}, {"count", 0}};
+  }
   return Json{{"mean", number(s.mean * scale)},     {"std", number(s.stddev * scale)},
               {"median", number(s.median * scale)}, {"p99", number(s.p99 * scale)},
               {"max", number(s.max * scale)},       {"count", s.count}};
@@ -203,6 +206,10 @@ void relationTable(const OdometryReport& r, const char* title, Get get, std::ost
         "median (deg) | rot. std (deg) |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto* m : methodsOf(r)) {
     const auto& e = *get(*m);
+    if (e.evaluated == 0) {  // nothing evaluated: no statistic, not a perfect 0
+      os << "| " << m->name << " | 0/" << e.relations << " | — | — | — | — | — | — |\n";
+      continue;
+    }
     os << "| " << m->name << " | " << e.evaluated << "/" << e.relations << std::setprecision(4) << " | "
        << e.translation_m.mean << " | " << e.translation_m.median << " | " << e.translation_m.stddev << " | "
        << e.rotation_rad.mean * kRadToDeg << " | " << e.rotation_rad.median * kRadToDeg << " | "

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "lidarseg/core/NumberText.h"
 #include "lidarseg/eval/TrajectoryMetrics.h"
 #include "lidarseg/pipeline/OdometryRun.h"
 
@@ -66,6 +67,24 @@ void evaluateRun(const OdometryRun& run, RunReferences& refs, bool log_reference
     }
   }
   evaluate(report.lidarseg, refs, relations_tolerance_s);
+  if (report.lidarseg.relations && report.lidarseg.relations->evaluated == 0 && !refs.relations->empty() &&
+      !report.lidarseg.trajectory.empty()) {
+    // Say so, with both time spans: the usual cause is a log with relative stamps against
+    // relations with absolute ones (or the relations of another log).
+    double lo = refs.relations->front().t1_s, hi = lo;
+    for (const auto& rel : *refs.relations) {
+      lo = std::min({lo, rel.t1_s, rel.t2_s});
+      hi = std::max({hi, rel.t1_s, rel.t2_s});
+    }
+    const std::string warning =
+        "--relations: none of the " + std::to_string(refs.relations->size()) +
+        " relations pairs with this log's scans within --relations-tolerance " + numberText(relations_tolerance_s) +
+        " s (relations from " + numberText(lo) + " to " + numberText(hi) + " s, scans from " +
+        numberText(report.lidarseg.trajectory.front().stamp_s) + " to " +
+        numberText(report.lidarseg.trajectory.back().stamp_s) + " s); no relation statistics";
+    report.warnings.push_back(warning);
+    report.warning_kinds.add(warning);
+  }
   if (report.icp) evaluate(*report.icp, refs, relations_tolerance_s);
   if (report.icp_s2s) evaluate(*report.icp_s2s, refs, relations_tolerance_s);
 }

@@ -34,6 +34,9 @@ using pipeline::OdometryReport;
 /// few hundred revolutions per second.
 inline constexpr double kMinScannerHz = 0.1;
 inline constexpr double kMaxScannerHz = 1000.0;
+/// The largest --relations-tolerance (s): a relation's stamps are matched to scans within it;
+/// Freiburg relations are at most a few seconds apart, so a second pairs unrelated scans.
+inline constexpr double kMaxRelationsToleranceS = 0.5;
 
 /// Command-line options of `lidarseg-odometry`.
 struct OdometryOptions {
@@ -59,6 +62,7 @@ struct OdometryOptions {
   bool auto_gt = true;
   /// Freiburg relations file to evaluate both trajectories on.
   std::string relations_path;
+  /// How far (s) a relation's stamp may be from a scan's to pair with it; (0, 0.5].
   double relations_tolerance_s = 0.01;
   /// Use the poses written in the log (CARMEN laser lines; the corrected poses of
   /// "corrected" logs) as the reference of a per-scan relative-motion evaluation.

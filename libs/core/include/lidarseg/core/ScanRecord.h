@@ -13,6 +13,11 @@
 
 namespace lidarseg {
 
+/// The largest magnitude a log's pose field may have (m, or rad for a heading): 1000 km. A
+/// reader refuses larger values as corrupt, as it refuses a non-finite one (1e308 would
+/// overflow every later difference of poses).
+constexpr double kMaxLogCoordinate = 1e6;
+
 /// One scan of a log (built by a log reader, e.g. mrpt_adapter::LaserLogReader).
 struct ScanRecord {
   /// 0-based index of the scan among the scans returned.
