@@ -133,6 +133,22 @@ TEST(WorldFile, AWorldWithoutWallsIsRefused) {
   EXPECT_NO_THROW(parse("polyline 0 0 1 0 1 1\n"));
 }
 
+// A world's size is capped (issue 16): the corner ground truth compares every wall piece
+// with every other, so 50 000 walls took a minute before the first scan (a reliability
+// attack). Beyond 10 000 pieces or 1 000 doors: an error naming the line that went over.
+TEST(WorldFile, AWorldBeyondTheCapOnWallPiecesIsRefusedWithItsLine) {
+  std::string many;
+  for (int i = 0; i < 10000; ++i) many += "wall " + std::to_string(i) + " 0 " + std::to_string(i) + " 1\n";
+  EXPECT_NO_THROW(parse(many));
+  EXPECT_EQ(errorOf(many + "wall 0 5 1 5\n"),
+            "test.world:10001: more than 10000 wall pieces (walls, polyline segments, pillar and box sides): a world "
+            "is capped there");
+  // A pillar adds four pieces at once.
+  std::string near_cap;
+  for (int i = 0; i < 9998; ++i) near_cap += "wall " + std::to_string(i) + " 0 " + std::to_string(i) + " 1\n";
+  EXPECT_EQ(errorOf(near_cap + "pillar 5 5 0.2\n").rfind("test.world:9999: more than 10000 wall pieces", 0), 0u);
+}
+
 TEST(WorldFile, ShippedWorldsLoad) {
   int worlds = 0;
   for (const auto& entry : std::filesystem::directory_iterator(std::string(LIDARSEG_CONFIG_DIR) + "/worlds")) {

@@ -18,6 +18,11 @@ constexpr double kMinLength = 1e-6;
 // Larger magnitudes are refused (m or degrees): far beyond any building, and far from the
 // precision limits of the ray caster's arithmetic.
 constexpr double kMaxMagnitude = 1e6;
+// A world's size: the ground truth of corners compares every wall piece with every other and
+// a door cuts every wall, so time grows with the square of these counts (50 000 walls took a
+// minute to load). Generous for a building (the generated ones hold about 100 pieces).
+constexpr std::size_t kMaxWallPieces = 10000;
+constexpr std::size_t kMaxDoors = 1000;
 
 class LineParser {
  public:
@@ -150,6 +155,7 @@ World parseWorld(std::istream& in, const std::string& source) {
     for (std::string w; words >> w;) tokens.push_back(w);
     if (tokens.empty()) continue;
     const LineParser p(source, number, tokens);
+
     const std::string& key = tokens[0];
 
     if (key == "wall") {
@@ -221,8 +227,14 @@ World parseWorld(std::istream& in, const std::string& source) {
     } else {
       p.fail("unknown keyword '" + key + "' (wall, polyline, door, pillar, box)");
     }
+    if (world.walls().size() > kMaxWallPieces) {
+      p.fail("more than " + std::to_string(kMaxWallPieces) +
+             " wall pieces (walls, polyline segments, pillar and box sides): a world is capped there");
+    }
+    if (doors.size() > kMaxDoors) p.fail("more than " + std::to_string(kMaxDoors) + " doors: a world is capped there");
   }
   if (!has_wall) throw std::runtime_error(source + ": no walls (a world needs at least one 'wall' or 'polyline')");
+
   checkDoors(world, doors, door_lines, source);
   for (const Door& d : doors) world.addDoor(d);
   return world;
