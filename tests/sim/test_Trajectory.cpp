@@ -83,6 +83,17 @@ TEST(Trajectory, FileErrorsNameTheLine) {
   EXPECT_EQ(errorOf("speed -1\n"), path + ":1: speed must be > 0");
   EXPECT_EQ(errorOf("waypoint 0 0\nwaypoint 0 0\n"), path + ":2: waypoint equal to the previous one");
   EXPECT_EQ(errorOf("waypoint 0 0\n"), path + ": needs at least 2 waypoints");
+  // A reliability attack's findings: a path that turns back on itself (the robot turned at
+  // x = 0.5 and its heading flipped between two scans), and a second speed that replaced the
+  // first for the whole path.
+  EXPECT_EQ(errorOf("waypoint 0 0\nwaypoint 1 0\nwaypoint 0 0\n"),
+            path + ":3: the path turns back by 180 deg at the waypoint before this one (at most 170 deg can be "
+                   "driven): add waypoints to turn around");
+  EXPECT_EQ(errorOf("waypoint 0 0\nwaypoint 1 0\nwaypoint 1 1\nwaypoint 0 1\n"), "no exception");
+  EXPECT_EQ(errorOf("speed 1\nwaypoint 0 0\nspeed 2\nwaypoint 1 0\n"),
+            path + ":3: 'speed' given twice (first at line 1): one value holds for the whole path");
+  EXPECT_EQ(errorOf("turn_radius 0.5\nturn_radius 0.2\nwaypoint 0 0\nwaypoint 1 0\n"),
+            path + ":2: 'turn_radius' given twice (first at line 1): one value holds for the whole path");
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "lidarseg/sim/Trajectory.h"
 #include "lidarseg/core/Angles.h"
+#include "lidarseg/core/NumberText.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -12,6 +13,9 @@
 namespace lidarseg::sim {
 
 namespace {
+// The sharpest corner a trajectory file may ask for (deg): beyond, the rounding arc has no
+// room and the heading flips between two scans.
+constexpr double kMaxTurnDeg = 170.0;
 double wrap(double a) { return std::remainder(a, 2.0 * kPi); }
 }  // namespace
 
@@ -78,6 +82,7 @@ Trajectory loadTrajectoryFile(const std::string& path) {
   double speed = 1.0, radius = 0.5;
   std::vector<Eigen::Vector2d> points;
   std::string text;
+  int speed_line = 0, radius_line = 0;
   for (int line = 1; std::getline(in, text); ++line) {
     const auto fail = [&](const std::string& m) {
       throw std::runtime_error(path + ":" + std::to_string(line) + ": " + m);
@@ -101,15 +106,35 @@ Trajectory loadTrajectoryFile(const std::string& path) {
       if (std::abs(x) > 1e6) fail("'" + t[i] + "' is out of range (|value| <= 1e6)");
       v.push_back(x);
     }
+    // One speed and one radius for the whole path: a second value would silently replace
+    // the first everywhere.
+    const auto once = [&](int& first) {
+      if (first != 0) fail("'" + t[0] + "' given twice (first at line " + std::to_string(first) + "): one value holds for the whole path");
+      first = line;
+    };
     if (t[0] == "speed") {
+      once(speed_line);
       if (!(v[0] > 0.0)) fail("speed must be > 0");
       speed = v[0];
     } else if (t[0] == "turn_radius") {
+      once(radius_line);
       if (!(v[0] >= 0.0)) fail("turn_radius must be >= 0");
       radius = v[0];
     } else {
-      if (!points.empty() && (points.back() - Eigen::Vector2d(v[0], v[1])).norm() < 1e-9) fail("waypoint equal to the previous one");
-      points.emplace_back(v[0], v[1]);
+      const Eigen::Vector2d next(v[0], v[1]);
+      if (!points.empty() && (points.back() - next).norm() < 1e-9) fail("waypoint equal to the previous one");
+      if (points.size() >= 2) {
+        // A path that turns back on itself cannot be rounded into a drivable arc: the robot
+        // would flip its heading between two scans.
+        const Eigen::Vector2d in_dir = points.back() - points[points.size() - 2], out_dir = next - points.back();
+        const double turn_deg =
+            std::abs(std::atan2(in_dir.x() * out_dir.y() - in_dir.y() * out_dir.x(), in_dir.dot(out_dir))) * 180.0 / kPi;
+        if (turn_deg > kMaxTurnDeg) {
+          fail("the path turns back by " + numberText(turn_deg) + " deg at the waypoint before this one (at most " +
+               numberText(kMaxTurnDeg) + " deg can be driven): add waypoints to turn around");
+        }
+      }
+      points.push_back(next);
     }
   }
   if (points.size() < 2) throw std::runtime_error(path + ": needs at least 2 waypoints");
