@@ -405,6 +405,30 @@ TEST(InputPlumbing, ALaserRarerThanTheOtherSensorsKeepsOnlyTheLatestCompanions) 
 
 // Issue 16, class 5: a malformed first laser line decided a CARMEN log's laser type, and the
 // whole log was then "no usable laser scan".
+// What cannot be a log is said plainly (a reliability attack's findings): a directory was
+// "DIR:1: corrupt or truncated compressed data (DIR: Is a directory)", a symbolic link loop
+// "cannot open log 'L'" without the reason.
+TEST(InputPlumbing, ADirectoryOrALinkLoopAsALogIsAnErrorSayingSo) {
+  fs::create_directories(kTmp + "/a_folder");
+  const auto errorOf = [](const std::string& path) {
+    try {
+      mrpt_adapter::LaserLogReader reader(path);
+      while (reader.next()) {
+      }
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("no exception");
+  };
+  EXPECT_EQ(errorOf(kTmp + "/a_folder"), "log '" + kTmp + "/a_folder' is a directory");
+  const std::string a = kTmp + "/loop_a", b = kTmp + "/loop_b";
+  fs::remove(a);
+  fs::remove(b);
+  fs::create_symlink(b, a);
+  fs::create_symlink(a, b);
+  EXPECT_EQ(errorOf(a), "cannot open log '" + a + "': Too many levels of symbolic links");
+}
+
 TEST(InputPlumbing, AMalformedFirstCarmenLaserLineIsSkippedWithItsLineAndTheLogRead) {
   fs::create_directories(kTmp);
   const std::string path = kTmp + "/first_bad.log";

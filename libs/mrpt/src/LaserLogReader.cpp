@@ -1,6 +1,8 @@
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/mrpt/LaserOdometry.h"
 
+#include <cerrno>
+#include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -163,6 +165,12 @@ WarningTally LaserLogReader::warningTally() const {
 }
 
 LogFormat detectLogFormat(const std::string& path) {
+  {
+    // What cannot be a log is said plainly, before any reader reports it as corrupt data
+    // ("adir:1: corrupt or truncated compressed data (Is a directory)").
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw std::runtime_error("log '" + path + "' is a directory");
+  }
   if (endsWith(path, ".rawlog") || endsWith(path, ".rawlog.gz")) return LogFormat::kRawlog;
   if (endsWith(path, ".clf") || endsWith(path, ".log") || endsWith(path, ".clf.gz") ||
       endsWith(path, ".log.gz")) {
@@ -178,8 +186,12 @@ LogFormat detectLogFormat(const std::string& path) {
   // follow blank lines, so whitespace is skipped (at most kSniffBytes bytes) before the first
   // character decides.
   constexpr std::streamsize kSniffBytes = 4096;
+  errno = 0;
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot open log '" + path + "'");
+  if (!in) {
+    const int error = errno;  // the reason (no such file, a symbolic link loop, permission)
+    throw std::runtime_error("cannot open log '" + path + "'" + (error != 0 ? ": " + std::string(std::strerror(error)) : ""));
+  }
   unsigned char head[2] = {0, 0};
   in.read(reinterpret_cast<char*>(head), 2);
   if (in.gcount() == 2 && head[0] == 0x1f && head[1] == 0x8b) return LogFormat::kRawlog;  // gz rawlog
