@@ -59,7 +59,7 @@ TEST(SegmentStatsApp, SkippedScansAreAWarningOnStderrNotInTheResults) {
   SegmentStatsApp::printWarnings(r, err);
   EXPECT_EQ(out.str().find("entry 7"), std::string::npos) << out.str();
   EXPECT_NE(out.str().find("scans: 3"), std::string::npos);
-  EXPECT_EQ(err.str(), "lidarseg-segment: warning: 2 scans skipped, the first: log.rawlog: entry 7 (scan 2): no valid beam\n");
+  EXPECT_EQ(err.str(), "lidarseg-segment: warning: 2 scans or lines skipped, the first: log.rawlog: entry 7 (scan 2): no valid beam\n");
 }
 
 TEST(SegmentStatsApp, MaxScansAndErrors) {

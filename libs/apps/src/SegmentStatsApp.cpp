@@ -137,7 +137,7 @@ void SegmentStatsApp::print(const SegmentStatsReport& r, std::ostream& os) {
 void SegmentStatsApp::printWarnings(const SegmentStatsReport& r, std::ostream& err) {
   pipeline::printRecordWarnings(r.warning_kinds, "lidarseg-segment", err);
   if (r.skipped.empty()) return;
-  err << "lidarseg-segment: warning: " << r.skipped_count << " scans skipped, the first: " << r.skipped.front()
+  err << "lidarseg-segment: warning: " << r.skipped_count << " scans or lines skipped, the first: " << r.skipped.front()
       << "\n";
 }
 
