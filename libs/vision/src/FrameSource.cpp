@@ -138,12 +138,24 @@ bool FrameSource::next(cv::Mat& frame, std::string& file) {
     frame_index_ = video_frame_++;
     return true;
   }
-  if (next_file_ >= files_.size()) return false;
-  frame_index_ = next_file_;
-  const std::string& path = files_[next_file_++];
-  frame = readImage(path);
-  file = fs::path(path).filename().string();
-  return true;
+  // A folder's image that cannot be read (corrupt, truncated, oversized) is skipped and
+  // counted like a video's frame, under its own number; a single image given alone is the
+  // input, and its failure is the run's error.
+  const bool folder = files_.size() > 1 || fs::is_directory(input_);
+  while (next_file_ < files_.size()) {
+    frame_index_ = next_file_;
+    const std::string& path = files_[next_file_++];
+    try {
+      frame = readImage(path);
+    } catch (const std::runtime_error& e) {
+      if (!folder) throw;
+      skip(std::string(e.what()) + "; image skipped");
+      continue;
+    }
+    file = fs::path(path).filename().string();
+    return true;
+  }
+  return false;
 }
 
 }  // namespace lidarseg::vision

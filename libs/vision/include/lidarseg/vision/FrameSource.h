@@ -37,8 +37,10 @@ class FrameSource {
   std::size_t expectedFrames() const;
 
   /// The next frame (BGR) and its file name (empty for a video's frame); false at the end.
-  /// @throws std::runtime_error naming the file for an unreadable or oversized image, or the
-  /// video and the frame's number (from 0) for an oversized frame.
+  /// A folder's image that cannot be read or is oversized is skipped and counted
+  /// (skippedFrames(): "...; image skipped"), and the next one read.
+  /// @throws std::runtime_error naming the file for an unreadable or oversized image given
+  /// alone, or the video and the frame's number (from 0) for an oversized frame.
   bool next(cv::Mat& frame, std::string& file);
 
   /// The number (from 0) of the frame next() returned last: its place in the video, counting

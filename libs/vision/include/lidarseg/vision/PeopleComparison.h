@@ -20,7 +20,8 @@ struct PeopleReport {
   std::string input;
   std::size_t frames = 0;  ///< analysed
   /// Frames of the input skipped because they could not be decoded (a corrupt Motion-JPEG
-  /// frame), and the first of them with their place ("'VIDEO', frame N: why; frame skipped").
+  /// frame, a folder's unreadable or oversized image), and the first of them with their place
+  /// in `warnings` ("'VIDEO', frame N: why; frame skipped", "'IMAGE': why; image skipped").
   std::size_t frames_skipped = 0;
   std::vector<std::string> warnings;
   cv::Size frame_size;
