@@ -269,6 +269,27 @@ TEST(CarmenLogReader, AStampBeyondTheYear2286SkipsItsLineWithItsPlace) {
   EXPECT_NE(reader.issues()[1].find("stamps.log:3"), std::string::npos) << reader.issues()[1];
 }
 
+// A hexadecimal float ("0x1p0", which strtod reads as 1) is no number of any CARMEN writer:
+// a fuzzed or corrupted range or pose field written so skips its line, with its place,
+// instead of becoming a plausible value.
+TEST(CarmenLogReader, AHexadecimalFloatSkipsItsLineWithItsPlace) {
+  std::string range_hex = flaser(5, 1.0, 0.1, 2.0);
+  range_hex.replace(range_hex.find("1.000000"), 8, "0x1p0");
+  std::string pose_hex = flaser(5, 1.0, 0.2, 3.0);
+  pose_hex.replace(pose_hex.find("0.200000"), 8, "0x1.8p-3");
+  const std::string text = flaser(5, 1.0, 0.0, 1.0) + range_hex + pose_hex + flaser(5, 1.0, 0.3, 4.0);
+  CarmenLogReader reader(writeText("hex.log", text));
+  std::vector<double> stamps;
+  while (auto l = reader.next()) stamps.push_back(l->stamp_s);
+  EXPECT_EQ(stamps, (std::vector<double>{1.0, 4.0}));
+  EXPECT_EQ(reader.malformedLines(), 2u);
+  ASSERT_EQ(reader.issues().size(), 2u);
+  EXPECT_NE(reader.issues()[0].find("hex.log:2"), std::string::npos) << reader.issues()[0];
+  EXPECT_NE(reader.issues()[0].find("'0x1p0' is not a number"), std::string::npos) << reader.issues()[0];
+  EXPECT_NE(reader.issues()[1].find("hex.log:3"), std::string::npos) << reader.issues()[1];
+  EXPECT_NE(reader.issues()[1].find("'0x1.8p-3'"), std::string::npos) << reader.issues()[1];
+}
+
 // A laser line becomes the core's scan with no MRPT in between (issue 15): beams evenly
 // spaced over the aperture, centred on the scan frame's x axis, which carmenSensorOnRobot()
 // puts on the robot; the valid ranges are the line's own doubles; no return, zero and

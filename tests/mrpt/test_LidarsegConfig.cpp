@@ -230,6 +230,10 @@ TEST(LidarsegConfig, ANumberTooSmallOrLargeForADoubleIsOutOfRange) {
   EXPECT_NE(errorOf(zero).find("wd_threshold_m must be finite and > 0"), std::string::npos) << errorOf(zero);
   const std::string word = writeTemp("word.ini", "[segmentation]\nwd_threshold_m = abc\n");
   EXPECT_NE(errorOf(word).find("'abc' is not a number"), std::string::npos) << errorOf(word);
+  // A hexadecimal float, which strtod reads (as 0.5 here), is no number of a config file.
+  const std::string hex = writeTemp("hex.ini", "[segmentation]\nwd_threshold_m = 0x1p-1\n");
+  EXPECT_NE(errorOf(hex).find(":2 [segmentation] wd_threshold_m: '0x1p-1' is not a number"), std::string::npos)
+      << errorOf(hex);
 }
 
 // Issue 16: counts that drive the work are bounded in every section (the search's rotation

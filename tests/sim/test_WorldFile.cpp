@@ -68,6 +68,7 @@ TEST(WorldFile, ErrorsNameTheLine) {
   EXPECT_EQ(errorOf("\n\nwall 0 0 1\n"), "test.world:3: 'wall' expects 4 numbers, got 3");
   EXPECT_EQ(errorOf("wall 0 0 1 1 2\n"), "test.world:1: 'wall' expects 4 numbers, got 5");
   EXPECT_EQ(errorOf("wall 0 0 x 1\n"), "test.world:1: 'x' is not a number");
+  EXPECT_EQ(errorOf("wall 0 0 0x1p0 1\n"), "test.world:1: '0x1p0' is not a number");  // strtod reads 1
   EXPECT_EQ(errorOf("wall 1 1 1 1\n"), "test.world:1: wall of zero length");
   EXPECT_EQ(errorOf("door shut 0 0 1 0\n"),
             "test.world:1: unknown door kind 'shut' (open, closed or ajar)");
@@ -100,6 +101,10 @@ TEST(WorldFile, DoorOptionsThicknessFrameAndDouble) {
             "test.world:1: 'frame' is for ajar doors (a closed door's leaf is at its recess)");
   EXPECT_EQ(errorOf("door open 0 0 1 0 thickness 2\n"), "test.world:1: wall thickness must be in [0, 1] m");
   EXPECT_EQ(errorOf("door open 0 0 1 0 double 3\n"), "test.world:1: unknown door option '3' (thickness, frame, double)");
+  // A second value of an option would silently replace the first.
+  EXPECT_EQ(errorOf("door open 0 0 1 0 thickness 0.2 thickness 0.3\n"), "test.world:1: door option 'thickness' given twice");
+  EXPECT_EQ(errorOf("door ajar 0 0 1 0 30 frame 0.1 double 20 frame 0.2\n"), "test.world:1: door option 'frame' given twice");
+  EXPECT_EQ(errorOf("door closed 0 0 1 0 0.05 double double\n"), "test.world:1: door option 'double' given twice");
 }
 
 // Doors that would give ground truth the scans do not show are refused with their lines

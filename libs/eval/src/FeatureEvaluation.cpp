@@ -1,5 +1,6 @@
 #include "lidarseg/eval/FeatureEvaluation.h"
 #include "lidarseg/eval/Csv.h"
+#include "lidarseg/core/NumberText.h"
 
 #include <algorithm>
 #include <cmath>
@@ -44,14 +45,11 @@ std::map<std::size_t, std::vector<TrueFeature>> readTrueFeatures(const std::stri
     const std::vector<std::string> cols = splitCsvLine(line);
     if (cols.size() < 8) fail(path, number, "expected at least 8 columns (scan,t,type,x,y,theta,width,id)");
     auto number_at = [&](std::size_t k) {
-      try {
-        std::size_t used = 0;
-        const double v = std::stod(cols[k], &used);
-        if (used != cols[k].size() || !std::isfinite(v)) throw std::invalid_argument("");
-        return v;
-      } catch (const std::exception&) {
+      const ParsedNumber v = parseNumber(cols[k]);
+      if (!v.ok() || !std::isfinite(v.value)) {
         fail(path, number, std::string("column '") + kColumns[k] + "' is not a finite number: '" + cols[k] + "'");
       }
+      return v.value;
     };
     TrueFeature f;
     const auto type = featureTypeFromString(cols[2]);

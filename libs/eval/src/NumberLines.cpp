@@ -1,4 +1,5 @@
 #include "NumberLines.h"
+#include "lidarseg/core/NumberText.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -25,9 +26,9 @@ void forEachLineOf8Numbers(const std::string& path, const std::string& kind, con
     std::string token;
     while (fields >> token) {
       if (count == v.size()) throw std::runtime_error(where + "more than 8 fields (expected '" + format + "')");
-      char* end = nullptr;
-      v[count] = std::strtod(token.c_str(), &end);
-      if (end == token.c_str() || *end != '\0' || !std::isfinite(v[count])) {
+      const ParsedNumber parsed = parseNumber(token);
+      v[count] = parsed.value;
+      if (parsed.status == ParsedNumber::Status::not_a_number || !std::isfinite(v[count])) {
         throw std::runtime_error(where + "field " + std::to_string(count + 1) + " '" + token +
                                  "' is not a finite number");
       }

@@ -33,14 +33,11 @@ std::vector<std::string> split(const std::string& line) {
 // A number field; throws a message naming the field.
 double number(const std::vector<std::string>& f, std::size_t i, const char* name) {
   if (i >= f.size()) throw std::invalid_argument(std::string("missing field '") + name + "'");
-  const char* s = f[i].c_str();
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(s, &end);
-  if (end == s || *end != '\0') {
+  const ParsedNumber v = parseNumber(f[i]);
+  if (v.status == ParsedNumber::Status::not_a_number) {
     throw std::invalid_argument(std::string("field '") + name + "' = '" + f[i] + "' is not a number");
   }
-  return v;
+  return v.value;
 }
 
 double finiteNumber(const std::vector<std::string>& f, std::size_t i, const char* name) {
@@ -116,9 +113,8 @@ void CarmenLogReader::report(const std::string& message) {
 double CarmenLogReader::paramDouble(const std::string& key, double fallback) const {
   const auto it = params_.find(key);
   if (it == params_.end()) return fallback;
-  char* end = nullptr;
-  const double v = std::strtod(it->second.c_str(), &end);
-  return (end != it->second.c_str() && std::isfinite(v)) ? v : fallback;
+  const ParsedNumber v = parseNumber(it->second);
+  return (v.ok() && std::isfinite(v.value)) ? v.value : fallback;
 }
 
 bool CarmenLogReader::parseLaser(const std::string& type, const std::vector<std::string>& f,

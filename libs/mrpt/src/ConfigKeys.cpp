@@ -1,4 +1,5 @@
 #include "ConfigKeys.h"
+#include "lidarseg/core/NumberText.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -455,15 +456,14 @@ std::string where(const std::string& source, const LineMap& lines, const std::st
 
 double parseDouble(const std::string& text, const std::string& context) {
   const std::string t = trim(text);
-  errno = 0;
-  char* end = nullptr;
-  const double v = std::strtod(t.c_str(), &end);
-  if (t.empty() || end != t.c_str() + t.size()) {
+  const ParsedNumber parsed = parseNumber(t);
+  const double v = parsed.value;
+  if (parsed.status == ParsedNumber::Status::not_a_number) {
     throw std::invalid_argument(context + ": '" + text + "' is not a number");
   }
   // A number whose magnitude a double cannot hold at full precision: beyond 1.8e308
-  // (strtod gives inf) or below 2.2e-308 (a subnormal, or 0 after underflow).
-  if (errno == ERANGE || (std::isfinite(v) && v != 0.0 && !std::isnormal(v))) {
+  // or below 2.2e-308 (a subnormal, or 0 after underflow).
+  if (parsed.status == ParsedNumber::Status::out_of_range || (std::isfinite(v) && v != 0.0 && !std::isnormal(v))) {
     throw std::invalid_argument(context + ": '" + text +
                                 "' is out of range (a magnitude from 2.2e-308 to 1.8e308, or 0)");
   }

@@ -1,4 +1,5 @@
 #include "lidarseg/pipeline/BatchResults.h"
+#include "lidarseg/core/NumberText.h"
 
 #include <algorithm>
 #include <cmath>
@@ -43,9 +44,9 @@ std::vector<double> readMetricsRow(const fs::path& f) {
   if (!std::getline(in, line)) throw std::runtime_error(f.string() + ":2: missing the data line");
   std::vector<double> row;
   for (const std::string& cell : eval::splitCsvLine(line)) {
-    char* end = nullptr;
-    const double v = std::strtod(cell.c_str(), &end);
-    if (end == cell.c_str())
+    const ParsedNumber parsed = parseNumber(cell);
+    const double v = parsed.value;
+    if (parsed.status == ParsedNumber::Status::not_a_number)
       throw std::runtime_error(f.string() + ":2: '" + cell + "' is not a number");
     row.push_back(v);
   }

@@ -99,10 +99,9 @@ Trajectory loadTrajectoryFile(const std::string& path) {
     if (t.size() != want) fail("'" + t[0] + "' expects " + std::to_string(want - 1) + " numbers, got " + std::to_string(t.size() - 1));
     std::vector<double> v;
     for (std::size_t i = 1; i < t.size(); ++i) {
-      errno = 0;
-      char* end = nullptr;
-      const double x = std::strtod(t[i].c_str(), &end);
-      if (end != t[i].c_str() + t[i].size() || errno == ERANGE || !std::isfinite(x)) fail("'" + t[i] + "' is not a number");
+      const ParsedNumber parsed = parseNumber(t[i]);
+      const double x = parsed.value;
+      if (!parsed.ok() || !std::isfinite(x)) fail("'" + t[i] + "' is not a number");
       if (std::abs(x) > 1e6) fail("'" + t[i] + "' is out of range (|value| <= 1e6)");
       v.push_back(x);
     }

@@ -1,6 +1,8 @@
 #include "lidarseg/sim/WorldFile.h"
 #include "lidarseg/core/Angles.h"
+#include "lidarseg/core/NumberText.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -49,10 +51,9 @@ class LineParser {
     std::vector<double> v;
     for (std::size_t i = skip; i < tokens_.size(); ++i) {
       const std::string& t = tokens_[i];
-      errno = 0;
-      char* end = nullptr;
-      const double x = std::strtod(t.c_str(), &end);
-      if (end != t.c_str() + t.size() || errno == ERANGE || !std::isfinite(x)) {
+      const ParsedNumber parsed = parseNumber(t);
+      const double x = parsed.value;
+      if (!parsed.ok() || !std::isfinite(x)) {
         fail("'" + t + "' is not a number");
       }
       if (std::abs(x) > kMaxMagnitude) fail("'" + t + "' is out of range (|value| <= 1e6)");
@@ -81,8 +82,14 @@ void parseDoorOptions(const LineParser& p, const std::vector<std::string>& token
     if (k >= tokens.size() || isOption(tokens[k])) p.fail("'" + name + "' needs a value");
     return LineParser(p, {name, tokens[k]}).numbers(1, 1, 1)[0];
   };
+  std::vector<std::string> given;
   while (at < tokens.size()) {
     const std::string& name = tokens[at];
+    // A second value would silently replace the first.
+    if (isOption(name)) {
+      if (std::find(given.begin(), given.end(), name) != given.end()) p.fail("door option '" + name + "' given twice");
+      given.push_back(name);
+    }
     if (name == "thickness") {
       door.wall_thickness_m = value(at + 1, name);
       if (!(door.wall_thickness_m >= 0.0 && door.wall_thickness_m <= 1.0)) p.fail("wall thickness must be in [0, 1] m");
