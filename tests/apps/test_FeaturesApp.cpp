@@ -88,8 +88,8 @@ TEST(FeaturesApp, FindsTheHospitalsDoorsAndCornersAndWritesTheFiles) {
   EXPECT_TRUE(r.warnings.empty()) << r.warnings.front();
 }
 
-// Without gnuplot the run goes on: a warning naming the figure and gnuplot, and no file; a
-// scan the log does not reach is a warning too. Both on stderr, none on stdout.
+// Without gnuplot the run goes on: a warning naming the figure and gnuplot, on stderr, none
+// on stdout, and no file.
 TEST(FeaturesApp, AFigureThatCannotBeDrawnIsAWarningAndNoFile) {
   const std::string prefix = simulatedPrefix();
   FeaturesOptions o;
@@ -114,11 +114,35 @@ TEST(FeaturesApp, AFigureThatCannotBeDrawnIsAWarningAndNoFile) {
   EXPECT_EQ(out.str().find("warning"), std::string::npos) << out.str();
   EXPECT_EQ(err.str(), "lidarseg-features: warning: " + r.warnings[0] + "\n");
 
+}
+
+// A scan the log does not reach is an error, as `lidarseg-inspect -f` past the log is, raised
+// once the other outputs are written: the figure is what the user asked for, and nothing
+// else is lost.
+TEST(FeaturesApp, AFigureScanPastTheLogIsAnErrorAfterTheOtherOutputs) {
+  const std::string prefix = simulatedPrefix();
+  const std::string dir = testDir() + "/figure-past";
+  fs::remove_all(dir);
+  FeaturesOptions o;
+  o.input = prefix + ".rawlog";
+  o.max_scans = 40;
+  o.progress = false;
   o.figure_scan = 100;  // past the 40 scans read
-  const FeaturesReport past = FeaturesApp(o).run();
+  o.figure_path = testDir() + "/scan100-past.png";
+  o.out_csv = dir + "/features.csv";
+  o.report_dir = dir;
+  fs::remove(o.figure_path);
+  try {
+    FeaturesApp(o).run();
+    FAIL() << "a figure scan past the log ran to the end";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("--figure-scan 100: no such scan among the 40 scans read from " + o.input), std::string::npos) << m;
+    EXPECT_NE(m.find("scan100-past.png not written"), std::string::npos) << m;
+  }
   EXPECT_FALSE(fs::exists(o.figure_path));
-  ASSERT_EQ(past.warnings.size(), 1u);
-  EXPECT_NE(past.warnings[0].find("no scan 100 among the 40 scans read"), std::string::npos) << past.warnings[0];
+  EXPECT_TRUE(fs::exists(dir + "/features.csv"));
+  EXPECT_TRUE(fs::exists(dir + "/features.json"));
 }
 
 TEST(FeaturesApp, BadInputsAreNamed) {

@@ -261,10 +261,16 @@ void readLog(const FeaturesOptions& o, const mrpt_adapter::LidarsegConfig& confi
   report.stamps = counts;
   report.log_warnings = counts.warnings;
   report.log_warning_kinds = counts.warning_kinds;
-  if (o.figure_scan && !pass.figureMet()) {
-    report.warnings.push_back("no figure " + o.figure_path + ": no scan " + std::to_string(*o.figure_scan) +
-                              " among the " + std::to_string(report.scans) + " scans read");
-  }
+}
+
+// The figure the user asked for is the run's result as much as the tables: a scan beyond
+// the log is an error (as `lidarseg-inspect -f` beyond the log is), raised once the other
+// outputs are written so that nothing else is lost.
+void requireFigure(const FeaturesOptions& o, const LogPass& pass, const FeaturesReport& report) {
+  if (!o.figure_scan || pass.figureMet()) return;
+  throw std::runtime_error("--figure-scan " + std::to_string(*o.figure_scan) + ": no such scan among the " +
+                           std::to_string(report.scans) + " scans read from " + o.input + " (scans count from 0); " +
+                           o.figure_path + " not written, the other outputs are");
 }
 
 }  // namespace
@@ -279,6 +285,7 @@ FeaturesReport FeaturesApp::run() {
   readLog(options_, config, pass, report);
   pass.summarise();
   writeOutputs(options_, report, pass, outputs);
+  requireFigure(options_, pass, report);
   return report;
 }
 
