@@ -1,4 +1,7 @@
 #include <algorithm>
+#include <cstdio>
+#include <fcntl.h>
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -7,6 +10,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
 #include "TempFiles.h"
@@ -153,6 +157,41 @@ TEST(PeopleApp, ACorruptMotionJpegFrameIsSkippedAndCountedInTheReport) {
   std::ostringstream err;
   PeopleApp::printWarnings(r, err);
   EXPECT_EQ(err.str(), "lidarseg-people: warning: 1 frames skipped, the first: " + r.warnings[0] + "\n");
+}
+
+// Issue 16: a region wholly outside the frame (a --roi made for another camera) analyses
+// nothing; the run says so on stderr and in people.json instead of reporting a share of 0.
+TEST(PeopleApp, ARegionWhollyOutsideTheFrameIsCountedAndWarned) {
+  const std::string dir = testDir();
+  const std::string images = dir + "/images";
+  fs::create_directories(images);
+  for (int k = 0; k < 3; ++k) {
+    cv::imwrite(images + "/img" + std::to_string(k) + ".png", cv::Mat(240, 160, CV_8UC3, cv::Scalar(40.0 * k, 90, 150)));
+  }
+  PeopleOptions p;
+  p.input = images;
+  p.rois = {"0,0,79,119", "500,500,600,600", "160,0,200,50"};  // the last starts at the frame's right edge
+  p.progress = false;
+  p.report_dir = dir + "/report";
+  const PeopleReport r = PeopleApp(p).run();
+  EXPECT_EQ(r.frames, 3u);
+  EXPECT_EQ(r.regions_outside, 6u);
+  EXPECT_EQ(r.first_region_outside, "frame 0: region 500,500,600,600 outside the 160 x 240 frame");
+  std::ostringstream err;
+  PeopleApp::printWarnings(r, err);
+  EXPECT_EQ(err.str(), "lidarseg-people: warning: 6 regions lie wholly outside their frame and were not analysed, "
+                       "the first: frame 0: region 500,500,600,600 outside the 160 x 240 frame\n");
+  std::ifstream json_in(p.report_dir + "/people.json");
+  const std::string json((std::istreambuf_iterator<char>(json_in)), {});
+  EXPECT_NE(json.find("\"regions_outside\": 6"), std::string::npos) << json;
+
+  p.rois = {"0,0,79,119"};
+  p.report_dir = dir + "/report-inside";
+  const PeopleReport inside = PeopleApp(p).run();
+  EXPECT_EQ(inside.regions_outside, 0u);
+  std::ostringstream none;
+  PeopleApp::printWarnings(inside, none);
+  EXPECT_EQ(none.str(), "");
 }
 
 // Issue 16: a Motion-JPEG frame whose JPEG data is cut (the second half of its scan, end of
@@ -304,6 +343,46 @@ TEST(PeopleApp, BadRegionsAndInputsAreNamed) {
   EXPECT_NE(errorOf([&] { PeopleApp(p).run(); }).find("empty_dir': no image files"), std::string::npos);
   p.input = testDir() + "/nothing_here.avi";
   EXPECT_NE(errorOf([&] { PeopleApp(p).run(); }).find("nothing_here.avi': no such file"), std::string::npos);
+}
+
+// Issue 16: an empty or broken file named as an image is read as an image and its error
+// names it; it never reaches OpenCV's video backends, whose GStreamer and FFmpeg messages
+// used to fill stderr before the error (the process's stderr is captured to check that).
+TEST(PeopleApp, AnEmptyOrBrokenImageIsNamedWithoutTheVideoBackendsNoise) {
+  const std::string dir = testDir();
+  const std::string empty_png = dir + "/empty.png", broken_png = dir + "/broken.png", empty_avi = dir + "/empty.avi";
+  std::ofstream(empty_png, std::ios::binary).flush();
+  std::ofstream(broken_png, std::ios::binary) << "not a png at all, just text";
+  std::ofstream(empty_avi, std::ios::binary).flush();
+  const std::string captured = dir + "/stderr.txt";
+  std::string empty_error, broken_error, avi_error;
+  {
+    std::fflush(stderr);
+    const int saved = ::dup(2);
+    ASSERT_GE(saved, 0);
+    const int file = ::open(captured.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ASSERT_GE(file, 0);
+    ::dup2(file, 2);
+    ::close(file);
+    PeopleOptions p;
+    p.rois = {"0,0,10,10"};
+    p.progress = false;
+    p.input = empty_png;
+    empty_error = errorOf([&] { PeopleApp(p).run(); });
+    p.input = broken_png;
+    broken_error = errorOf([&] { PeopleApp(p).run(); });
+    p.input = empty_avi;
+    avi_error = errorOf([&] { PeopleApp(p).run(); });
+    std::fflush(stderr);
+    ::dup2(saved, 2);
+    ::close(saved);
+  }
+  EXPECT_EQ(empty_error, "'" + empty_png + "': empty file (no image or video)");
+  EXPECT_EQ(broken_error, "cannot read image '" + broken_png + "' (not a PNG, JPEG, BMP or PNM file)");
+  EXPECT_EQ(avi_error, "'" + empty_avi + "': empty file (no image or video)");
+  std::ifstream in(captured);
+  const std::string noise((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_EQ(noise, "");
 }
 
 }  // namespace

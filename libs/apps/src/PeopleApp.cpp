@@ -70,6 +70,7 @@ class FramePass {
 
   // Frame `index` (BGR) with its regions (pixels).
   void addFrame(std::size_t index, const cv::Mat& frame, const std::vector<cv::Rect>& rois) {
+    countRegionsOutside(index, frame, rois);
     const auto d = comparison_.add(frame, rois);
     writeDetections(csv_, index, "full", d.full.people);
     writeDetections(csv_, index, "rois", d.inside.people);
@@ -85,6 +86,21 @@ class FramePass {
   std::string csv() const { return csv_.str(); }
 
  private:
+  // Regions with no pixel in the frame: counted, the first named (inclusive corners, as
+  // given), for the run's warning.
+  void countRegionsOutside(std::size_t index, const cv::Mat& frame, const std::vector<cv::Rect>& rois) {
+    const cv::Rect whole(0, 0, frame.cols, frame.rows);
+    for (const cv::Rect& r : rois) {
+      if ((r & whole).area() > 0) continue;
+      if (report_.regions_outside++ == 0) {
+        report_.first_region_outside = "frame " + std::to_string(index) + ": region " + std::to_string(r.x) + "," +
+                                       std::to_string(r.y) + "," + std::to_string(r.x + r.width - 1) + "," +
+                                       std::to_string(r.y + r.height - 1) + " outside the " + std::to_string(frame.cols) +
+                                       " x " + std::to_string(frame.rows) + " frame";
+      }
+    }
+  }
+
   // The frame with the analysed crops (grey), regions (yellow), whole-frame detections (blue)
   // and detections inside the regions (red), as people_NNNNNN.png.
   void draw(std::size_t index, const cv::Mat& frame, const std::vector<cv::Rect>& rois,
@@ -101,7 +117,7 @@ class FramePass {
 
   const PeopleOptions& options_;
   vision::PeopleComparison comparison_;
-  const PeopleReport& report_;
+  PeopleReport& report_;
   OutputSet& outputs_;
   std::ostringstream csv_;
 };
@@ -121,7 +137,8 @@ Json reportJson(const PeopleReport& report) {
               {"people_still_found", report.people_still_found},
               {"recall_in_regions", finiteOrNull(report.recallInRegions())},
               {"people_rois", report.people_rois},
-              {"people_rois_confirmed", report.people_rois_confirmed}};
+              {"people_rois_confirmed", report.people_rois_confirmed},
+              {"regions_outside", report.regions_outside}};
 }
 
 // The detections CSV and the report put in place, together with the frames drawn.
@@ -221,6 +238,10 @@ std::string PeopleApp::markdown(const PeopleReport& r) {
      << "; still found by the detection inside the regions: " << r.people_still_found << " (recall "
      << fixed(r.recallInRegions(), 3) << "). Detections inside the regions that the whole frame also has: "
      << r.people_rois_confirmed << " of " << r.people_rois << ".\n";
+  if (r.regions_outside > 0) {
+    os << "\nRegions wholly outside their frame (not analysed): " << r.regions_outside << ", the first: "
+       << r.first_region_outside << ".\n";
+  }
   if (r.frames_skipped > 0) {
     os << "\nFrames skipped (could not be decoded): " << r.frames_skipped << ", the first: "
        << (r.warnings.empty() ? std::string("?") : r.warnings.front()) << ".\n";
@@ -231,6 +252,11 @@ std::string PeopleApp::markdown(const PeopleReport& r) {
 void PeopleApp::print(const PeopleReport& report, std::ostream& os) { os << markdown(report); }
 
 void PeopleApp::printWarnings(const PeopleReport& report, std::ostream& err) {
+  if (report.regions_outside > 0) {
+    err << "lidarseg-people: warning: " << report.regions_outside
+        << " regions lie wholly outside their frame and were not analysed, the first: " << report.first_region_outside
+        << "\n";
+  }
   if (report.frames_skipped == 0) return;
   err << "lidarseg-people: warning: " << report.frames_skipped << " frames skipped, the first: "
       << (report.warnings.empty() ? std::string("?") : report.warnings.front()) << "\n";

@@ -15,24 +15,34 @@ namespace lidarseg::vision {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// Whether the file's name says it is an image the folder reader takes.
+bool hasImageExtension(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".ppm" || ext == ".pgm";
+}
+
+}  // namespace
+
 FrameSource::FrameSource(const std::string& input) : input_(input) {
   if (fs::is_directory(input)) {
     for (const auto& e : fs::directory_iterator(input)) {
-      std::string ext = e.path().extension().string();
-      std::transform(ext.begin(), ext.end(), ext.begin(),
-                     [](unsigned char c) { return std::tolower(c); });
-      if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".ppm" ||
-          ext == ".pgm") {
-        files_.push_back(e.path().string());
-      }
+      if (hasImageExtension(e.path())) files_.push_back(e.path().string());
     }
     std::sort(files_.begin(), files_.end());
     if (files_.empty())
       throw std::runtime_error("'" + input + "': no image files (png, jpg, bmp, ppm, pgm)");
   } else if (!fs::exists(input)) {
     throw std::runtime_error("'" + input + "': no such file or directory");
-  } else if (readImageHeader(input) || cv::haveImageReader(input)) {
-    files_.push_back(input);  // read (and its size checked) by next()
+  } else if (fs::is_regular_file(input) && fs::file_size(input) == 0) {
+    // Neither an image nor a video; OpenCV's video backends would print their own noise.
+    throw std::runtime_error("'" + input + "': empty file (no image or video)");
+  } else if (hasImageExtension(input) || readImageHeader(input) || cv::haveImageReader(input)) {
+    // An image by name or by content: read (and its size checked) by next(), whose error
+    // names what is wrong with it; never handed to the video backends.
+    files_.push_back(input);
   } else {
     video_.open(input);
     if (!video_.isOpened())

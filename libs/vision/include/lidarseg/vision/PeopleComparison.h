@@ -37,6 +37,11 @@ struct PeopleReport {
   std::size_t people_still_found = 0;     ///< of those, found by the detection inside the regions
   std::size_t people_rois = 0;            ///< detections inside the regions
   std::size_t people_rois_confirmed = 0;  ///< of those, overlapping a whole-frame detection
+  /// Regions that lie wholly outside their frame (nothing of the frame analysed for them:
+  /// a `--roi` or a regions file made for another camera or image size), and the first of
+  /// them ("frame N: region u_min,v_min,u_max,v_max outside the W x H frame").
+  std::size_t regions_outside = 0;
+  std::string first_region_outside;
 
   /// people_still_found / people_in_regions; NaN when no person was centred in a region.
   double recallInRegions() const;
