@@ -693,6 +693,35 @@ TEST(RecordValidation, ACameraImageWhoseJpegDataEndsEarlyIsSkippedNotGreyFilled)
       << raw.skippedEntries()[0];
 }
 
+// A camera image whose JPEG frame header declares 20000 x 20000 pixels (its data a small
+// image's): MRPT's libjpeg allocated and decoded those 1.2 GB before the tools' 8192 x 8192
+// cap could apply. It is refused from the header the reader sees before MRPT decodes, and
+// skipped with its entry like a corrupt image, the scans read.
+TEST(RecordValidation, AnEmbeddedJpegImageDeclaringAHugeSizeIsSkippedBeforeItIsDecoded) {
+  std::string bytes = fileBytes(jpegFramesRawlog("jpeg_images_huge.rawlog"));
+  const std::vector<std::size_t> sos = jpegScans(bytes);
+  ASSERT_EQ(sos.size(), 4u) << "the images are not stored as JPEG";
+  // Image 1's frame header (SOF0: FF C0, length, precision, height, width; big-endian).
+  const std::size_t sof = bytes.rfind(std::string("\xFF\xC0", 2), sos[1]);
+  ASSERT_NE(sof, std::string::npos);
+  ASSERT_GT(sof, sos[0]);
+  for (const std::size_t at : {sof + 5, sof + 7}) {  // height, width = 20000 (0x4E20)
+    bytes[at] = static_cast<char>(0x4E);
+    bytes[at + 1] = static_cast<char>(0x20);
+  }
+  const std::string bad = kTmp + "/jpeg_images_huge_header.rawlog";
+  std::ofstream(bad, std::ios::binary) << bytes;
+
+  mrpt_adapter::RawlogScanReader raw(bad);
+  const auto [entries, images] = readScansAndImages(raw);
+  EXPECT_EQ(entries, (std::vector<std::size_t>{0, 1, 2, 3})) << "entry 1's laser scan is kept";
+  EXPECT_EQ(images, 2u) << "images 0 and 2; image 1 skipped";
+  ASSERT_EQ(raw.skippedEntries().size(), 1u);
+  EXPECT_EQ(raw.skippedEntries()[0],
+            "rawlog '" + bad + "', entry 1: an oversized JPEG image (JPEG image of 20000 x 20000 pixels; images are "
+            "read from 1 x 1 up to 8192 x 8192 pixels); the entry skipped but its 1 laser scan(s)");
+}
+
 // The observations layout (each observation its own entry), gzip-compressed, two corrupt
 // images: each is skipped with its entry number and the scans after it are read.
 TEST(RecordValidation, CorruptJpegImageEntriesOfAGzipRawlogAreSkippedAndTheScansAfterThemRead) {

@@ -41,6 +41,10 @@
 // one, and skip it (decision 80): see RawlogScanReader::next().
 namespace {
 constexpr const char* kJpegErrorPrefix = "a corrupt JPEG image: ";
+// An image whose JPEG header declares more pixels than the tools read (8192 x 8192, decision
+// 52) is refused from that header, before MRPT's libjpeg allocates and decodes it, and its
+// entry read again like a corrupt image's.
+constexpr const char* kJpegOversizePrefix = "an oversized JPEG image: ";
 thread_local int jpeg_errors_throw = 0;  // > 0 while RawlogScanReader deserialises an entry
 thread_local int jpeg_errors_thrown = 0;  // counts throwJpegError's throws on this thread
 
@@ -184,14 +188,32 @@ class RawlogScanReader::CountingStream : public mrpt::io::CStream {
   }
   // Bytes read right after their own length (4 bytes, little-endian) that start as a JPEG
   // stream (FF D8) are an image's JPEG data, as MRPT reads them just before decoding: data
-  // that does not reach its end-of-image marker fails like a corrupt image.
+  // that does not reach its end-of-image marker fails like a corrupt image, and a frame
+  // header declaring more than the cap's pixels fails before libjpeg allocates them.
   void requireWholeJpeg(const unsigned char* bytes, std::size_t count) const {
     const Place length = reads_[0];
     if (length.count != 4 || count < 2 || bytes[0] != 0xFF || bytes[1] != 0xD8 || overflow_) return;
     const std::uint32_t declared = lengthAt(length.at);
-    if (declared != count || vision::reachesJpegEnd(bytes, count)) return;
+    if (declared != count) return;
+    if (!vision::reachesJpegEnd(bytes, count)) {
+      ++jpeg_errors_thrown;
+      throw std::runtime_error(std::string(kJpegErrorPrefix) + "its data ends before the end-of-image marker");
+    }
+    std::string refused;
+    try {
+      const vision::ImageHeader header =
+          vision::readJpegHeader(std::string(reinterpret_cast<const char*>(bytes), count), "image");
+      vision::requireImageSize(header.width, header.height, "image", "JPEG image");
+      return;
+    } catch (const std::runtime_error& e) {
+      refused = e.what();
+    }
     ++jpeg_errors_thrown;
-    throw std::runtime_error(std::string(kJpegErrorPrefix) + "its data ends before the end-of-image marker");
+    // "image: JPEG image of W x H pixels; ..." (or "'image': invalid JPEG header (...)").
+    if (refused.rfind("image: ", 0) == 0) {
+      throw std::runtime_error(std::string(kJpegOversizePrefix) + refused.substr(std::strlen("image: ")));
+    }
+    throw std::runtime_error(std::string(kJpegErrorPrefix) + refused);
   }
   void readFile(unsigned char* buffer, size_t count, size_t asked) {
     const size_t n = in_.Read(buffer, count);
@@ -235,16 +257,28 @@ const std::vector<unsigned char>& placeholderJpeg() {
 }
 
 // What MRPT's message says failed: the line after "Message:" (its messages carry a stack
-// trace), or a corrupt JPEG image's message (throwJpegError) whatever MRPT wrapped around it.
+// trace), or a corrupt or oversized JPEG image's message (throwJpegError, requireWholeJpeg)
+// whatever MRPT wrapped around it.
 std::string failureOf(const std::exception& e) {
   std::string what = e.what();
-  const auto jpeg = what.find(kJpegErrorPrefix);
+  auto jpeg = what.find(kJpegErrorPrefix);
+  if (jpeg == std::string::npos) jpeg = what.find(kJpegOversizePrefix);
   if (jpeg != std::string::npos) what = "Message: " + what.substr(jpeg);
   const auto m = what.find("Message:");
   if (m != std::string::npos) what = what.substr(m + 8);
   const auto first = what.find_first_not_of(' ');
   what = first == std::string::npos ? std::string() : what.substr(first);
   return what.substr(0, what.find('\n'));
+}
+
+// What was wrong with an image its entry was read again without: "a corrupt JPEG image
+// (why)" or "an oversized JPEG image (JPEG image of W x H pixels; ...)".
+std::string imageFailure(const std::string& what) {
+  if (what.rfind(kJpegOversizePrefix, 0) == 0) {
+    return "an oversized JPEG image (" + what.substr(std::strlen(kJpegOversizePrefix)) + ")";
+  }
+  const bool corrupt = what.rfind(kJpegErrorPrefix, 0) == 0;
+  return "a corrupt JPEG image (" + (corrupt ? what.substr(std::strlen(kJpegErrorPrefix)) : what) + ")";
 }
 }  // namespace
 
@@ -424,8 +458,7 @@ void RawlogScanReader::skipEntryWithCorruptImages(const mrpt::serialization::CSe
     }
   }
   const std::size_t kept_scans = pending_.size() - pending_before;
-  std::string message = "rawlog '" + path_ + "', entry " + std::to_string(entries_read_ - 1) + ": a corrupt JPEG image (" +
-                        corrupt_images.front() + ")";
+  std::string message = "rawlog '" + path_ + "', entry " + std::to_string(entries_read_ - 1) + ": " + corrupt_images.front();
   if (corrupt_images.size() > 1) message += " and " + std::to_string(corrupt_images.size() - 1) + " more";
   message += kept_scans > 0 ? "; the entry skipped but its " + std::to_string(kept_scans) + " laser scan(s)"
                             : "; entry skipped";
@@ -478,8 +511,7 @@ std::optional<RawlogScan> RawlogScanReader::next() {
           }
         }
         if (replayed) {
-          corrupt_images.push_back(what.rfind(kJpegErrorPrefix, 0) == 0 ? what.substr(std::strlen(kJpegErrorPrefix))
-                                                                         : what);
+          corrupt_images.push_back(imageFailure(what));
           continue;
         }
         // A gzip rawlog: zlib says what is wrong with the compressed data (a cut, a check that
