@@ -1,4 +1,5 @@
 #include "lidarseg/apps/BatchApp.h"
+#include "lidarseg/pipeline/Progress.h"
 
 #include <algorithm>
 #include <chrono>
@@ -197,14 +198,14 @@ std::vector<std::string> runSeeds(const BatchJob& base, const std::vector<std::u
     } else {
       failed.push_back("seed " + std::to_string(seed) + ": " + pipeline::exitDescription(status, children[k].log_path));
     }
+    // A line per finished run (the runs' own progress is not shown): readable in a log file,
+    // where pipeline::Progress, redrawn in place on a terminal, is silent; the same estimate.
     if (progress) {
       const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::cerr << "[lidarseg-batch] " << done << "/" << todo.size() << " done (seed " << seed
                 << (ok ? " ok" : " FAILED") << "), " << std::fixed << std::setprecision(0) << elapsed_s << " s";
-      if (done < todo.size()) {
-        std::cerr << ", ~" << elapsed_s / static_cast<double>(done) * static_cast<double>(todo.size() - done)
-                  << " s left";
-      }
+      const double left_s = pipeline::secondsLeft(elapsed_s, done, todo.size(), -1.0);
+      if (left_s >= 0) std::cerr << ", ~" << left_s << " s left";
       std::cerr << std::defaultfloat << "\n";
     }
   });

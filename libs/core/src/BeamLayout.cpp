@@ -1,4 +1,5 @@
 #include "lidarseg/core/BeamLayout.h"
+#include "lidarseg/core/Angles.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -8,7 +9,7 @@
 namespace lidarseg {
 
 namespace {
-constexpr double kTwoPi = 6.283185307179586476925286766559;
+constexpr double kTwoPi = 2.0 * kPi;
 // Last-to-first gap (in mean increments) still counted as one step of a full turn.
 constexpr double kWrapTolerance = 0.5;
 }  // namespace

@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <mrpt/core/bits_math.h>
+
 #include "ConfigKeys.h"
 #include "SectionLoaders.h"
 
@@ -169,7 +171,7 @@ void loadIcpSection(mrpt::slam::CICP::TConfigParams& icp, const detail::LoadedCo
     if (name == "minAbsStep_trans") loaded.minAbsStep_trans = v;
     if (name == "minAbsStep_rot") loaded.minAbsStep_rot = v;
     if (name == "thresholdDist") loaded.thresholdDist = v;
-    if (name == "thresholdAng_DEG") loaded.thresholdAng = v * M_PI / 180.0;
+    if (name == "thresholdAng_DEG") loaded.thresholdAng = mrpt::DEG2RAD(v);  // as CICP's own loader
     if (name == "ALFA") loaded.ALFA = v;
     if (name == "smallestThresholdDist") loaded.smallestThresholdDist = v;
     if (name == "covariance_varPoints") loaded.covariance_varPoints = v;
@@ -179,7 +181,7 @@ void loadIcpSection(mrpt::slam::CICP::TConfigParams& icp, const detail::LoadedCo
     if (name == "ransac_nSimulations") loaded.ransac_nSimulations = count;
     if (name == "normalizationStd") loaded.normalizationStd = v;
     if (name == "ransac_fuseMaxDiffXY") loaded.ransac_fuseMaxDiffXY = v;
-    if (name == "ransac_fuseMaxDiffPhi_DEG") loaded.ransac_fuseMaxDiffPhi = v * M_PI / 180.0;
+    if (name == "ransac_fuseMaxDiffPhi_DEG") loaded.ransac_fuseMaxDiffPhi = mrpt::DEG2RAD(v);
     if (name == "kernel_rho") loaded.kernel_rho = v;
     if (name == "Axy_aprox_derivatives") loaded.Axy_aprox_derivatives = v;
     if (name == "LM_initial_lambda") loaded.LM_initial_lambda = v;

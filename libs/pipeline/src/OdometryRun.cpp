@@ -60,7 +60,7 @@ RunStep OdometryRun::process(const mrpt_adapter::LaserRecord& record) {
   return out;
 }
 
-double OdometryRun::medianStep() const { return steps_.empty() ? 0.1 : summarize(steps_).median; }
+double OdometryRun::medianStep() const { return steps_.empty() ? StampPolicy::kStartStepS : summarize(steps_).median; }
 
 OdometryReport OdometryRun::finish(double max_lost_ratio) {
   OdometryReport r;

@@ -90,10 +90,14 @@ class StampPolicy {
   bool plausible(const Pose2D& increment, const StampStep& step) const;
   const StampPolicyParams& params() const { return params_; }
 
+  /// The time step (s) assumed before two stamps have given one: 10 Hz, the commonest
+  /// scanning rate; replaced by the log's own step from its second scan on.
+  static constexpr double kStartStepS = 0.1;
+
  private:
   StampPolicyParams params_;
   bool have_previous_ = false;
-  double last_log_ = 0.0, last_output_ = 0.0, last_model_ = 0.0, last_dt_ = 0.1;
+  double last_log_ = 0.0, last_output_ = 0.0, last_model_ = 0.0, last_dt_ = kStartStepS;
 };
 
 }  // namespace lidarseg
