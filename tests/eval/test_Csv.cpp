@@ -1,3 +1,4 @@
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,34 @@ TEST(Csv, SplitsTrimsAndKeepsEmptyFields) {
 TEST(Csv, ABlankLineHasNoField) {
   EXPECT_TRUE(splitCsvLine("").empty());
   EXPECT_TRUE(splitCsvLine(" \t\r").empty());
+}
+
+// The reader numbers lines as an editor does (blank and comment lines counted, not given),
+// finds columns by the header's names, and reads '#' as a comment only when asked.
+TEST(CsvReader, GivesRowsWithTheirLineNumbersAndFindsColumnsByName) {
+  std::istringstream in("frame,u_min , v_min\r\n\n# a note\n 3, 10,20\r\n \t\n4,11,21\n");
+  CsvReader reader(in, "t.csv", true);
+  Fields f;
+  ASSERT_TRUE(reader.next(f));
+  EXPECT_EQ(reader.lineNumber(), 1u);
+  reader.setHeader(f);
+  EXPECT_EQ(reader.column("u_min"), 1u);
+  EXPECT_EQ(reader.column("v_min"), 2u);
+  EXPECT_FALSE(reader.column("u_max").has_value());
+  ASSERT_TRUE(reader.next(f));
+  EXPECT_EQ(f, (Fields{"3", "10", "20"}));
+  EXPECT_EQ(reader.where(), "t.csv:4");
+  ASSERT_TRUE(reader.next(f));
+  EXPECT_EQ(f, (Fields{"4", "11", "21"}));
+  EXPECT_EQ(reader.lineNumber(), 6u);
+  EXPECT_FALSE(reader.next(f));
+
+  std::istringstream with_hash("a\n#b,c\n");
+  CsvReader plain(with_hash, "p.csv");
+  ASSERT_TRUE(plain.next(f));
+  ASSERT_TRUE(plain.next(f));
+  EXPECT_EQ(f, (Fields{"#b", "c"})) << "a '#' line is a row unless comments are asked for";
+  EXPECT_EQ(plain.where(), "p.csv:2");
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "lidarseg/eval/Csv.h"
 
+#include <algorithm>
+
 namespace lidarseg::eval {
 
 std::vector<std::string> splitCsvLine(const std::string& line) {
@@ -15,6 +17,27 @@ std::vector<std::string> splitCsvLine(const std::string& line) {
     start = comma + 1;
   }
   return cells;
+}
+
+CsvReader::CsvReader(std::istream& in, std::string source, bool comments)
+    : in_(in), source_(std::move(source)), comments_(comments) {}
+
+bool CsvReader::next(std::vector<std::string>& fields) {
+  while (std::getline(in_, line_)) {
+    ++line_number_;
+    const auto first = line_.find_first_not_of(" \t\r");
+    if (first == std::string::npos) continue;
+    if (comments_ && line_[0] == '#') continue;
+    fields = splitCsvLine(line_);
+    return true;
+  }
+  return false;
+}
+
+std::optional<std::size_t> CsvReader::column(const std::string& name) const {
+  const auto it = std::find(header_.begin(), header_.end(), name);
+  if (it == header_.end()) return std::nullopt;
+  return static_cast<std::size_t>(it - header_.begin());
 }
 
 }  // namespace lidarseg::eval

@@ -34,15 +34,12 @@ std::map<std::size_t, std::vector<TrueFeature>> readTrueFeatures(const std::stri
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open the feature file");
   std::map<std::size_t, std::vector<TrueFeature>> out;
-  std::string line;
-  std::size_t number = 0;
   static const char* kColumns[] = {"scan", "t", "type", "x", "y", "theta", "width", "id", "resolvable", "seen_as"};
-  while (std::getline(in, line)) {
-    ++number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty() || line[0] == '#') continue;
-    if (number == 1 && line.rfind("scan,", 0) == 0) continue;  // header
-    const std::vector<std::string> cols = splitCsvLine(line);
+  CsvReader reader(in, path, true);
+  std::vector<std::string> cols;
+  while (reader.next(cols)) {
+    const std::size_t number = reader.lineNumber();
+    if (number == 1 && cols.size() > 1 && cols[0] == "scan") continue;  // header
     if (cols.size() < 8) fail(path, number, "expected at least 8 columns (scan,t,type,x,y,theta,width,id)");
     auto number_at = [&](std::size_t k) {
       const ParsedNumber v = parseNumber(cols[k]);

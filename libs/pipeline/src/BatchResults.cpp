@@ -39,21 +39,24 @@ std::vector<fs::path> finishedMetricsFiles(const std::string& out_dir) {
 // The data line of one metrics.csv: the seed, then one value per metric.
 std::vector<double> readMetricsRow(const fs::path& f) {
   std::ifstream in(f);
-  std::string header, line;
-  std::getline(in, header);
-  if (!std::getline(in, line)) throw std::runtime_error(f.string() + ":2: missing the data line");
+  eval::CsvReader reader(in, f.string());
+  std::vector<std::string> cells;
+  if (!reader.next(cells) || !reader.next(cells)) {
+    throw std::runtime_error(f.string() + ":2: missing the data line");
+  }
   std::vector<double> row;
-  for (const std::string& cell : eval::splitCsvLine(line)) {
+  for (const std::string& cell : cells) {
     const ParsedNumber parsed = parseNumber(cell);
     const double v = parsed.value;
-    if (parsed.status == ParsedNumber::Status::not_a_number)
-      throw std::runtime_error(f.string() + ":2: '" + cell + "' is not a number");
+    if (parsed.status == ParsedNumber::Status::not_a_number) {
+      throw std::runtime_error(reader.where() + ": '" + cell + "' is not a number");
+    }
     row.push_back(v);
   }
   const std::size_t columns = batchMetricNames().size() + 1;
   if (row.size() != columns) {
-    throw std::runtime_error(f.string() + ":2: " + std::to_string(row.size()) +
-                             " values, expected " + std::to_string(columns));
+    throw std::runtime_error(reader.where() + ": " + std::to_string(row.size()) + " values, expected " +
+                             std::to_string(columns));
   }
   return row;
 }

@@ -62,28 +62,24 @@ void RegionTable::read(const std::string& path) {
 }
 
 void RegionTable::read(std::istream& in, const std::string& source) {
-  std::string line;
-  if (!std::getline(in, line)) throw std::runtime_error(source + ": empty (no header)");
-  const auto header = splitCsvLine(line);
-  auto column = [&](const std::string& name) -> std::optional<std::size_t> {
-    const auto it = std::find(header.begin(), header.end(), name);
-    if (it == header.end()) return std::nullopt;
-    return static_cast<std::size_t>(it - header.begin());
-  };
+  eval::CsvReader reader(in, source);
+  std::vector<std::string> cells;
+  if (!reader.next(cells)) throw std::runtime_error(source + ": empty (no header)");
+  reader.setHeader(cells);
+  const std::vector<std::string>& header = reader.header();
+  const std::string header_at = reader.where();
   std::array<std::size_t, 4> box{};
   const char* names[4] = {"u_min", "v_min", "u_max", "v_max"};
   for (int k = 0; k < 4; ++k) {
-    const auto c = column(names[k]);
-    if (!c) throw std::runtime_error(source + ":1: no column '" + names[k] + "' in the header");
+    const auto c = reader.column(names[k]);
+    if (!c) throw std::runtime_error(header_at + ": no column '" + names[k] + "' in the header");
     box[k] = *c;
   }
-  const auto frame_col = column("frame") ? column("frame") : column("image");
-  const auto file_col = column("file");
-  if (!frame_col && !file_col) throw std::runtime_error(source + ":1: no column 'frame', 'image' or 'file' in the header");
-  for (std::size_t n = 2; std::getline(in, line); ++n) {
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    const auto cells = splitCsvLine(line);
-    const std::string at = source + ":" + std::to_string(n);
+  const auto frame_col = reader.column("frame") ? reader.column("frame") : reader.column("image");
+  const auto file_col = reader.column("file");
+  if (!frame_col && !file_col) throw std::runtime_error(header_at + ": no column 'frame', 'image' or 'file' in the header");
+  while (reader.next(cells)) {
+    const std::string at = reader.where();
     if (cells.size() != header.size()) {
       throw std::runtime_error(at + ": " + std::to_string(cells.size()) + " fields, the header has " +
                                std::to_string(header.size()));
