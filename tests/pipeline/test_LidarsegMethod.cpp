@@ -50,7 +50,7 @@ TEST(LidarsegMethod, GivesTheOdometryOfTheScanOnTheModelClockAndKeepsTheRecord) 
   for (const auto& record : log) {
     const StampStep time = stamps.next(record.stamp_s);
     (time.model_stamp_s == record.scan.stamp_s ? kept : repaired)++;
-    method.process(ScanInput{record, time, std::nullopt});
+    const MethodStep step = method.process(ScanInput{record, time, std::nullopt});
     Scan copy = record.scan;
     copy.stamp_s = time.model_stamp_s;
     const auto expected = reference.process(copy, record.sensor_on_robot);
@@ -65,6 +65,13 @@ TEST(LidarsegMethod, GivesTheOdometryOfTheScanOnTheModelClockAndKeepsTheRecord) 
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) EXPECT_EQ(got.robot_pose.cov(i, j), expected.robot_pose.cov(i, j)) << record.where;
     }
+    // The step returned is the one the report records.
+    const MethodReport& so_far = method.report();
+    EXPECT_EQ(step.stamp_s, time.output_stamp_s) << record.where;
+    EXPECT_EQ(step.pose.x, so_far.trajectory.back().pose.x) << record.where;
+    EXPECT_EQ(step.pose.yaw, so_far.trajectory.back().pose.yaw) << record.where;
+    EXPECT_EQ(step.time_us, so_far.time_us.back()) << record.where;
+    EXPECT_EQ(step.status, &record == &log.front() ? std::string("first") : toString(got.core.status)) << record.where;
     // The record is the log reader's: its stamp is not the model clock's.
     EXPECT_EQ(record.scan.stamp_s, record.stamp_s) << record.where;
   }

@@ -16,7 +16,7 @@ using mrpt_adapter::toPose2D;
 LidarsegMethod::LidarsegMethod(const OdometryParams& params)
     : OdometryMethod("lidarseg"), alignment_(mrpt_adapter::SegmentAlignment::TConfigParams{}, params) {}
 
-void LidarsegMethod::process(const ScanInput& scan) {
+MethodStep LidarsegMethod::process(const ScanInput& scan) {
   // The core reads the motion model's clock from the scan's stamp. While the stamp policy
   // keeps the log's stamp (a log that needed no repair), the record's scan goes as it is;
   // otherwise its ranges go through one buffer kept across scans, which stops allocating
@@ -29,10 +29,10 @@ void LidarsegMethod::process(const ScanInput& scan) {
     timed = &timed_;
   }
   last_ = alignment_.track(*timed, scan.record.sensor_on_robot, scan.prior);
-  record(scan);
+  return record(scan);
 }
 
-void LidarsegMethod::record(const ScanInput& scan) {
+MethodStep LidarsegMethod::record(const ScanInput& scan) {
   const OdometryStep& c = last_.core;
   MethodReport& m = report_;
   m.trajectory.push_back({scan.time.output_stamp_s, toPose2D(last_.robot_pose.mean)});
@@ -63,6 +63,8 @@ void LidarsegMethod::record(const ScanInput& scan) {
   m.final_sigma_x_m = std::sqrt(last_.robot_pose.cov(0, 0));
   m.final_sigma_y_m = std::sqrt(last_.robot_pose.cov(1, 1));
   m.final_sigma_yaw_rad = std::sqrt(last_.robot_pose.cov(2, 2));
+  return {m.trajectory.back().stamp_s, m.trajectory.back().pose, m.time_us.back(),
+          c.first ? std::string("first") : toString(c.status)};
 }
 
 IcpMethod::IcpMethod(std::string name, const mrpt::slam::CICP::TConfigParams& options, bool keyframed,
@@ -81,7 +83,7 @@ Pose2D IcpMethod::predictedIncrement(const ScanInput& scan) const {
   return {last_increment_.x * k, last_increment_.y * k, last_increment_.yaw * k};
 }
 
-void IcpMethod::process(const ScanInput& scan) {
+MethodStep IcpMethod::process(const ScanInput& scan) {
   // A CARMEN line has no observation of its own: made here, outside ICP's time (a reader
   // of rawlogs would hand it over made).
   const auto observation = mrpt_adapter::observationOf(scan.record);
@@ -90,6 +92,7 @@ void IcpMethod::process(const ScanInput& scan) {
   current->insertionOptions.minDistBetweenLaserPoints = 0.0f;
   current->loadFromRangeScan(*observation);
   bool renew = !reference_;
+  std::string status = "first";
   if (reference_) {
     // From the reference: T_ref_curr = T_ref_last (+) predicted increment.
     Pose2D T_ref_curr = compose(relative(pose_, reference_pose_), predictedIncrement(scan));
@@ -99,10 +102,12 @@ void IcpMethod::process(const ScanInput& scan) {
           icp_.AlignPDF(reference_.get(), current.get(), mrpt::poses::CPosePDFGaussian(toMrpt(T_ref_curr)), info);
       T_ref_curr = toPose2D(pdf->getMeanVal());
       const bool converged = info.nIterations < icp_.options.maxIterations;
-      ++report_.status_counts[converged ? "converged" : "not_converged"];
+      status = converged ? "converged" : "not_converged";
+      ++report_.status_counts[status];
       renew = !converged;
     } else {
-      ++report_.status_counts["skipped"];
+      status = "skipped";
+      ++report_.status_counts[status];
       renew = true;
     }
     const Pose2D new_pose = compose(reference_pose_, T_ref_curr);
@@ -118,6 +123,7 @@ void IcpMethod::process(const ScanInput& scan) {
   }
   report_.time_us.push_back(microsecondsSince(t0));
   report_.trajectory.push_back({scan.time.output_stamp_s, pose_});
+  return {scan.time.output_stamp_s, pose_, report_.time_us.back(), status};
 }
 
 }  // namespace lidarseg::pipeline

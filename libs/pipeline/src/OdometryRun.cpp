@@ -43,13 +43,13 @@ RunStep OdometryRun::process(const mrpt_adapter::LaserRecord& record) {
   out.time = gate_.time(record);
   const ScanInput input{record, out.time, priorOf(record, out.time)};
   try {
-    lidarseg_->process(input);
+    out.steps.push_back(lidarseg_->process(input));
   } catch (const std::invalid_argument& e) {
     out.error = gate_.skip(record, e.what());
     return out;
   }
   for (OdometryMethod* m : methods_) {
-    if (m != lidarseg_.get()) m->process(input);
+    if (m != lidarseg_.get()) out.steps.push_back(m->process(input));
   }
   if (settings_.use_odometry && record.odometry) last_odometry_ = record.odometry;
   if (record.log_pose) log_poses_.push_back({out.time.output_stamp_s, *record.log_pose});

@@ -28,14 +28,24 @@ struct ScanInput {
   std::optional<Pose2D> prior;
 };
 
+/// What a method made of one scan (also appended to its MethodReport).
+struct MethodStep {
+  double stamp_s = 0.0;  ///< the output stamp (s)
+  Pose2D pose;           ///< robot pose in the run's odometry frame (m, rad)
+  double time_us = 0.0;  ///< the method's time on the scan (microseconds)
+  /// lidarseg: the tracking status ("ok", "degenerate", "recovered", "lost"; "first");
+  /// ICP: "converged", "not_converged", "skipped" or "first".
+  std::string status;
+};
+
 /// An odometry method: robot poses, scan after scan, into its own MethodReport.
 class OdometryMethod {
  public:
   virtual ~OdometryMethod() = default;
-  /// Processes the next scan and appends its pose, time and status to report().
+  /// Processes the next scan: its step, also appended (pose, time, status) to report().
   /// @throws std::invalid_argument when the scan cannot be used (the run then skips it
   ///         for every method, and this method's state is unchanged).
-  virtual void process(const ScanInput& scan) = 0;
+  virtual MethodStep process(const ScanInput& scan) = 0;
   MethodReport& report() { return report_; }
   const MethodReport& report() const { return report_; }
 
@@ -54,14 +64,14 @@ class LidarsegMethod : public OdometryMethod {
   /// The record's scan goes to the odometry on the stamp policy's clock (StampStep's model
   /// stamp): as it is when that is the log's stamp, otherwise through a buffer reused across
   /// scans. The record is not changed.
-  void process(const ScanInput& scan) override;
+  MethodStep process(const ScanInput& scan) override;
   /// The last processed scan's step (robot pose, increment, core details).
   const mrpt_adapter::SegmentAlignment::TTrackResult& lastStep() const { return last_; }
   /// The tracking core (the last scan's segmentation, sensor frame); only after a process().
   const SegmentOdometry& core() const { return alignment_.trackingCore(); }
 
  private:
-  void record(const ScanInput& scan);
+  MethodStep record(const ScanInput& scan);
   mrpt_adapter::SegmentAlignment alignment_;
   mrpt_adapter::SegmentAlignment::TTrackResult last_;
   Scan timed_;  // a record's scan with a repaired stamp (model clock); reused across scans
@@ -76,7 +86,7 @@ class IcpMethod : public OdometryMethod {
   /// (m, rad) or ICP did not converge; otherwise every scan is the next one's reference.
   IcpMethod(std::string name, const mrpt::slam::CICP::TConfigParams& options, bool keyframed,
             double keyframe_distance_m, double keyframe_angle_rad);
-  void process(const ScanInput& scan) override;
+  MethodStep process(const ScanInput& scan) override;
 
  private:
   Pose2D predictedIncrement(const ScanInput& scan) const;

@@ -34,6 +34,9 @@ struct RunStep {
   StampStep time;
   /// Why it was skipped.
   std::string error;
+  /// When processed: each method's step, lidarseg's first, then the baselines' in the
+  /// report's order.
+  std::vector<MethodStep> steps;
 };
 
 class OdometryRun {
