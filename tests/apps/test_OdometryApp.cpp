@@ -73,12 +73,14 @@ TEST(OdometryApp, SimulatedRunBothMethodsEveryOutput) {
   EXPECT_EQ(r.skipped_count, 0u);
   EXPECT_EQ(r.gt_path, prefix + ".gt.tum");  // found beside the rawlog
   ASSERT_TRUE(r.lidarseg.errors);
-  ASSERT_TRUE(r.icp && r.icp->errors);
+  const pipeline::MethodReport* icp = r.baseline("icp");
+  ASSERT_TRUE(icp && icp->errors);
+  EXPECT_EQ(r.baselines.size(), 1u) << "only the keyframed ICP was asked for";
   EXPECT_GT(r.lidarseg.errors->path_length_m, 15.0);
   EXPECT_LT(r.lidarseg.errors->final_position_error_m, 0.15);
   EXPECT_LT(r.lidarseg.errors->motion.dtheta_rad.mean, 0.002);
   EXPECT_EQ(r.lidarseg.trajectory.size(), r.frames);
-  EXPECT_EQ(r.icp->trajectory.size(), r.frames);
+  EXPECT_EQ(icp->trajectory.size(), r.frames);
   EXPECT_GT(r.speedup_median, 1.0);
   for (const char* f : {"lidarseg.tum", "icp.tum", "wheel-odometry.tum", "timing.csv", "summary.json", "results.md",
                         "trajectories.png", "timing.png"}) {
@@ -103,7 +105,7 @@ TEST(OdometryApp, SimulatedRunBothMethodsEveryOutput) {
   EXPECT_EQ(parsed.at("frames").get<std::size_t>(), r.frames);
   EXPECT_EQ(parsed.at("methods").at("lidarseg").at("tracking").get<std::string>(), r.lidarseg.tracking);
   EXPECT_NEAR(parsed.at("methods").at("icp").at("time_ms").at("median").get<double>(),
-              r.icp->time_summary_us.median * 1e-3, 1e-9);
+              icp->time_summary_us.median * 1e-3, 1e-9);
   EXPECT_EQ(slurp(o.out_dir + "/trajectories.png").substr(1, 3), "PNG");
   // timing.csv: a header and one line per scan; its last column (before ICP's) says whether
   // the recovery search ran, and those rows add up to summary.json's "searches".

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -118,6 +119,28 @@ TEST(LaserLogReader, CarmenLinesBecomeObservationsWithTheRightBeamBearings) {
     EXPECT_EQ(scan.beamValid(i), r->scan.beamValid(i)) << i;
   }
   EXPECT_FALSE(reader.next());
+}
+
+// A record whose scan was made by a program (no per-beam flags, as the simulator's and the
+// synthetic scenes' scans) becomes an observation by the core's own validity test; the
+// flags were read beyond their (empty) end, a crash of the ICP baseline.
+TEST(LaserLogReader, AScanWithoutValidityFlagsBecomesAnObservationByTheCoresTest) {
+  LaserRecord r;
+  r.sensor = "LASER";
+  r.stamp_s = 5.0;
+  r.scan = lidarseg::testing::simulate(lidarseg::testing::officeScene(), lidarseg::testing::makeSensor(181, 180.0, 0.0),
+                                       Pose2D{1.0, 1.0, 0.0}, 3);
+  r.scan.ranges_m[7] = std::numeric_limits<double>::quiet_NaN();
+  ASSERT_TRUE(r.scan.valid.empty());
+  const auto obs = observationOf(r);
+  ASSERT_EQ(obs->getScanSize(), r.scan.size());
+  std::size_t valid = 0;
+  for (std::size_t i = 0; i < r.scan.size(); ++i) {
+    EXPECT_EQ(obs->getScanRangeValidity(i), r.scan.beamValid(i)) << i;
+    valid += r.scan.beamValid(i);
+  }
+  EXPECT_FALSE(obs->getScanRangeValidity(7));
+  EXPECT_GT(valid, 150u);
 }
 
 TEST(LaserLogReader, ScansWithTooFewBeamsAreSkippedAndNamed) {

@@ -32,6 +32,14 @@ namespace fs = std::filesystem;
 OdometryApp::OdometryApp(OdometryOptions options) : options_(std::move(options)) {}
 
 namespace {
+// The baselines the options ask for, by name.
+std::vector<std::string> baselinesOf(const OdometryOptions& o) {
+  std::vector<std::string> names;
+  if (o.baseline_icp) names.emplace_back("icp");
+  if (o.baseline_icp_s2s) names.emplace_back("icp-s2s");
+  return names;
+}
+
 // The configuration file's sections, then the command line's overrides.
 pipeline::RunSettings settingsOf(const OdometryOptions& o) {
   pipeline::RunSettings s;
@@ -40,8 +48,7 @@ pipeline::RunSettings settingsOf(const OdometryOptions& o) {
   if (!o.scan_stamp.empty()) s.config.odometry.scan_stamp = scanStampFromString(o.scan_stamp);
   s.config.odometry.validate();
   s.use_odometry = o.use_odometry;
-  s.icp_keyframed = o.baseline_icp;
-  s.icp_scan_to_scan = o.baseline_icp_s2s;
+  s.baselines = baselinesOf(o);
   return s;
 }
 }  // namespace
@@ -94,7 +101,7 @@ void OdometryApp::claimOutputs(OutputSet& outputs) const {
   // The inputs are also what the publishing of the -o folder never removes. Every file this
   // run may write in the folder is checked against the inputs and the other outputs.
   outputs.claimOutputs({{o.write_rawlog, "--write-rawlog"}, {o.features_out, "--features-out"}},
-                       {{o.out_dir, "-o", pipeline::runOutputNames(o.baseline_icp, o.baseline_icp_s2s, o.plots)}},
+                       {{o.out_dir, "-o", pipeline::runOutputNames(baselinesOf(o), o.plots)}},
                        {o.input, gt_path_, o.relations_path, o.config_path});
 }
 

@@ -93,7 +93,9 @@ mrpt::obs::CObservation2DRangeScan::Ptr observationOf(const LaserRecord& record)
   obs->sensorPose = mrpt::poses::CPose3D(s.x, s.y, 0.0, s.yaw, 0.0, 0.0);
   obs->resizeScan(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const bool valid = scan.valid[i] != 0;  // the line's own test (finite, > 0, < its maximum range)
+    // A CARMEN line's own test (finite, > 0, < its maximum range); a scan made without
+    // flags (by a program, the simulator) has only the core's.
+    const bool valid = scan.valid.empty() ? scan.beamValid(i) : scan.valid[i] != 0;
     obs->setScanRange(i, valid ? static_cast<float>(scan.ranges_m[i]) : obs->maxRange);
     obs->setScanRangeValidity(i, valid);
   }

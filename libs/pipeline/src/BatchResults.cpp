@@ -1,4 +1,5 @@
 #include "lidarseg/pipeline/BatchResults.h"
+#include "lidarseg/pipeline/Baselines.h"
 #include "lidarseg/core/NumberText.h"
 
 #include <algorithm>
@@ -86,7 +87,7 @@ std::size_t metricColumn(const std::string& name) {
 
 // One run's figures in batchMetricNames() order; NaN for what was not measured.
 std::vector<double> runMetrics(const OdometryReport& r) {
-  const auto method = [](const std::optional<MethodReport>& m, std::vector<double>& out) {
+  const auto method = [](const MethodReport* m, std::vector<double>& out) {
     if (!m || !m->errors) {
       out.insert(out.end(), 12, std::nan(""));
       return;
@@ -99,9 +100,10 @@ std::vector<double> runMetrics(const OdometryReport& r) {
                            e.motion.dtheta_rad.stddev});
   };
   std::vector<double> out = {static_cast<double>(r.frames)};
-  method(std::optional<MethodReport>(r.lidarseg), out);
-  method(r.icp, out);
-  out.push_back(r.icp ? r.speedup_median : std::nan(""));  // no ratio without ICP
+  method(&r.lidarseg, out);
+  const MethodReport* icp = r.baseline(kSpeedupBaseline);
+  method(icp, out);
+  out.push_back(icp ? r.speedup_median : std::nan(""));  // no ratio without ICP
   out.push_back(r.lidarseg.errors ? r.lidarseg.errors->path_length_m : std::nan(""));
   return out;
 }

@@ -1,9 +1,11 @@
 #include "lidarseg/pipeline/OdometryMethods.h"
 
 #include <cmath>
+#include <stdexcept>
 
 #include <mrpt/poses/CPosePDFGaussian.h>
 
+#include "lidarseg/pipeline/Baselines.h"
 #include "lidarseg/pipeline/Timing.h"
 #include "lidarseg/mrpt/PoseConversion.h"
 
@@ -124,6 +126,15 @@ MethodStep IcpMethod::process(const ScanInput& scan) {
   report_.time_us.push_back(microsecondsSince(t0));
   report_.trajectory.push_back({scan.time.output_stamp_s, pose_});
   return {scan.time.output_stamp_s, pose_, report_.time_us.back(), status};
+}
+
+std::unique_ptr<OdometryMethod> makeBaseline(const std::string& name, const mrpt_adapter::LidarsegConfig& config) {
+  const OdometryParams& p = config.odometry;
+  if (name == "icp") return std::make_unique<IcpMethod>(name, config.icp, true, p.keyframe_distance_m, p.keyframe_angle_rad);
+  if (name == "icp-s2s") return std::make_unique<IcpMethod>(name, config.icp, false, 0.0, 0.0);
+  std::string known;
+  for (const BaselineKind& k : baselineKinds()) known += (known.empty() ? "'" : ", '") + k.name + "'";
+  throw std::invalid_argument("unknown baseline '" + name + "' (known: " + known + ")");
 }
 
 }  // namespace lidarseg::pipeline

@@ -1,5 +1,7 @@
 #include "lidarseg/pipeline/OdometryRun.h"
+#include "lidarseg/pipeline/Baselines.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -9,14 +11,14 @@ OdometryRun::OdometryRun(const RunSettings& settings) : settings_(settings), gat
   const OdometryParams& p = settings_.config.odometry;
   p.validate();
   lidarseg_ = std::make_unique<LidarsegMethod>(p);
-  methods_.push_back(lidarseg_.get());
-  if (settings_.icp_keyframed) {
-    icp_ = std::make_unique<IcpMethod>("icp", settings_.config.icp, true, p.keyframe_distance_m, p.keyframe_angle_rad);
-    methods_.push_back(icp_.get());
+  // In the registry's order whatever the order asked, each once.
+  for (const BaselineKind& kind : baselineKinds()) {
+    if (std::find(settings_.baselines.begin(), settings_.baselines.end(), kind.name) != settings_.baselines.end()) {
+      baselines_.push_back(makeBaseline(kind.name, settings_.config));
+    }
   }
-  if (settings_.icp_scan_to_scan) {
-    icp_s2s_ = std::make_unique<IcpMethod>("icp-s2s", settings_.config.icp, false, 0.0, 0.0);
-    methods_.push_back(icp_s2s_.get());
+  for (const std::string& name : settings_.baselines) {
+    if (!baselineKind(name)) (void)makeBaseline(name, settings_.config);  // throws, naming the known ones
   }
 }
 
@@ -48,9 +50,7 @@ RunStep OdometryRun::process(const mrpt_adapter::LaserRecord& record) {
     out.error = gate_.skip(record, e.what());
     return out;
   }
-  for (OdometryMethod* m : methods_) {
-    if (m != lidarseg_.get()) out.steps.push_back(m->process(input));
-  }
+  for (const auto& m : baselines_) out.steps.push_back(m->process(input));
   if (settings_.use_odometry && record.odometry) last_odometry_ = record.odometry;
   if (record.log_pose) log_poses_.push_back({out.time.output_stamp_s, *record.log_pose});
   if (record.odometry) wheel_odometry_.push_back({out.time.output_stamp_s, *record.odometry});
@@ -66,13 +66,16 @@ OdometryReport OdometryRun::finish(double max_lost_ratio) {
   OdometryReport r;
   static_cast<RecordCounts&>(r) = gate_.counts();
   r.odometry_jumps = odometry_jumps_;
-  for (OdometryMethod* m : methods_) m->report().time_summary_us = summarize(m->report().time_us);
+  lidarseg_->report().time_summary_us = summarize(lidarseg_->report().time_us);
   r.lidarseg = std::move(lidarseg_->report());
   if (static_cast<double>(r.lidarseg.lost) > max_lost_ratio * static_cast<double>(r.frames)) r.lidarseg.tracking = "lost";
-  if (icp_) r.icp = std::move(icp_->report());
-  if (icp_s2s_) r.icp_s2s = std::move(icp_s2s_->report());
-  if (r.icp && r.lidarseg.time_summary_us.median > 0.0) {
-    r.speedup_median = r.icp->time_summary_us.median / r.lidarseg.time_summary_us.median;
+  for (const auto& m : baselines_) {
+    m->report().time_summary_us = summarize(m->report().time_us);
+    r.baselines.push_back(std::move(m->report()));
+  }
+  const MethodReport* reference = r.baseline(kSpeedupBaseline);
+  if (reference && r.lidarseg.time_summary_us.median > 0.0) {
+    r.speedup_median = reference->time_summary_us.median / r.lidarseg.time_summary_us.median;
   }
   return r;
 }

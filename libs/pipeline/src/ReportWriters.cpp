@@ -1,4 +1,5 @@
 #include "lidarseg/pipeline/ReportWriters.h"
+#include "lidarseg/pipeline/Baselines.h"
 #include "lidarseg/core/Angles.h"
 
 #include <algorithm>
@@ -7,6 +8,7 @@
 #include <iomanip>
 #include <ostream>
 #include <sstream>
+#include <stdexcept>
 #include <utility>
 
 #include "lidarseg/pipeline/JsonText.h"
@@ -86,9 +88,23 @@ Json methodOf(const MethodReport& m) {
 
 std::vector<const MethodReport*> methodsOf(const OdometryReport& r) {
   std::vector<const MethodReport*> methods = {&r.lidarseg};
-  if (r.icp) methods.push_back(&*r.icp);
-  if (r.icp_s2s) methods.push_back(&*r.icp_s2s);
+  for (const MethodReport& b : r.baselines) methods.push_back(&b);
   return methods;
+}
+
+// A baseline's column of timing.csv: "icp-s2s" gives "icp_s2s_total_us".
+std::string timeColumn(const std::string& name) {
+  std::string c = name;
+  std::replace(c.begin(), c.end(), '-', '_');
+  return c + "_total_us";
+}
+
+// A baseline's kind (its file's header, the pictures' label and colour); every baseline a
+// run makes has one.
+const BaselineKind& kindOf(const MethodReport& baseline) {
+  const BaselineKind* k = baselineKind(baseline.name);
+  if (k == nullptr) throw std::logic_error("a baseline of no known kind: '" + baseline.name + "'");
+  return *k;
 }
 
 }  // namespace
@@ -103,8 +119,9 @@ std::string timingCsv(const OdometryReport& report) {
   const MethodReport& l = report.lidarseg;
   std::ostringstream csv;
   csv << "index,stamp_s,segmentation_us,cascade_us,matching_us,total_us,status,matches,refinement_us,"
-         "inlier_ratio,refine_iterations,match_status,prior_x_m,prior_y_m,prior_yaw_rad,searched"
-      << (report.icp ? ",icp_total_us" : "") << (report.icp_s2s ? ",icp_s2s_total_us" : "") << "\n";
+         "inlier_ratio,refine_iterations,match_status,prior_x_m,prior_y_m,prior_yaw_rad,searched";
+  for (const MethodReport& b : report.baselines) csv << ',' << timeColumn(b.name);
+  csv << "\n";
   csv << std::setprecision(9);
   for (std::size_t k = 0; k < l.time_us.size(); ++k) {
     csv << k << ',' << std::fixed << l.trajectory[k].stamp_s << std::defaultfloat << ',' << l.segmentation_us[k]
@@ -112,8 +129,7 @@ std::string timingCsv(const OdometryReport& report) {
         << l.scan_matches[k] << ',' << l.refinement_us[k] << ',' << l.inlier_ratio[k] << ','
         << l.refine_iterations[k] << ',' << l.match_status[k] << ',' << l.prior[k].x << ',' << l.prior[k].y << ','
         << l.prior[k].yaw << ',' << static_cast<int>(l.searched[k]);
-    if (report.icp) csv << ',' << report.icp->time_us[k];
-    if (report.icp_s2s) csv << ',' << report.icp_s2s->time_us[k];
+    for (const MethodReport& b : report.baselines) csv << ',' << b.time_us[k];
     csv << '\n';
   }
   return csv.str();
@@ -139,7 +155,7 @@ Json summaryObject(const OdometryReport& r) {
   if (!r.relations_path.empty()) j["relations"] = r.relations_path;
   j["methods"] = Json::object();
   for (const auto* m : methodsOf(r)) j["methods"][m->name] = methodOf(*m);
-  if (r.icp) j["speedup_median"] = number(r.speedup_median);
+  if (r.baseline(kSpeedupBaseline)) j["speedup_median"] = number(r.speedup_median);
   return j;
 }
 
@@ -192,7 +208,7 @@ void lidarsegCounts(const OdometryReport& r, std::ostream& os) {
   if (r.lidarseg.tracking == "lost") {
     os << "\n**lidarseg lost track**: " << r.lidarseg.lost << " of " << r.frames
        << " scans lost (the prediction was kept); no speed-up is claimed for this run.\n";
-  } else if (r.icp) {
+  } else if (r.baseline(kSpeedupBaseline)) {
     os << "\nSpeed-up (median ICP time / median lidarseg time, same run): " << std::setprecision(1)
        << r.speedup_median << "x\n";
   }
@@ -248,15 +264,16 @@ eval::StampedTrajectory fromFirst(eval::StampedTrajectory t) {
 }  // namespace
 
 std::vector<std::string> runOutputNames() {
-  return {"lidarseg.tum", "icp.tum",    "icp-s2s.tum",      "wheel-odometry.tum", "log-poses.tum",
-          "timing.csv",   "results.md", "trajectories.png", "timing.png",         "summary.json"};
+  std::vector<std::string> names = {"lidarseg.tum", "wheel-odometry.tum", "log-poses.tum", "timing.csv",
+                                    "results.md",   "trajectories.png",   "timing.png",    "summary.json"};
+  for (const BaselineKind& k : baselineKinds()) names.push_back(k.name + ".tum");
+  return names;
 }
 
-std::vector<std::string> runOutputNames(bool icp, bool icp_s2s, bool plots) {
+std::vector<std::string> runOutputNames(const std::vector<std::string>& baselines, bool plots) {
   std::vector<std::string> names = {"lidarseg.tum", "wheel-odometry.tum", "log-poses.tum", "timing.csv", "results.md",
                                     "summary.json"};
-  if (icp) names.push_back("icp.tum");
-  if (icp_s2s) names.push_back("icp-s2s.tum");
+  for (const std::string& b : baselines) names.push_back(b + ".tum");
   if (plots) names.insert(names.end(), {"trajectories.png", "timing.png"});
   return names;
 }
@@ -268,11 +285,9 @@ std::vector<std::string> addRunOutputs(OutputSet& outputs, const std::string& ou
   fs::create_directories(out_dir);
   const auto path = [&](const char* name) { return (fs::path(out_dir) / name).string(); };
   outputs.add(path("lidarseg.tum"), tumText(report.lidarseg.trajectory, "lidarseg robot poses, odometry frame"));
-  if (report.icp) {
-    outputs.add(path("icp.tum"), tumText(report.icp->trajectory, "MRPT ICP (keyframed) robot poses, odometry frame"));
-  }
-  if (report.icp_s2s) {
-    outputs.add(path("icp-s2s.tum"), tumText(report.icp_s2s->trajectory, "MRPT ICP (scan to scan) robot poses, odometry frame"));
+  for (const MethodReport& b : report.baselines) {
+    outputs.add(path((b.name + ".tum").c_str()),
+                tumText(b.trajectory, kindOf(b).description + " robot poses, odometry frame"));
   }
   // The log's own wheel odometry and poses, for tools such as evo to compare with.
   if (!wheel_odometry.empty()) {
@@ -293,8 +308,7 @@ std::vector<std::string> addRunOutputs(OutputSet& outputs, const std::string& ou
                       runOutputNames());
   outputs.add(path("results.md"), markdownTable(report));
   std::vector<std::string> written = {path("lidarseg.tum"), path("timing.csv"), path("summary.json"), path("results.md")};
-  if (report.icp) written.push_back(path("icp.tum"));
-  if (report.icp_s2s) written.push_back(path("icp-s2s.tum"));
+  for (const MethodReport& b : report.baselines) written.push_back(path((b.name + ".tum").c_str()));
   if (!wheel_odometry.empty()) written.push_back(path("wheel-odometry.tum"));
   if (!log_poses.empty()) written.push_back(path("log-poses.tum"));
   return written;
@@ -329,8 +343,7 @@ std::vector<PlotSeries> trajectorySeries(const OdometryReport& report, const Run
   }
   add("wheel odometry", wheel_odometry, kWheelColour, anchor);
   add("lidarseg", report.lidarseg.trajectory, kLidarsegColour, anchor);
-  if (report.icp) add("MRPT ICP keyframed", report.icp->trajectory, kIcpColour, anchor);
-  if (report.icp_s2s) add("MRPT ICP scan to scan", report.icp_s2s->trajectory, kIcpS2sColour, anchor);
+  for (const MethodReport& b : report.baselines) add(kindOf(b).label, b.trajectory, kindOf(b).colour, anchor);
   return series;
 }
 }  // namespace
@@ -342,9 +355,10 @@ void addRunPlots(OutputSet& outputs, const std::string& out_dir, const OdometryR
   std::vector<PlotSeries> hist;
   hist.push_back(makeSeries("lidarseg", kLidarsegColour));
   hist.back().x = report.lidarseg.time_us;
-  if (report.icp) {
-    hist.push_back(makeSeries("MRPT ICP keyframed", kIcpColour));
-    hist.back().x = report.icp->time_us;
+  // lidarseg's time beside the speed-up's baseline (the scan-to-scan one would crowd it).
+  if (const MethodReport* b = report.baseline(kSpeedupBaseline)) {
+    hist.push_back(makeSeries(kindOf(*b).label, kindOf(*b).colour));
+    hist.back().x = b->time_us;
   }
   outputs.add(path("trajectories.png"), plotTrajectoriesPng(trajectorySeries(report, refs, log_poses, wheel_odometry),
                                                             "Trajectories: " + input_name));

@@ -85,8 +85,7 @@ void evaluateRun(const OdometryRun& run, RunReferences& refs, bool log_reference
     report.warnings.push_back(warning);
     report.warning_kinds.add(warning);
   }
-  if (report.icp) evaluate(*report.icp, refs, relations_tolerance_s);
-  if (report.icp_s2s) evaluate(*report.icp_s2s, refs, relations_tolerance_s);
+  for (MethodReport& baseline : report.baselines) evaluate(baseline, refs, relations_tolerance_s);
 }
 
 }  // namespace lidarseg::pipeline

@@ -2,7 +2,8 @@
 /// @file
 /// lidarseg::pipeline: the odometry methods a run compares, behind one interface.
 /// lidarseg (through the MRPT adapter's SegmentAlignment) and MRPT's ICP, keyframed with
-/// lidarseg's policy or scan to scan. A new baseline is one more class.
+/// lidarseg's policy or scan to scan. A new baseline is one more class, one entry of
+/// baselineKinds() (Baselines.h) and one line of makeBaseline().
 
 #include <memory>
 #include <optional>
@@ -14,6 +15,7 @@
 #include "lidarseg/pipeline/RunReport.h"
 #include "lidarseg/core/StampPolicy.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
+#include "lidarseg/mrpt/LidarsegConfig.h"
 #include "lidarseg/mrpt/SegmentAlignment.h"
 
 namespace lidarseg::pipeline {
@@ -97,5 +99,10 @@ class IcpMethod : public OdometryMethod {
   Pose2D reference_pose_, pose_, last_increment_;
   double last_dt_ = 0.0;
 };
+
+/// The baseline method named `name` (baselineKinds()), configured from `config` (its
+/// `[icp]` section; the keyframe policy of its `[odometry]` one).
+/// @throws std::invalid_argument for a name no baseline has, listing the known ones.
+std::unique_ptr<OdometryMethod> makeBaseline(const std::string& name, const mrpt_adapter::LidarsegConfig& config);
 
 }  // namespace lidarseg::pipeline

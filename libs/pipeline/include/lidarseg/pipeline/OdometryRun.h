@@ -21,9 +21,9 @@ struct RunSettings {
   mrpt_adapter::LidarsegConfig config;
   /// The log's wheel odometry as every method's prior (default: constant velocity).
   bool use_odometry = false;
-  /// MRPT ICP keyframed with lidarseg's policy ("icp") and scan to scan ("icp-s2s").
-  bool icp_keyframed = false;
-  bool icp_scan_to_scan = false;
+  /// The baselines to run beside lidarseg, by name (baselineKinds(): "icp", MRPT ICP
+  /// keyframed with lidarseg's policy; "icp-s2s", scan to scan); reported in that order.
+  std::vector<std::string> baselines;
 };
 
 /// The outcome of one record.
@@ -66,8 +66,7 @@ class OdometryRun {
   RecordGate gate_;
   std::size_t odometry_jumps_ = 0;
   std::unique_ptr<LidarsegMethod> lidarseg_;
-  std::unique_ptr<IcpMethod> icp_, icp_s2s_;
-  std::vector<OdometryMethod*> methods_;
+  std::vector<std::unique_ptr<OdometryMethod>> baselines_;
   eval::StampedTrajectory log_poses_, wheel_odometry_;
   std::optional<Pose2D> last_odometry_;
   std::vector<double> steps_;

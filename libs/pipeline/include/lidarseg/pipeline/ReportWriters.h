@@ -31,12 +31,13 @@ std::string markdownTable(const OdometryReport& report);
 /// set's own files and the manifest; what the tool's command line is checked against.
 std::vector<std::string> runOutputNames();
 /// The names of the files one run may write in its output folder: lidarseg.tum, timing.csv,
-/// results.md and summary.json; icp.tum and icp-s2s.tum for the baselines it runs; the two
+/// results.md and summary.json; NAME.tum for each baseline it runs (`baselines`, names of
+/// baselineKinds(): icp.tum, icp-s2s.tum); the two
 /// PNG plots when it draws; wheel-odometry.tum and log-poses.tum always (whether the log has
 /// them is only known once read). What the run's command line is checked against: an input
 /// named like a file this run does not write (`--gt out/icp.tum` without `--baseline icp`)
 /// is not a collision, and a publish never removes an input.
-std::vector<std::string> runOutputNames(bool icp, bool icp_s2s, bool plots);
+std::vector<std::string> runOutputNames(const std::vector<std::string>& baselines, bool plots);
 
 /// Adds a run's text outputs to `outputs`, in OUT_DIR (created): lidarseg.tum, icp.tum and
 /// icp-s2s.tum for the baselines that ran, wheel-odometry.tum and log-poses.tum (the log's

@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "lidarseg/core/Pose2D.h"
@@ -82,10 +83,18 @@ struct OdometryReport : RecordCounts {
   std::string gt_path;
   std::string relations_path;
   MethodReport lidarseg;
-  /// MRPT ICP keyframed like lidarseg ("icp"), and scan to scan ("icp-s2s").
-  std::optional<MethodReport> icp;
-  std::optional<MethodReport> icp_s2s;
-  /// Median keyframed ICP time / median lidarseg time, measured in the same run.
+  /// The baselines run beside it, in baselineKinds()' order (Baselines.h): MRPT ICP
+  /// keyframed like lidarseg ("icp"), scan to scan ("icp-s2s").
+  std::vector<MethodReport> baselines;
+  /// The baseline named `name` (MethodReport::name), or nullptr when it was not run.
+  const MethodReport* baseline(std::string_view name) const {
+    for (const MethodReport& m : baselines) {
+      if (m.name == name) return &m;
+    }
+    return nullptr;
+  }
+  /// Median keyframed ICP time / median lidarseg time, measured in the same run
+  /// (kSpeedupBaseline); 0 without that baseline.
   double speedup_median = 0.0;
   std::vector<std::string> outputs;
 };
