@@ -44,6 +44,11 @@ int main(int argc, char** argv) {
     TCLAP::SwitchArg trace("", "trace", "window: print each shown scan on stdout (for scripts driving it)", cmd);
     if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc, argv, "lidarseg-inspect", {{"--truth", "--gt"}})) return *status;
 
+    // -f, --render and --time each choose the scan: two of them contradict (one was ignored).
+    if (static_cast<int>(frame.isSet()) + static_cast<int>(render_frame.isSet()) + static_cast<int>(time.isSet()) > 1) {
+      std::cerr << "lidarseg-inspect: usage error: -f/--frame, --render and --time each choose the scan; give one\n";
+      return lidarseg::apps::kUsageError;
+    }
     lidarseg::apps::InspectOptions o;
     o.input = input.getValue();
     o.config_path = config.getValue();

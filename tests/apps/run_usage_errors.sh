@@ -68,4 +68,13 @@ check "people draw on csv" 2 "--out 'out/people.csv' and --draw" lidarseg-people
 # An output folder that is a file, or under one: the reason, not the lock's.
 check "-o a file" 2 "usage error: -o 'log.log': an output folder, but a file of that name exists" lidarseg-odometry oz/timing.csv -o log.log
 check "-o under a file" 1 "cannot create the output folder 'log.log/x': Not a directory" lidarseg-segment oz/timing.csv -o log.log/x
+# Two options choosing the scan (one was silently ignored); a time past the log's end.
+check "inspect --time with -f" 2 "usage error: -f/--frame, --render and --time each choose the scan; give one" lidarseg-inspect log.log --draw out.png --time 1 -f 5
+check "inspect --time with --render" 2 "usage error: -f/--frame, --render and --time" lidarseg-inspect log.log --draw out.png --time 1 --render 2
+check "inspect --time past the end" 1 "error: --time 1e+300 s: past the end of 'log.log', whose last scan is at 0 s from its first" lidarseg-inspect log.log --draw out.png --time 1e300 -q
+check "inspect --time negative" 1 "error: --time -2 s: times count from the log's first scan" lidarseg-inspect log.log --draw out.png --time -2 -q
+# An output file that is a FIFO (a device, as root) would be replaced by the publish.
+mkfifo fifo.csv
+check "segment --csv FIFO" 2 "usage error: --csv 'fifo.csv': an output file, but a device, FIFO or socket" lidarseg-segment log.log --csv fifo.csv
+[ -p fifo.csv ] || { echo "FAIL segment --csv FIFO: the FIFO was replaced"; fails=$((fails+1)); }
 [ "$fails" = 0 ] && echo "every wrong command line is a usage error" || exit 1

@@ -146,6 +146,13 @@ TEST(LidarsegConfig, LinesAndDocumentsAParserWouldIgnoreAreErrorsNamingFileAndLi
   const std::string yaml_as_ini = writeTemp("yamlini.ini", "segmentation:\n  wd_threshold_m: 0.5\n");
   EXPECT_EQ(errorOf(yaml_as_ini).rfind(yaml_as_ini + ":1: 'segmentation:' is not a 'key = value' line", 0), 0u)
       << errorOf(yaml_as_ini);
+  // MRPT skips every '@' line but '@define': an '@include' read nothing.
+  const std::string include = writeTemp("include.ini", "@include other.ini\n[segmentation]\nwd_min_points = 3\n");
+  EXPECT_EQ(errorOf(include), include + ":1: '@include other.ini' is no directive the INI reader knows (only "
+                                        "'@define NAME VALUE'); it would be skipped (there is no '@include': give "
+                                        "one file)");
+  const std::string define = writeTemp("define.ini", "@define POINTS 4\n[segmentation]\nwd_min_points = ${POINTS}\n");
+  EXPECT_EQ(LidarsegConfig::loadFile(define).odometry.segmentation.wall_danielsson.min_points, 4u);
   const std::string open_section = writeTemp("opensection.ini", "[matcher\niterations = 3\n");
   EXPECT_EQ(errorOf(open_section), open_section + ":1: '[matcher' opens a section without closing it ('[name]')");
   const std::string two_docs =

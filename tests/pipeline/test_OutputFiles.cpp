@@ -12,6 +12,7 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -381,6 +382,25 @@ TEST(OutputFiles, AnOutputFolderThatIsAFileOrCannotBeMadeIsRefusedWithTheReason)
     EXPECT_EQ(m.find("lock"), std::string::npos) << m;
   }
   EXPECT_EQ(slurp(dir + "/afile"), "x");
+}
+
+// Issue 16: an output file named like a FIFO (or a device: as root, `--csv /dev/null`)
+// was replaced by a regular file at the publish, and a lock left beside it. Refused before
+// anything is made; the node stays.
+TEST(OutputFiles, AnOutputFileThatIsAFifoOrADeviceIsRefusedAndKept) {
+  const std::string dir = freshFolder("output-fifo");
+  const std::string fifo = dir + "/pipe";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+  for (const std::string& path : {fifo, std::string("/dev/null")}) {
+    OutputSet set;
+    const std::string e = usageErrorOf([&] { set.claimOutputs({{path, "--csv"}}, {}, {}); });
+    EXPECT_NE(e.find("--csv '" + path + "': an output file, but a device, FIFO or socket of that name exists"),
+              std::string::npos)
+        << e;
+  }
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_FALSE(fs::exists(dir + "/.lidarseg.lock"));
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
 }
 
 }  // namespace paths

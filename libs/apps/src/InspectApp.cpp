@@ -1,6 +1,7 @@
 #include "lidarseg/apps/InspectApp.h"
 
 #include "lidarseg/apps/CommandLine.h"
+#include "lidarseg/core/NumberText.h"
 #include "lidarseg/vision/ImageFile.h"
 
 #include <algorithm>
@@ -106,11 +107,30 @@ void claimOutputs(const InspectOptions& o, OutputSet& claimed) {
 
 }  // namespace
 
+namespace {
+// How far past the last scan's time --time may ask and still mean the last scan (s).
+constexpr double kTimePastTheEndS = 1.0;
+}  // namespace
+
+std::size_t InspectApp::scanAtTime(inspect::Session& session, double t_s) {
+  if (!std::isfinite(t_s) || t_s < 0.0) {
+    throw std::runtime_error("--time " + numberText(t_s) + " s: times count from the log's first scan (>= 0)");
+  }
+  const double first = session.frame(0).stamp_s;
+  const std::size_t k = session.indexAtTime(first + t_s);
+  const double at = session.frame(k).stamp_s - first;
+  if (t_s > at + kTimePastTheEndS) {
+    throw std::runtime_error("--time " + numberText(t_s) + " s: past the end of '" + options_.input +
+                             "', whose last scan is at " + numberText(std::round(at * 1e3) / 1e3) + " s from its first");
+  }
+  return k;
+}
+
 int InspectApp::run() {
   OutputSet claimed;
   claimOutputs(options_, claimed);
   auto session = open();
-  if (options_.time_s) options_.frame = session->indexAtTime(session->frame(0).stamp_s + *options_.time_s);
+  if (options_.time_s) options_.frame = scanAtTime(*session, *options_.time_s);
   if (!options_.report_dir.empty()) {
     const InspectReport r = writeReport(*session);
     std::cout << "report: " << options_.report_dir << "/index.html (" << r.scans << " scans, " << r.gallery.size()

@@ -2,6 +2,7 @@
 #include "lidarseg/core/NumberText.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -348,7 +349,15 @@ void checkIniStructure(const std::string& path, const std::string& text) {
   std::map<std::pair<std::string, std::string>, int> seen;
   for (int number = 1; std::getline(in, line); ++number) {
     const std::string t = trim(line);
-    if (t.empty() || t[0] == '#' || t[0] == ';' || t[0] == '@' || t.rfind("//", 0) == 0) continue;
+    if (t.empty() || t[0] == '#' || t[0] == ';' || t.rfind("//", 0) == 0) continue;
+    // MRPT's preprocessor knows '@define NAME VALUE' and skips any other '@' line silently
+    // ('@include other.ini' read nothing).
+    if (t[0] == '@') {
+      if (t.rfind("@define", 0) == 0 && t.size() > 7 && std::isspace(static_cast<unsigned char>(t[7]))) continue;
+      throw std::invalid_argument(path + ":" + std::to_string(number) + ": '" + t.substr(0, 80) +
+                                  "' is no directive the INI reader knows (only '@define NAME VALUE'); it would be "
+                                  "skipped (there is no '@include': give one file)");
+    }
     if (t[0] == '[') {
       if (t.find(']') == std::string::npos) {
         throw std::invalid_argument(path + ":" + std::to_string(number) + ": '" + t +

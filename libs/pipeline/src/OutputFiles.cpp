@@ -361,6 +361,12 @@ void OutputSet::claimOutputs(const std::vector<NamedOutput>& files, const std::v
     if (!o.folder && fs::is_directory(status)) {
       throw UsageError(quoted(o) + ": an output file, but a folder of that name exists; choose another name");
     }
+    // A device, FIFO or socket: the publish (a rename over it) would replace the node itself
+    // (as root, `--csv /dev/null` replaced the machine's /dev/null with a file).
+    if (!o.folder && fs::exists(status) && !fs::is_regular_file(status)) {
+      throw UsageError(quoted(o) + ": an output file, but a device, FIFO or socket of that name exists, which the "
+                                   "run's publish would replace; give a regular file's name");
+    }
   }
   for (std::size_t i = 0; i < planned.size(); ++i) {
     for (std::size_t j = i + 1; j < planned.size(); ++j) {

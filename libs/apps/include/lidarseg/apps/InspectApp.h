@@ -74,6 +74,9 @@ class InspectApp {
   std::unique_ptr<inspect::Session> open();
 
  private:
+  // The scan nearest `t_s` seconds after the first; an error for a negative or non-finite
+  // time, or one more than a second past the last scan.
+  std::size_t scanAtTime(inspect::Session& session, double t_s);
   // Draws options_.frame headless to options_.render_out (PNG or SVG).
   void render(inspect::Session& session);
   int window(inspect::Session& session);
