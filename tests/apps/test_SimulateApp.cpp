@@ -14,6 +14,7 @@
 #include "FolderEvents.h"
 
 #include "lidarseg/apps/SimulateApp.h"
+#include "lidarseg/logs/CarmenLogReader.h"
 #include "lidarseg/mrpt/RawlogScanReader.h"
 #include "lidarseg/mrpt/ScanConverter.h"
 
@@ -157,6 +158,32 @@ TEST(SimulateApp, GroundTruthMatchesTheTrajectoryAndTheRawlog) {
   }
   EXPECT_EQ(lasers, 401u);
   EXPECT_EQ(odoms, 401u);
+}
+
+// Issue 16: a configured beam count and field of view reach the CARMEN file as they reach
+// the rawlog (its ROBOTLASER1 lines carried the sensor profile's 270 degrees for 181 beams
+// over 180, so every reader of the CARMEN file saw another sensor).
+TEST(SimulateApp, TheCarmenFileCarriesTheConfiguredBeamLayout) {
+  const std::string ini = testDir() + "/half.ini";
+  std::ofstream(ini) << "[simulation]\nnum_beams = 181\nfield_of_view_rad = 3.141592653589793\n";
+  SimulateOptions o = shortRun("half", 2);
+  o.config_path = ini;
+  o.camera_every_scans = 0;
+  SimulateApp(o).run();
+  mrpt_adapter::RawlogScanReader rawlog(o.out_prefix + ".rawlog");
+  const auto first = rawlog.next();
+  ASSERT_TRUE(first);
+  ASSERT_EQ(first->observation->getScanSize(), 181u);
+  EXPECT_NEAR(first->observation->aperture, M_PI, 1e-6);
+  logs::CarmenLogReader carmen(o.out_prefix + ".carmen.log");
+  std::size_t lines = 0;
+  while (const auto laser = carmen.next()) {
+    ASSERT_EQ(laser->ranges_m.size(), 181u);
+    EXPECT_NEAR(laser->angular_resolution_rad * 180.0, M_PI, 1e-4) << "line " << laser->line;
+    EXPECT_NEAR(laser->start_angle_rad, -0.5 * M_PI, 1e-5) << "line " << laser->line;
+    ++lines;
+  }
+  EXPECT_GT(lines, 50u);
 }
 
 TEST(SimulateApp, BadInputNamesTheFileAndLeavesNoOutput) {

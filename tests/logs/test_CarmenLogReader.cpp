@@ -185,7 +185,7 @@ TEST(CarmenLogReader, AZeroResolutionOrANonPositiveMaximumRangeIsNamedWithItsVal
   // ROBOTLASER1 type start fov res maxr acc rem n r.. nrem laser(3) robot(3) tv rv fs ss ta ts host lts
   const auto robotLaser = [](const std::string& res, const std::string& max_range, double ts) {
     const std::string t = std::to_string(ts);
-    return "ROBOTLASER1 0 -1.5 3.0 " + res + " " + max_range + " 0.01 0 5 1 1 1 1 1 0 0 0 0 0 0 0 0 0 0 0 0 " +
+    return "ROBOTLASER1 0 -1.0 2.0 " + res + " " + max_range + " 0.01 0 5 1 1 1 1 1 0 0 0 0 0 0 0 0 0 0 0 0 " +
            t + " h " + t + "\n";
   };
   const std::string text = robotLaser("0", "20", 1.0) + robotLaser("0.5", "0", 2.0) + robotLaser("0.5", "-3", 3.0) +
@@ -267,6 +267,33 @@ TEST(CarmenLogReader, AStampBeyondTheYear2286SkipsItsLineWithItsPlace) {
   EXPECT_NE(reader.issues()[0].find("ipc_timestamp"), std::string::npos) << reader.issues()[0];
   EXPECT_NE(reader.issues()[0].find("not a time stamp"), std::string::npos) << reader.issues()[0];
   EXPECT_NE(reader.issues()[1].find("stamps.log:3"), std::string::npos) << reader.issues()[1];
+}
+
+// A ROBOTLASER1 line's field of view must be what its beams span, and no laser line may span
+// more than a full turn: a field of view of 0.1 rad on 181 beams of 1 degree was read as
+// the resolution says (1031 degrees for the attack's line), silently.
+TEST(CarmenLogReader, ALineWhoseBeamsSpanMoreThanATurnOrDisagreeWithItsFieldOfViewIsSkipped) {
+  const auto robotlaser = [](double fov, double res, double ts) {
+    std::string s = "ROBOTLASER1 0 " + std::to_string(-0.5 * fov) + " " + std::to_string(fov) + " " +
+                    std::to_string(res) + " 30 0.01 0 5 1 1 1 1 1 0";
+    s += " 0 0 0 0 0 0 0 0 0 0 0 " + std::to_string(ts) + " host " + std::to_string(ts) + "\n";
+    return s;
+  };
+  const double quarter = 0.785398;  // 5 beams of 45 degrees span 180
+  const std::string text = robotlaser(4 * quarter, quarter, 1.0) + robotlaser(0.1, quarter, 2.0) +
+                           robotlaser(12.0, 3.0, 3.0) + robotlaser(5 * quarter, quarter, 4.0) +
+                           robotlaser(-4 * quarter, -quarter, 5.0);
+  CarmenLogReader reader(writeText("fov.log", text));
+  std::vector<double> stamps;
+  while (auto l = reader.next()) stamps.push_back(l->stamp_s);
+  // Over n - 1 or n steps (writers differ), and clockwise, the field of view is the beams'.
+  EXPECT_EQ(stamps, (std::vector<double>{1.0, 4.0, 5.0}));
+  ASSERT_EQ(reader.issues().size(), 2u);
+  EXPECT_NE(reader.issues()[0].find("fov.log:2: ROBOTLASER1: field of view 0.1 rad disagrees with 5 beams of 0.785398 rad"),
+            std::string::npos)
+      << reader.issues()[0];
+  EXPECT_NE(reader.issues()[1].find("fov.log:3: ROBOTLASER1: 5 beams of 3 rad span 12 rad, more than a full turn"), std::string::npos)
+      << reader.issues()[1];
 }
 
 // A hexadecimal float ("0x1p0", which strtod reads as 1) is no number of any CARMEN writer:

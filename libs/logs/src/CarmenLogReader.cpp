@@ -6,6 +6,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <optional>
 #include <cstdlib>
 #include <set>
 #include <stdexcept>
@@ -121,6 +122,7 @@ bool CarmenLogReader::parseLaser(const std::string& type, const std::vector<std:
                                  CarmenLaser& out) {
   out.type = type;
   out.line = reader_.lineNumber();
+  std::optional<double> declared_fov;  // ROBOTLASER1's own field of view (rad)
   const bool front = type != "RLASER";
   const std::string side = front ? "front" : "rear";
   if (type == "ROBOTLASER1") {
@@ -128,7 +130,7 @@ bool CarmenLogReader::parseLaser(const std::string& type, const std::vector<std:
     //   n r1..rn n_rem rem1..rem_nrem laser_x laser_y laser_theta robot_x robot_y robot_theta
     //   tv rv forward_safety side_safety turn_axis ipc_ts host logger_ts
     out.start_angle_rad = finiteNumber(f, 2, "start_angle");
-    finiteNumber(f, 3, "field_of_view");
+    declared_fov = finiteNumber(f, 3, "field_of_view");
     out.angular_resolution_rad = finiteNumber(f, 4, "angular_resolution");
     out.max_range_m = finiteNumber(f, 5, "maximum_range");
     const std::size_t n = count(f, 8, "num_readings");
@@ -180,6 +182,20 @@ bool CarmenLogReader::parseLaser(const std::string& type, const std::vector<std:
   if (!std::isfinite(out.angular_resolution_rad) || out.angular_resolution_rad == 0.0) {
     throw std::invalid_argument("angular resolution " + numberText(out.angular_resolution_rad) +
                                 " rad: a non-zero resolution is needed");
+  }
+  // The beams' span: at most a full turn (give or take one step, a 360-degree scanner's
+  // first and last beams may coincide), and what a ROBOTLASER1 line says it is (give or take
+  // one step: writers count the field of view over n or n - 1 steps).
+  const double step = std::abs(out.angular_resolution_rad);
+  const double spanned = static_cast<double>(out.ranges_m.size() - 1) * step;
+  if (spanned > 2.0 * kPi + step) {
+    throw std::invalid_argument(std::to_string(out.ranges_m.size()) + " beams of " + numberText(step) + " rad span " +
+                                numberText(spanned) + " rad, more than a full turn");
+  }
+  if (declared_fov && std::abs(std::abs(*declared_fov) - spanned) > step + 1e-6) {
+    throw std::invalid_argument("field of view " + numberText(*declared_fov) + " rad disagrees with " +
+                                std::to_string(out.ranges_m.size()) + " beams of " + numberText(step) + " rad (" +
+                                numberText(spanned) + " rad)");
   }
   if (!(out.max_range_m > 0.0)) {
     throw std::invalid_argument("maximum range " + numberText(out.max_range_m) + " m: it must be > 0");

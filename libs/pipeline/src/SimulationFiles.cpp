@@ -62,13 +62,15 @@ void writeFeatureRow(std::ostream& os, std::size_t i, double t, const sim::Featu
 }
 
 // The ROBOTLASER1 and ODOM lines of one scan (CARMEN); both poses are the wheel odometry.
-void writeCarmenLines(std::ostream& c, const sim::SimulatedFrame& f,
-                      const sim::SensorModel& sensor) {
-  const double fov = std::abs(sensor.layout->angles().back() - sensor.layout->angles().front());
-  const double step = fov / static_cast<double>(f.scan.size() - 1);
+// The beams' geometry is the simulated scan's own (the rawlog's): a configured beam count or
+// field of view overrides the sensor profile's.
+void writeCarmenLines(std::ostream& c, const sim::SimulatedFrame& f) {
+  const std::size_t n = f.scan.size();
+  const double fov = std::abs(f.scan.layout->angle(n - 1) - f.scan.layout->angle(0));
+  const double step = fov / static_cast<double>(n - 1);
   const double t = f.stamp_s;
   c << std::setprecision(6) << "ROBOTLASER1 0 " << -0.5 * fov << ' ' << fov << ' ' << step << ' '
-    << sensor.max_range_m << " 0.01 0 " << f.scan.size();
+    << f.scan.max_range_m << " 0.01 0 " << n;
   c << std::setprecision(4);
   for (double r : f.scan.ranges_m) c << ' ' << r;
   c << " 0 " << f.odometry.x << ' ' << f.odometry.y << ' ' << f.odometry.yaw << ' ' << f.odometry.x
@@ -124,7 +126,7 @@ void SimulationFiles::write(std::size_t i, const sim::SimulatedFrame& f) {
     (lidarseg::isDoor(ft.type) ? counts_.door_sightings : counts_.corner_sightings)++;
   }
   if (f.has_image) writeImage(i, f, counts_.images++);
-  if (carmen_) writeCarmenLines(carmen_->out(), f, params_.sensor);
+  if (carmen_) writeCarmenLines(carmen_->out(), f);
   ++counts_.scans;
 }
 
