@@ -125,6 +125,13 @@ TEST(WorldFile, DoorsGivenTwiceOverlappingOrOnNoWallAreRefused) {
             "test.world:3: door lies on no wall (no wall runs along its jambs' line within 1 mm)");
   EXPECT_EQ(errorOf(wall + "door open 11 0 12 0\n"),
             "test.world:2: door lies on no wall (no wall runs along its jambs' line within 1 mm)");
+  // Reaching past the wall's end, or wider than the wall: the whole wall would be cut away.
+  EXPECT_EQ(errorOf(wall + "door open 8 0 12 0\n"),
+            "test.world:2: door extends beyond its wall (the walls along its jambs' line hold 2 m of its 4 m)");
+  EXPECT_EQ(errorOf(wall + "door open -5 0 20 0\n"),
+            "test.world:2: door extends beyond its wall (the walls along its jambs' line hold 10 m of its 25 m)");
+  // A door across two collinear walls meeting at a point is held whole.
+  EXPECT_EQ(parse("wall 0 0 5 0\nwall 5 0 10 0\ndoor open 4 0 6 0\n").doors().size(), 1u);
   // Two doors sharing a jamb, and a door cutting a wall declared later, are fine.
   const World w = parse("door open 4 0 5 0\ndoor closed 5 0 6 0 0.1\n" + wall);
   EXPECT_EQ(w.doors().size(), 2u);

@@ -91,6 +91,18 @@ bool World::holdsDoor(const Door& door) const {
   return false;
 }
 
+double World::wallAlongDoor(const Door& door) const {
+  const Eigen::Vector2d d = (door.jamb_b - door.jamb_a) / door.width();
+  const Eigen::Vector2d left(-d.y(), d.x());
+  double covered = 0.0;
+  for (const Wall& w : walls_) {
+    if (onLine(w.a, door.jamb_a, left) && onLine(w.b, door.jamb_a, left)) {
+      covered += std::max(0.0, sharedLength(door.jamb_a, d, door.width(), w.a, w.b));
+    }
+  }
+  return covered;
+}
+
 void World::addDoor(const Door& door) {
   const Eigen::Vector2d a = door.jamb_a, b = door.jamb_b;
   const double width = (b - a).norm();

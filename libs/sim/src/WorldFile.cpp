@@ -143,6 +143,15 @@ void checkDoors(const World& walls, const std::vector<Door>& doors, const std::v
     if (!walls.holdsDoor(doors[j])) {
       throw std::runtime_error(at(j) + ": door lies on no wall (no wall runs along its jambs' line within 1 mm)");
     }
+    // A door reaching past its wall's end (or wider than it) would cut the whole wall and
+    // be counted as ground truth with no wall around it.
+    constexpr double kCoverTolerance = 1e-3;  // m, the tolerance doors cut walls with
+    const double covered = walls.wallAlongDoor(doors[j]);
+    if (covered < doors[j].width() - kCoverTolerance) {
+      throw std::runtime_error(at(j) + ": door extends beyond its wall (the walls along its jambs' line hold " +
+                               numberText(std::round(covered * 1e3) / 1e3) + " m of its " +
+                               numberText(std::round(doors[j].width() * 1e3) / 1e3) + " m)");
+    }
   }
 }
 

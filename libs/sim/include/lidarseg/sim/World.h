@@ -85,6 +85,10 @@ class World {
   /// True when a wall lies on the door's line (within 1 mm) and overlaps its opening by
   /// more than 1 mm: addDoor would cut it. O(number of walls).
   bool holdsDoor(const Door& door) const;
+  /// How much of the door's width (m) the walls along its jambs' line cover (the walls'
+  /// shares summed: at most the width when they do not overlap); a door in one wall is
+  /// covered whole, a door reaching past its wall's end is not.
+  double wallAlongDoor(const Door& door) const;
 
   void addWall(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                SurfaceKind kind = SurfaceKind::kWall) {
