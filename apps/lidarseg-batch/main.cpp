@@ -35,7 +35,7 @@ int aggregateMain(int argc, char** argv) {
   if (const auto status = lidarseg::apps::parseCommandLine(cmd, argc - 1, argv + 1, "lidarseg-batch aggregate")) return *status;
   const auto s = lidarseg::apps::BatchApp::aggregate(dir.getValue(), title.getValue().empty() ? dir.getValue() : title.getValue());
   std::cout << s.table_markdown;
-  return 0;
+  return lidarseg::apps::exitAfterStdout("lidarseg-batch", 0);
 }
 
 // The options of `run` and `one`, registered with their command line.
@@ -106,7 +106,7 @@ int runAll(JobArguments& a, const char* argv0) {
                                                  a.title.getValue().empty() ? job.out_dir : a.title.getValue());
   for (const auto& f : outcome.failed) std::cerr << "lidarseg-batch: failed: " << f << "\n";
   std::cout << outcome.summary.table_markdown;
-  return outcome.failed.empty() ? 0 : 3;
+  return lidarseg::apps::exitAfterStdout("lidarseg-batch", outcome.failed.empty() ? 0 : 3);
 }
 
 // `lidarseg-batch run` and `lidarseg-batch one`.

@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
     lidarseg::apps::FeaturesApp::print(result, std::cout);
     std::cout.flush();
     lidarseg::apps::FeaturesApp::printWarnings(result, std::cerr);
-    return 0;
+    return lidarseg::apps::exitAfterStdout("lidarseg-features", 0);
   } catch (const std::exception& e) {
     return lidarseg::apps::errorExit("lidarseg-features", e);
   }

@@ -127,7 +127,7 @@ int main(int argc, char** argv) {
     lidarseg::pipeline::printRunSummary(report, std::cout);
     lidarseg::pipeline::printRunWarnings(report, "lidarseg-odometry", std::cerr);
     warnIfLost(report, options->max_lost_ratio);
-    return report.log_error.empty() ? 0 : 3;
+    return lidarseg::apps::exitAfterStdout("lidarseg-odometry", report.log_error.empty() ? 0 : 3);
   } catch (const std::exception& e) {
     return lidarseg::apps::errorExit("lidarseg-odometry", e);
   }

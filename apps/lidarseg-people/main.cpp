@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
     const lidarseg::apps::PeopleReport result = app.run();
     lidarseg::apps::PeopleApp::print(result, std::cout);
     lidarseg::apps::PeopleApp::printWarnings(result, std::cerr);
-    return 0;
+    return lidarseg::apps::exitAfterStdout("lidarseg-people", 0);
   } catch (const std::exception& e) {
     return lidarseg::apps::errorExit("lidarseg-people", e);
   }

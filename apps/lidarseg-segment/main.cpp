@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
     lidarseg::apps::SegmentStatsApp::print(result, std::cout);
     std::cout.flush();
     lidarseg::apps::SegmentStatsApp::printWarnings(result, std::cerr);
-    return 0;
+    return lidarseg::apps::exitAfterStdout("lidarseg-segment", 0);
   } catch (const std::exception& e) {
     return lidarseg::apps::errorExit("lidarseg-segment", e);
   }

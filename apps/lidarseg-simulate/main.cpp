@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
     std::cout << "lidarseg-simulate: " << r.rawlog_path << ": " << r.scans << " scans, " << r.images
               << " images, " << r.length_m << " m in " << r.duration_s << " s; "
               << r.door_sightings << " door and " << r.corner_sightings << " corner sightings\n";
-    return 0;
+    return lidarseg::apps::exitAfterStdout("lidarseg-simulate", 0);
   } catch (const std::exception& e) {
     return lidarseg::apps::errorExit("lidarseg-simulate", e);
   }

@@ -77,4 +77,12 @@ check "inspect --time negative" 1 "error: --time -2 s: times count from the log'
 mkfifo fifo.csv
 check "segment --csv FIFO" 2 "usage error: --csv 'fifo.csv': an output file, but a device, FIFO or socket" lidarseg-segment log.log --csv fifo.csv
 [ -p fifo.csv ] || { echo "FAIL segment --csv FIFO: the FIFO was replaced"; fails=$((fails+1)); }
+# A report that cannot be written to stdout (a full disk) is the run's error, not a success.
+for tool in lidarseg-segment lidarseg-features; do
+  "$bin/$tool" -q log.log > /dev/full 2> stderr.txt < /dev/null
+  rc=$?
+  if [ "$rc" != 1 ] || ! grep -q "$tool: error: cannot write the report to standard output" stderr.txt; then
+    echo "FAIL $tool > /dev/full: exit $rc"; cat stderr.txt; fails=$((fails+1))
+  fi
+done
 [ "$fails" = 0 ] && echo "every wrong command line is a usage error" || exit 1

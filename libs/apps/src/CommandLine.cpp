@@ -119,6 +119,13 @@ int errorExit(const std::string& tool, const std::exception& e) {
   return 1;
 }
 
+int exitAfterStdout(const std::string& tool, int status) {
+  std::cout.flush();
+  if (std::cout) return status;
+  std::cerr << tool << ": error: cannot write the report to standard output (a full disk or a closed pipe)\n";
+  return 1;
+}
+
 OutputTarget outputTarget(const std::string& value, const std::string& legacy_suffix, const std::string& tool) {
   OutputTarget t;
   const bool legacy = value.size() > legacy_suffix.size() &&

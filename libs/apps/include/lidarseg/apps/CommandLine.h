@@ -54,6 +54,11 @@ OutputTarget outputTarget(const std::string& value, const std::string& legacy_su
 /// and kUsageError for a UsageError, else "TOOL: error: ..." and 1.
 int errorExit(const std::string& tool, const std::exception& e);
 
+/// The exit status of a run that printed its report on stdout: `status`, or 1 after an
+/// error line on stderr when stdout could not be written (a full disk, a closed pipe: the
+/// report lost while the run said success).
+int exitAfterStdout(const std::string& tool, int status);
+
 /// Runs `check`, a parser or validator of option `option`'s value, and makes the
 /// std::invalid_argument it throws a UsageError naming the option (once: a message that
 /// starts with the option's name is kept as it is).
