@@ -525,6 +525,14 @@ void FeatureDetector::detectDoors(const Segmentation& segmentation, const ScanGe
 #else
 #define LIDARSEG_FLUSH_LEAF_CLONES
 #endif
+// Its per-beam loops are lambdas called from two places (a run that wraps past the last beam
+// has two ranges); inlined, so that they are compiled in each copy (an out-of-line lambda
+// is neither cloned nor given the locals' registers).
+#if defined(__GNUC__)
+#define LIDARSEG_INLINE __attribute__((always_inline))
+#else
+#define LIDARSEG_INLINE
+#endif
 
 LIDARSEG_FLUSH_LEAF_CLONES
 void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const ScanGeometry& geometry,
@@ -543,8 +551,9 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
   // Per-thread scratch: no allocation once grown.
   thread_local std::vector<double> tl_weight, tl_sum, tl_sum_sq, tl_plain, tl_along, tl_steps;
   thread_local std::vector<double> tl_before_mean, tl_before_ss, tl_after_mean, tl_after_ss;
+  thread_local std::vector<double> tl_before_plain, tl_after_plain;
   thread_local std::vector<double> tl_term_r, tl_term_w, tl_term_along;
-  thread_local std::vector<std::uint32_t> tl_beam_of, tl_starts, tl_ends, tl_wall_from, tl_wall_to;
+  thread_local std::vector<std::uint32_t> tl_beam_of, tl_starts, tl_ends, tl_wall_from, tl_wall_to, tl_bin_at;
   thread_local std::vector<Leaf> tl_leaves, tl_candidates;
   // Bound once: every use of a thread_local may look its address up again.
   std::vector<double>&weight = tl_weight, &sum = tl_sum, &sum_sq = tl_sum_sq, &steps = tl_steps;
@@ -552,8 +561,9 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
   std::vector<double>&term_r_v = tl_term_r, &term_w_v = tl_term_w, &term_along_v = tl_term_along;
   std::vector<double>&before_mean = tl_before_mean, &before_ss = tl_before_ss, &after_mean = tl_after_mean,
                       &after_ss = tl_after_ss;
+  std::vector<double>&before_plain = tl_before_plain, &after_plain = tl_after_plain;
   std::vector<std::uint32_t>&beam_of = tl_beam_of, &starts = tl_starts, &ends = tl_ends;
-  std::vector<std::uint32_t>&wall_from = tl_wall_from, &wall_to = tl_wall_to;
+  std::vector<std::uint32_t>&wall_from = tl_wall_from, &wall_to = tl_wall_to, &bin_at = tl_bin_at;
   std::vector<Leaf>&leaves = tl_leaves, &candidates = tl_candidates;
   // A run of consecutive segments on one line (parallel, each end within the collinearity
   // tolerance of the first's line, no beam between them): the segmenter may
@@ -610,19 +620,49 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
     std::size_t n = 0;
     weight[0] = sum[0] = sum_sq[0] = plain[0] = 0.0;
     const double nx = normal.x(), ny = normal.y(), rho = rho_line;
-    double acc_w = 0.0, acc = 0.0, acc_sq = 0.0, acc_plain = 0.0;  // in registers: no store-to-load chain through the arrays
+    double acc_plain = 0.0;  // in a register: no store-to-load chain through the array
     // The run's beams are one or (wrapping past the last beam) two contiguous ranges: no
     // wrap test per point; raw pointers, as the stores cannot move the vectors. Each range
-    // in two passes: every beam's terms first (no branch, no dependency between beams: the
-    // divisions go two at a time), then the prefix sums over the valid beams, in scan order
-    // as before (the same operations on the same values, so the same sums).
+    // in two passes: every beam's terms first (no branch, no dependency between beams),
+    // then the prefix sums over the valid beams, in scan order.
     const Eigen::Vector2d* const points = segmentation.points.data();
     double *const weight_p = weight.data(), *const sum_p = sum.data(), *const sum_sq_p = sum_sq.data(),
                   *const plain_p = plain.data(), *const along_p = along_of.data();
     double *const term_r = term_r_v.data(), *const term_w = term_w_v.data(), *const term_along = term_along_v.data();
     std::uint32_t* const beam_p = beam_of.data();
     const double tx = t.x(), ty = t.y();
-    auto accumulate = [&](std::size_t from, std::size_t to) {
+    // First only what places the candidate steps and the walls beside them: the plain
+    // distances' prefix sums and the abscissae. The weighted sums (a division per point and
+    // three more dependent sums) are computed by weighRun only for a run with a pair of
+    // steps whose plain means are behind the wall on both sides by `edge` (below).
+    auto accumulate = [&](std::size_t from, std::size_t to) LIDARSEG_INLINE {
+      const Eigen::Vector2d* const q = points + from;
+      const std::size_t count = to - from;
+#pragma omp simd
+      for (std::size_t c = 0; c < count; ++c) {
+        const double x = q[c].x(), y = q[c].y();
+        term_r[c] = (nx * x + ny * y) - rho;
+        term_along[c] = x * tx + y * ty;
+      }
+      // (The sum and the count in locals: no store-to-load chain through the captures.)
+      double sum_here = acc_plain;
+      std::size_t n_here = n;
+      for (std::size_t c = 0; c < count; ++c) {
+        if (!std::isfinite(q[c].x())) continue;
+        sum_here += term_r[c];
+        along_p[n_here] = term_along[c];
+        beam_p[n_here] = static_cast<std::uint32_t>(from + c);
+        ++n_here;
+        plain_p[n_here] = sum_here;
+      }
+      acc_plain = sum_here;
+      n = n_here;
+    };
+    // The weighted prefix sums over the same valid beams in the same order (the same
+    // expressions as before this split, so the same values).
+    std::size_t n_weighed = 0;
+    double acc_w = 0.0, acc = 0.0, acc_sq = 0.0;
+    auto accumulateWeighted = [&](std::size_t from, std::size_t to) LIDARSEG_INLINE {
       const Eigen::Vector2d* const q = points + from;
       const std::size_t count = to - from;
 #pragma omp simd
@@ -632,26 +672,28 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
         const double sq = x * x + y * y;
         term_r[c] = nq - rho;
         term_w[c] = sq / std::max(nq * nq, 1e-12 * sq);
-        term_along[c] = x * tx + y * ty;
       }
+      double sw = acc_w, swr = acc, swrr = acc_sq;
+      std::size_t i = n_weighed;
       for (std::size_t c = 0; c < count; ++c) {
         if (!std::isfinite(q[c].x())) continue;
         const double r = term_r[c], w = term_w[c];
-        acc_w += w;
-        acc += w * r;
-        acc_sq += w * r * r;
-        acc_plain += r;
-        along_p[n] = term_along[c];
-        beam_p[n] = static_cast<std::uint32_t>(from + c);
-        ++n;
-        weight_p[n] = acc_w;
-        sum_p[n] = acc;
-        sum_sq_p[n] = acc_sq;
-        plain_p[n] = acc_plain;
+        sw += w;
+        swr += w * r;
+        swrr += w * r * r;
+        ++i;
+        weight_p[i] = sw;
+        sum_p[i] = swr;
+        sum_sq_p[i] = swrr;
       }
+      acc_w = sw;
+      acc = swr;
+      acc_sq = swrr;
+      n_weighed = i;
     };
     const std::size_t first_beam = s.first_beam;
-    if (first_beam + span <= num_beams) {
+    const bool wraps = first_beam + span > num_beams;
+    if (!wraps) {
       accumulate(first_beam, first_beam + span);
     } else {
       accumulate(first_beam, num_beams);
@@ -660,17 +702,11 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
     if (n < 2 * p.door_min_wall_points + 2 * W) continue;
     auto along = [&](std::size_t k) { return along_of[k]; };
     auto mean = [&](std::size_t a, std::size_t b) { return (sum[b] - sum[a]) / (weight[b] - weight[a]); };
+    auto plainMean = [&](std::size_t a, std::size_t b) { return (plain[b] - plain[a]) / static_cast<double>(b - a); };
     auto scatter = [&](std::size_t a, std::size_t b) {  // weighted squared deviations from the mean
       return std::max(0.0, (sum_sq[b] - sum_sq[a]) - (sum[b] - sum[a]) * (sum[b] - sum[a]) / (weight[b] - weight[a]));
     };
-    // Step at k: the mean of the W points from k on minus that of the W before. Leaf starts
-    // are its local maxima above `edge`, leaf ends its local minima below -edge.
     const double edge = 0.5 * p.door_shallow_min_recess_m;
-    // (Plain means: the steps only place the candidates; the test below weighs the points.)
-    const double inv_w = 1.0 / static_cast<double>(W);
-    for (std::size_t k = W; k + W <= n; ++k) steps[k] = (plain[k + W] - 2.0 * plain[k] + plain[k - W]) * inv_w;
-    // Branch-free (the noise makes these tests unpredictable): write every k, keep the
-    // qualifying ones by advancing the count.
     if (starts.size() < n + 1) {
       starts.resize(n + 1);
       ends.resize(n + 1);
@@ -680,7 +716,50 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
       before_ss.resize(n + 1);
       after_mean.resize(n + 1);
       after_ss.resize(n + 1);
+      before_plain.resize(n + 1);
+      after_plain.resize(n + 1);
+      bin_at.resize(n + 1);
     }
+    // The candidate steps are looked for on bins of consecutive points, each at most
+    // door_min_wall_m / W long along the wall (issue 18's speed rule): W bins then span at
+    // most the door_min_wall_m of wall every door rule asks beside a leaf, as W points do
+    // where the beams are that sparse; where they are sparser a bin is one point, as
+    // before. Near the sensor, where the beams are dense, a bin holds several points: the
+    // step windows average more of them (less noise, fewer candidate steps, each placed to
+    // within its bin and then refined to a point, below) and the search over the steps, the
+    // walks and the pairs go over bins instead of points. The bins are the cells of a grid
+    // of that step along the wall: a bin ends where a point's cell differs from the one
+    // before's (branch-free).
+    const double inv_bin = static_cast<double>(W) / p.door_min_wall_m;
+    std::size_t nb = 1;
+    bin_at[0] = 0;
+    {
+      double cell = std::floor(along_p[0] * inv_bin);
+      for (std::size_t i = 1; i < n; ++i) {
+        const double c = std::floor(along_p[i] * inv_bin);
+        bin_at[nb] = static_cast<std::uint32_t>(i);
+        nb += c != cell;
+        cell = c;
+      }
+    }
+    bin_at[nb] = static_cast<std::uint32_t>(n);
+    if (nb < 2 * W + 4) continue;
+    // Step at bin boundary j: the mean of the points of the W bins from j on minus that of
+    // the W bins before. Leaf starts are its local maxima above `edge`, leaf ends its local
+    // minima below -edge. (Plain means: the steps only place the candidates; the test below
+    // weighs the points.)
+    auto binStep = [&](std::size_t lo, std::size_t mid, std::size_t hi) {  // point indices
+      return (plain[hi] - plain[mid]) / static_cast<double>(hi - mid) -
+             (plain[mid] - plain[lo]) / static_cast<double>(mid - lo);
+    };
+    // (The mean of the W bins from j on is also the mean before j + W: one division per bin.
+    // The same expressions as binStep, so the same values.)
+    double* const window_mean = term_along;  // free once the abscissae are stored
+    for (std::size_t j = 0; j + W <= nb; ++j) {
+      window_mean[j] = (plain[bin_at[j + W]] - plain[bin_at[j]]) / static_cast<double>(bin_at[j + W] - bin_at[j]);
+    }
+    for (std::size_t j = W; j + W <= nb; ++j) steps[j] = window_mean[j] - window_mean[j - W];
+    // (Below, "points" and "steps" are the bins and their boundaries' steps.)
     // A step is located to within the window: of two candidates closer than W points, only
     // the larger is a step (the largest within W points on either side; ties to the first).
     // Two starts are therefore more than W points apart, and a start is the first largest
@@ -705,7 +784,7 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
     // so the outcome is the same.)
     auto largestWithin = [&](std::size_t k) {
       const double sk = step_p[k];
-      const std::size_t lo = k >= 2 * W ? k - W : W, hi = std::min(k + W, n - W);
+      const std::size_t lo = k >= 2 * W ? k - W : W, hi = std::min(k + W, nb - W);
       bool largest = true;
       for (std::size_t j = lo; j < k; ++j) largest &= step_p[j] < sk;
       for (std::size_t j = k + 1; j <= hi; ++j) largest &= step_p[j] <= sk;
@@ -713,14 +792,14 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
     };
     auto smallestWithin = [&](std::size_t k) {
       const double sk = step_p[k];
-      const std::size_t lo = k >= 2 * W ? k - W : W, hi = std::min(k + W, n - W);
+      const std::size_t lo = k >= 2 * W ? k - W : W, hi = std::min(k + W, nb - W);
       bool smallest = true;
       for (std::size_t j = lo; j < k; ++j) smallest &= step_p[j] > sk;
       for (std::size_t j = k + 1; j <= hi; ++j) smallest &= step_p[j] >= sk;
       return smallest;
     };
     if (std::isfinite(acc_plain)) {
-      const std::size_t k_end = n - W;  // the last step
+      const std::size_t k_end = nb - W;  // the last step
       for (std::size_t b0 = W; b0 <= k_end; b0 += W + 1) {
         const std::size_t b1 = std::min(b0 + W, k_end);
         std::size_t i_max = b0, i_min = b0;
@@ -742,7 +821,7 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
       // First the neighbours' test, branch-free (the noise makes it unpredictable), then the
       // window's for the few left.
       // The first and last steps have one neighbour only: tested apart, so that the loop over
-      // the others needs no test of k. (n >= 2 W + 4 here, so they are distinct.)
+      // the others needs no test of k. (nb >= 2 W + 4 here, so they are distinct.)
       auto keepStep = [&](std::size_t k, bool is_start, bool is_end) {
         start_p[num_starts] = static_cast<std::uint32_t>(k);
         num_starts += is_start;
@@ -750,11 +829,11 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
         num_ends += is_end;
       };
       keepStep(W, step_p[W] >= edge && step_p[W + 1] <= step_p[W], step_p[W] <= -edge && step_p[W + 1] >= step_p[W]);
-      for (std::size_t k = W + 1; k + W < n; ++k) {
+      for (std::size_t k = W + 1; k + W < nb; ++k) {
         const double sk = step_p[k], before = step_p[k - 1], after = step_p[k + 1];
         keepStep(k, (sk >= edge) & (before < sk) & (after <= sk), (sk <= -edge) & (before > sk) & (after >= sk));
       }
-      const std::size_t k_last = n - W;
+      const std::size_t k_last = nb - W;
       keepStep(k_last, step_p[k_last] >= edge && step_p[k_last - 1] < step_p[k_last],
                step_p[k_last] <= -edge && step_p[k_last - 1] > step_p[k_last]);
     }
@@ -780,6 +859,29 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
       }
       num_ends = kept;
     }
+    // Each step placed to a point: the point between the bins on either side of its bin
+    // boundary where the same two windows (their outer ends kept) differ most (ties to the
+    // boundary, then to the first). Where the bins are single points that is the boundary.
+    auto refine = [&](std::uint32_t* list, std::size_t count, bool largest) {
+      for (std::size_t i = 0; i < count; ++i) {
+        const std::size_t j = list[i];
+        const std::size_t lo = bin_at[j - W], hi = bin_at[j + W];
+        std::size_t best = bin_at[j];
+        if (bin_at[j + 1] - bin_at[j - 1] > 2) {
+          double best_step = binStep(lo, best, hi);
+          for (std::size_t k = bin_at[j - 1] + 1; k < bin_at[j + 1]; ++k) {
+            const double v = binStep(lo, k, hi);
+            if (largest ? v > best_step : v < best_step) {
+              best_step = v;
+              best = k;
+            }
+          }
+        }
+        list[i] = static_cast<std::uint32_t>(best);
+      }
+    };
+    refine(start_p, num_starts, true);
+    refine(end_p, num_ends, false);
     // No leaf without both a start and an end: nothing below would be found.
     if (num_starts == 0 || num_ends == 0) continue;
     // A wall may hold several doors: the candidates that pass are taken most significant
@@ -802,21 +904,33 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
     // the first point within door_min_wall_m before the i-th start; wall_to[m]: one past the
     // last point within door_min_wall_m after the m-th end's last leaf point (two pointers
     // over the few steps, not over every point; wall_from only for the starts that pair,
-    // below).
+    // below). The plain mean of the wall after each end is taken with its walk (for the
+    // pairs' first test, below); the weighted mean and scatter, which need the run's
+    // weighted sums, only for the ends of the pairs that pass it (weighRun, readyEnd).
     for (std::size_t m = 0, b = 0; m < num_ends; ++m) {
       const std::size_t e = ends[m];
       b = std::max(b, e);
       while (b < n && along(b) <= along(e - 1) + p.door_min_wall_m) ++b;
       wall_to[m] = static_cast<std::uint32_t>(b);
+      after_plain[m] = plainMean(e, b);  // (not used where b - e < door_min_sparse_wall_points)
+      after_ss[m] = -1.0;                // not yet computed
     }
-    // The wall's mean and scatter on each side depend on one step only: computed once per
-    // step (the same expressions, so the same values), not once per pair of steps.
-    for (std::size_t m = 0; m < num_ends; ++m) {
+    bool weighed = false;
+    auto weighRun = [&] {
+      if (!wraps) {
+        accumulateWeighted(first_beam, first_beam + span);
+      } else {
+        accumulateWeighted(first_beam, num_beams);
+        accumulateWeighted(0, first_beam + span - num_beams);
+      }
+      weighed = true;
+    };
+    // The end's weighted mean and scatter: once per end (they depend on it only).
+    auto readyEnd = [&](std::size_t m) {
       const std::size_t e = ends[m], b = wall_to[m];
-      if (b - e < p.door_min_sparse_wall_points) continue;  // never evaluated
       after_mean[m] = mean(e, b);
       after_ss[m] = scatter(e, b);
-    }
+    };
     // The leaf [k, e) against the wall beside it: its depth and t statistic, the leaf's mean
     // judged with the pooled scatter of the three pieces (each about its own mean) or with
     // its own, when that is larger (a far or rough stretch is noisier than the rest).
@@ -828,9 +942,7 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
       const double w_in = weight[e] - weight[k];
       const double level = in_sum / w_in;
       // Behind the wall on both sides: a stretch from one jamb to somewhere inside a wide
-      // leaf has the leaf itself on its far side. (Tested first: it needs no division of its
-      // own and rejects most pairs of noise steps; the tests are pure, so their order does
-      // not change which pairs pass.)
+      // leaf has the leaf itself on its far side.
       if (level - before_mean[ks] < p.door_shallow_min_recess_m || level - after_mean[m] < p.door_shallow_min_recess_m) {
         return false;
       }
@@ -845,14 +957,13 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
       leaf = {k, e, depth / std::sqrt(std::max(var_in / w_in + var / w_wall, 1e-24)), depth, wall};
       return true;
     };
-    // The wall before a start (its walk, mean and scatter) only for the starts put to
-    // `evaluate`, when first put (about half of them: the others have no end at a door's
-    // width). The walks chain: each goes on from where the one of the start before it
-    // stopped. The walks of the starts skipped since the last one walked may be left out
-    // when none of their abscissae exceeds this start's: every point they would pass is
-    // then before this walk's limit too (the limit is the abscissa less door_min_wall_m, as
-    // monotonic as the abscissa), so this walk stops at the same point. Otherwise they are
-    // walked first, in order. The same wall_from, so the same values (decision 92).
+    // The wall before a start (its walk, mean and scatter) only for the starts with a pair
+    // that passes the first test, when first needed. The walks chain: each goes on from
+    // where the one of the start before it stopped. The walks of the starts skipped since
+    // the last one walked may be left out when none of their abscissae exceeds this
+    // start's: every point they would pass is then before this walk's limit too (the limit
+    // is the abscissa less door_min_wall_m, as monotonic as the abscissa), so this walk
+    // stops at the same point. Otherwise they are walked first, in order (decision 92).
     std::size_t walk_a = 0, walked = 0;
     auto walkTo = [&](std::size_t k) {
       while (walk_a < k && along(walk_a) < along(k) - p.door_min_wall_m) ++walk_a;
@@ -869,9 +980,18 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
       wall_from[ks] = static_cast<std::uint32_t>(walk_a);
       walked = ks + 1;
       if (k - walk_a < p.door_min_sparse_wall_points) return;  // never evaluated
-      before_mean[ks] = mean(walk_a, k);
-      before_ss[ks] = scatter(walk_a, k);
+      before_plain[ks] = plainMean(walk_a, k);
+      before_ss[ks] = -1.0;  // the weighted mean and scatter: when a pair first passes the first test
     };
+    // The first test of a pair, before any weighted sum (issue 18's speed rule): the leaf's
+    // plain mean at least `edge` = door_shallow_min_recess_m / 2 behind the plain means of
+    // the walls on both sides, as the steps that placed k and e are plain means held to
+    // `edge`. The full test below asks the weighted means to be door_shallow_min_recess_m
+    // behind; a weighted mean departs from the plain mean of the same points by a small
+    // fraction of their scatter (the weights 1 / cos^2 of the incidence change little
+    // across 0.25 m of wall or a door's width), far less than the `edge` of slack. Most
+    // pairs of noise steps fail it, and a run whose pairs all fail is never weighed: the
+    // division per point and the three dependent weighted sums are skipped.
     std::size_t first_end = 0;
     for (std::size_t ks = 0; ks < num_starts; ++ks) {
       const std::size_t k = starts[ks];
@@ -888,6 +1008,15 @@ void FeatureDetector::detectShallowDoors(const Segmentation& segmentation, const
           readyStart(ks);
           ready = true;
         }
+        if (k - wall_from[ks] < p.door_min_sparse_wall_points || wall_to[m] - e < p.door_min_sparse_wall_points) continue;
+        const double plain_level = plainMean(k, e);
+        if (plain_level - before_plain[ks] < edge || plain_level - after_plain[m] < edge) continue;
+        if (!weighed) weighRun();
+        if (before_ss[ks] < 0.0) {
+          before_mean[ks] = mean(wall_from[ks], k);
+          before_ss[ks] = scatter(wall_from[ks], k);
+        }
+        if (after_ss[m] < 0.0) readyEnd(m);
         Leaf c;
         if (evaluate(ks, m, c) && c.t >= p.door_shallow_min_sigmas) candidates.push_back(c);
       }

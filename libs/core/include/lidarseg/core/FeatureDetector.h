@@ -101,7 +101,9 @@ struct FeatureDetectorParams {
   /// Shallow closed doors: a leaf recessed by less than the segmenter's split threshold
   /// (a few range sigmas) stays inside its wall's segment. Within one run of collinear
   /// segments, a run of points door width long (between two steps found with
-  /// door_shallow_window points on each side) lying [door_shallow_min_recess_m,
+  /// door_shallow_window bins on each side, a bin being the points within
+  /// door_min_wall_m / door_shallow_window along the wall, one point where the beams are
+  /// sparser) lying [door_shallow_min_recess_m,
   /// door_shallow_max_recess_m] behind the wall points beside it, by at least
   /// door_shallow_min_sigmas standard errors of the difference of the two means (the
   /// scatter measured on the points themselves), is a closed door; one wall may hold
