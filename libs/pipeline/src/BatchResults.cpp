@@ -47,6 +47,10 @@ std::vector<double> readMetricsRow(const fs::path& f) {
   }
   std::vector<double> row;
   for (const std::string& cell : cells) {
+    if (cell.empty()) {  // not measured
+      row.push_back(std::nan(""));
+      continue;
+    }
     const ParsedNumber parsed = parseNumber(cell);
     const double v = parsed.value;
     if (parsed.status == ParsedNumber::Status::not_a_number) {
@@ -115,11 +119,15 @@ std::string metricsHeader() {
   return header + '\n';
 }
 
-// A line of metrics.csv and aggregate.csv: the seed, then the figures (10 significant digits).
+// A line of metrics.csv and aggregate.csv: the seed, then the figures (10 significant
+// digits); a figure not measured (a baseline not run) is an empty cell, never "nan".
 std::string metricsLine(std::uint64_t seed, const std::vector<double>& values) {
   std::ostringstream line;
   line << seed << std::setprecision(10);
-  for (double v : values) line << ',' << v;
+  for (double v : values) {
+    line << ',';
+    if (std::isfinite(v)) line << v;
+  }
   line << '\n';
   return line.str();
 }
