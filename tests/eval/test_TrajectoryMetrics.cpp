@@ -177,6 +177,22 @@ TEST(Relations, FileRoundTripAndUnmatchedStampsAreCounted) {
   EXPECT_EQ(e.relations, rel.size() + 1);
   EXPECT_EQ(e.evaluated, rel.size());
   EXPECT_THROW(readRelations(writeTemp("bad.relations", "1 2 3\n")), std::runtime_error);
+  // A file with no relation (it evaluated "0/0") and a relation of a time with itself (its
+  // error was its own displacement) are refused, naming the file and line.
+  const std::string empty = writeTemp("empty.relations", "# nothing\n\n");
+  try {
+    readRelations(empty);
+    ADD_FAILURE() << "an empty relations file was read";
+  } catch (const std::runtime_error& error) {
+    EXPECT_EQ(std::string(error.what()), empty + ": no relation (expected lines 't1 t2 x y z roll pitch yaw')");
+  }
+  const std::string self = writeTemp("self.relations", "1 2 0.1 0 0 0 0 0\n32.9068 32.9068 0.1 0 0 0 0 0.1\n");
+  try {
+    readRelations(self);
+    ADD_FAILURE() << "a relation of a time with itself was read";
+  } catch (const std::runtime_error& error) {
+    EXPECT_EQ(std::string(error.what()), self + ":2: a relation between a time and itself (t1 = t2)");
+  }
 }
 
 TEST(Relations, ReadsTheFreiburgBenchmarkFiles) {

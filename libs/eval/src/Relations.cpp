@@ -14,9 +14,17 @@ namespace lidarseg::eval {
 std::vector<Relation> readRelations(const std::string& path) {
   std::vector<Relation> out;
   detail::forEachLineOf8Numbers(path, "relations", "t1 t2 x y z roll pitch yaw",
-                                [&](std::size_t, const std::array<double, 8>& v) {
+                                [&](std::size_t line, const std::array<double, 8>& v) {
+                                  // A motion between a time and itself measures nothing (its
+                                  // error would be the relation's own displacement).
+                                  if (v[0] == v[1]) {
+                                    throw std::runtime_error(path + ":" + std::to_string(line) +
+                                                             ": a relation between a time and itself (t1 = t2)");
+                                  }
                                   out.push_back({v[0], v[1], {v[2], v[3], v[7]}});
                                 });
+  // An empty file evaluates nothing, which "0/0" would hide.
+  if (out.empty()) throw std::runtime_error(path + ": no relation (expected lines 't1 t2 x y z roll pitch yaw')");
   return out;
 }
 
