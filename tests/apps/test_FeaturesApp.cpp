@@ -1,6 +1,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iterator>
 #include <sstream>
 #include <string>
@@ -143,6 +144,38 @@ TEST(FeaturesApp, AFigureScanPastTheLogIsAnErrorAfterTheOtherOutputs) {
   EXPECT_FALSE(fs::exists(o.figure_path));
   EXPECT_TRUE(fs::exists(dir + "/features.csv"));
   EXPECT_TRUE(fs::exists(dir + "/features.json"));
+}
+
+// Issue 16: another log's truth (its scans stamped otherwise) was scored as this log's with
+// no word; the run now says so. Its own truth gives no such warning.
+TEST(FeaturesApp, ATruthStampedOtherwiseThanTheLogIsNamedInAWarning) {
+  const std::string prefix = simulatedPrefix();
+  const std::string shifted = testDir() + "/shifted.features.csv";
+  {
+    std::ifstream in(prefix + ".features.csv");
+    std::ofstream out(shifted);
+    std::string line;
+    std::getline(in, line);
+    out << line << '\n';
+    while (std::getline(in, line)) {
+      const auto a = line.find(','), b = line.find(',', a + 1);
+      out << line.substr(0, a + 1) << std::setprecision(17) << std::stod(line.substr(a + 1, b - a - 1)) + 100.0
+          << line.substr(b) << '\n';
+    }
+  }
+  FeaturesOptions o;
+  o.input = prefix + ".rawlog";
+  o.max_scans = 40;
+  o.progress = false;
+  o.truth_path = prefix + ".features.csv";
+  const FeaturesReport own = FeaturesApp(o).run();
+  EXPECT_TRUE(own.warnings.empty()) << own.warnings.front();
+  o.truth_path = shifted;
+  const FeaturesReport other = FeaturesApp(o).run();
+  ASSERT_EQ(other.warnings.size(), 1u);
+  EXPECT_EQ(other.warnings[0].rfind("--gt " + shifted + ": the truth of ", 0), 0u) << other.warnings[0];
+  EXPECT_NE(other.warnings[0].find("is stamped more than 1 ms from the scan of its number"), std::string::npos)
+      << other.warnings[0];
 }
 
 TEST(FeaturesApp, BadInputsAreNamed) {

@@ -62,6 +62,26 @@ OdometryOptions optionsFor(const std::string& input, const std::string& out) {
   return o;
 }
 
+// Issue 16: a ground truth that pairs with fewer than two scans (a run of one scan, another
+// log's truth) is a warning naming it and the run's outputs are written without trajectory
+// errors; the run used to fail with "only 1 estimated pose(s) ...", naming no file.
+TEST(OdometryApp, AGroundTruthPairingFewerThanTwoScansIsAWarningNotTheRunsError) {
+  const std::string prefix = simulatedPrefix();
+  OdometryOptions o = optionsFor(prefix + ".rawlog", "one_scan");
+  o.max_scans = 1;
+  fs::remove_all(o.out_dir);
+  const OdometryReport r = OdometryApp(o).run();
+  EXPECT_EQ(r.frames, 1u);
+  EXPECT_FALSE(r.lidarseg.errors.has_value());
+  bool named = false;
+  for (const std::string& w : r.warnings) {
+    named = named || w.rfind("ground truth '" + prefix + ".gt.tum': 1 of the 1 scans have a pose within", 0) == 0;
+  }
+  EXPECT_TRUE(named) << (r.warnings.empty() ? std::string("no warning") : r.warnings.front());
+  EXPECT_TRUE(fs::exists(o.out_dir + "/lidarseg.tum"));
+  EXPECT_TRUE(fs::exists(o.out_dir + "/summary.json"));
+}
+
 TEST(OdometryApp, SimulatedRunBothMethodsEveryOutput) {
   const std::string prefix = simulatedPrefix();
   OdometryOptions o = optionsFor(prefix + ".rawlog", "out_rawlog");

@@ -102,12 +102,21 @@ class LogPass {
     last_ = LastScan{record.index, sp, features_};
     for (const Feature& f : features_) ++report_.detections[static_cast<std::size_t>(f.type)];
     pipeline::writeFeatureCsvRows(csv_, time.output_stamp_s, record.index, {sp.x(), sp.y(), sp.yaw()}, features_);
-    if (report_.evaluation) score(record.index);
+    if (report_.evaluation) score(record.index, record.stamp_s);
     if (options_.figure_scan && *options_.figure_scan == record.index) drawFigure(record.index);
   }
 
-  // The per-scan and per-image samples summarised into the report.
+  // The per-scan and per-image samples summarised into the report; a truth that is not
+  // this log's (stamped otherwise, or for no scan read) is named in a warning.
   void summarise() {
+    if (report_.evaluation && truth_scans_ == 0) {
+      report_.warnings.push_back("--gt " + options_.truth_path + ": no scan read has truth (the truth of another log?); "
+                                 "the figures measure nothing");
+    } else if (truth_mismatches_ > 0) {
+      report_.warnings.push_back("--gt " + options_.truth_path + ": the truth of " + std::to_string(truth_mismatches_) +
+                                 " of " + std::to_string(truth_scans_) + " scans is stamped more than 1 ms from the scan "
+                                 "of its number (the truth of another log?), the first: " + first_mismatch_);
+    }
     report_.detect_us = summarize(detect_us_);
     report_.segment_us = summarize(segment_us_);
     report_.position_error_m = summarize(errors_);
@@ -159,10 +168,17 @@ class LogPass {
 
   // The detections against the truth; the simulator's truth is in the robot frame, which is
   // its lidar's frame.
-  void score(std::size_t scan) {
+  void score(std::size_t scan, double stamp_s) {
     static const std::vector<eval::TrueFeature> kNone;
     const auto it = truth_.find(scan);
     const auto& truth = it == truth_.end() ? kNone : it->second;
+    if (!truth.empty()) {
+      ++truth_scans_;
+      if (std::abs(truth.front().stamp_s - stamp_s) > kTruthStampToleranceS && truth_mismatches_++ == 0) {
+        first_mismatch_ = "scan " + std::to_string(scan) + " at " + numberText(stamp_s) + " s, its truth at " +
+                          numberText(truth.front().stamp_s) + " s";
+      }
+    }
     const auto e = report_.evaluation->add(truth, features_);
     errors_.insert(errors_.end(), e.begin(), e.end());
     if (!options_.matches_out.empty()) eval::writeMatchesCsvRows(matches_csv_, scan, truth, features_, *report_.evaluation);
@@ -192,6 +208,11 @@ class LogPass {
   const ScanSegmenter segmenter_;
   const FeatureDetector detector_;
   std::map<std::size_t, std::vector<eval::TrueFeature>> truth_;  // by scan index
+  // How far a truth's stamp may be from its scan's (s): the simulator writes both from one
+  // clock, at microsecond resolution or finer.
+  static constexpr double kTruthStampToleranceS = 1e-3;
+  std::size_t truth_scans_ = 0, truth_mismatches_ = 0;
+  std::string first_mismatch_;
   FeaturesReport& report_;
   OutputSet& outputs_;
   Segmentation segmentation_;

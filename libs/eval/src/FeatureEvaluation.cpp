@@ -57,6 +57,7 @@ std::map<std::size_t, std::vector<TrueFeature>> readTrueFeatures(const std::stri
     if (!(scan >= 0 && scan <= 1e15) || scan != std::floor(scan)) {
       fail(path, number, "column 'scan' must be an integer in [0, 1e15]");
     }
+    f.stamp_s = number_at(1);
     f.position = {number_at(3), number_at(4)};
     f.theta_rad = number_at(5);
     f.width_m = number_at(6);

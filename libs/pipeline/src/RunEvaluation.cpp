@@ -66,6 +66,27 @@ void evaluateRun(const OdometryRun& run, RunReferences& refs, bool log_reference
       refs.log_relations = eval::relationsFrom(run.logPoses(), 0.0, 0.0, 1);
     }
   }
+  if (refs.gt) {
+    // A ground truth that pairs with fewer than two scans gives no trajectory error: say so
+    // with both time spans (another log's truth, relative against absolute stamps, or a log
+    // of one scan) rather than fail the run or print errors of nothing.
+    const auto& t = report.lidarseg.trajectory;
+    std::size_t paired = 0;
+    for (const auto& p : t) paired += eval::nearestIndex(*refs.gt, p.stamp_s, refs.gt_tolerance_s).has_value();
+    if (paired < 2) {
+      std::string warning = "ground truth '" + report.gt_path + "': " + std::to_string(paired) + " of the " +
+                            std::to_string(t.size()) + " scans have a pose within " +
+                            numberText(refs.gt_tolerance_s) + " s; no trajectory errors";
+      if (!refs.gt->empty() && !t.empty()) {
+        warning += " (truth from " + numberText(refs.gt->front().stamp_s) + " to " +
+                   numberText(refs.gt->back().stamp_s) + " s, scans from " + numberText(t.front().stamp_s) + " to " +
+                   numberText(t.back().stamp_s) + " s)";
+      }
+      report.warnings.push_back(warning);
+      report.warning_kinds.add(warning);
+      refs.gt.reset();
+    }
+  }
   evaluate(report.lidarseg, refs, relations_tolerance_s);
   if (report.lidarseg.relations && report.lidarseg.relations->evaluated == 0 && !refs.relations->empty() &&
       !report.lidarseg.trajectory.empty()) {

@@ -30,6 +30,9 @@ struct TrueFeature {
   double theta_rad = 0.0;
   double width_m = 0.0;
   std::size_t id = 0;
+  /// The stamp of the scan the truth was written for (s, column t): how a run tells the
+  /// truth of its own log from another's.
+  double stamp_s = 0.0;
 };
 
 /// Reads a simulator feature file: a header line, then
