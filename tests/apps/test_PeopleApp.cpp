@@ -189,9 +189,32 @@ TEST(PeopleApp, ARegionWhollyOutsideTheFrameIsCountedAndWarned) {
   p.report_dir = dir + "/report-inside";
   const PeopleReport inside = PeopleApp(p).run();
   EXPECT_EQ(inside.regions_outside, 0u);
+  EXPECT_EQ(inside.frames_with_regions, 3u);
   std::ostringstream none;
   PeopleApp::printWarnings(inside, none);
   EXPECT_EQ(none.str(), "");
+}
+
+// Issue 16: a regions file that names no frame or image of the input (another video's)
+// analysed nothing inside regions with no word; the run now says so.
+TEST(PeopleApp, RegionsNamingNoFrameOfTheInputAreNamedInAWarning) {
+  const std::string dir = testDir();
+  const std::string images = dir + "/images";
+  fs::create_directories(images);
+  for (int k = 0; k < 2; ++k) cv::imwrite(images + "/img" + std::to_string(k) + ".png", cv::Mat(240, 160, CV_8UC3, cv::Scalar(90)));
+  const std::string table = dir + "/other.csv";
+  std::ofstream(table) << "frame,u_min,v_min,u_max,v_max\n99,0,0,100,100\n";
+  PeopleOptions p;
+  p.input = images;
+  p.rois_path = table;
+  p.progress = false;
+  const PeopleReport r = PeopleApp(p).run();
+  EXPECT_EQ(r.frames, 2u);
+  EXPECT_EQ(r.frames_with_regions, 0u);
+  std::ostringstream err;
+  PeopleApp::printWarnings(r, err);
+  EXPECT_EQ(err.str(), "lidarseg-people: warning: no frame of the 2 analysed has a region of interest (the regions "
+                       "name no frame or image of this input)\n");
 }
 
 // Issue 16: a Motion-JPEG frame whose JPEG data is cut (the second half of its scan, end of

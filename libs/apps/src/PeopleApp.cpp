@@ -71,6 +71,7 @@ class FramePass {
   // Frame `index` (BGR) with its regions (pixels).
   void addFrame(std::size_t index, const cv::Mat& frame, const std::vector<cv::Rect>& rois) {
     countRegionsOutside(index, frame, rois);
+    if (!rois.empty()) ++report_.frames_with_regions;
     const auto d = comparison_.add(frame, rois);
     writeDetections(csv_, index, "full", d.full.people);
     writeDetections(csv_, index, "rois", d.inside.people);
@@ -138,7 +139,8 @@ Json reportJson(const PeopleReport& report) {
               {"recall_in_regions", finiteOrNull(report.recallInRegions())},
               {"people_rois", report.people_rois},
               {"people_rois_confirmed", report.people_rois_confirmed},
-              {"regions_outside", report.regions_outside}};
+              {"regions_outside", report.regions_outside},
+              {"frames_with_regions", report.frames_with_regions}};
 }
 
 // The detections CSV and the report put in place, together with the frames drawn.
@@ -238,6 +240,9 @@ std::string PeopleApp::markdown(const PeopleReport& r) {
      << "; still found by the detection inside the regions: " << r.people_still_found << " (recall "
      << fixed(r.recallInRegions(), 3) << "). Detections inside the regions that the whole frame also has: "
      << r.people_rois_confirmed << " of " << r.people_rois << ".\n";
+  if (r.frames_with_regions == 0) {
+    os << "\nNo frame analysed has a region of interest: the regions name no frame or image of this input.\n";
+  }
   if (r.regions_outside > 0) {
     os << "\nRegions wholly outside their frame (not analysed): " << r.regions_outside << ", the first: "
        << r.first_region_outside << ".\n";
@@ -252,6 +257,10 @@ std::string PeopleApp::markdown(const PeopleReport& r) {
 void PeopleApp::print(const PeopleReport& report, std::ostream& os) { os << markdown(report); }
 
 void PeopleApp::printWarnings(const PeopleReport& report, std::ostream& err) {
+  if (report.frames > 0 && report.frames_with_regions == 0) {
+    err << "lidarseg-people: warning: no frame of the " << report.frames
+        << " analysed has a region of interest (the regions name no frame or image of this input)\n";
+  }
   if (report.regions_outside > 0) {
     err << "lidarseg-people: warning: " << report.regions_outside
         << " regions lie wholly outside their frame and were not analysed, the first: " << report.first_region_outside

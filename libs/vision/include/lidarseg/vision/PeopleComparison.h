@@ -42,6 +42,9 @@ struct PeopleReport {
   /// them ("frame N: region u_min,v_min,u_max,v_max outside the W x H frame").
   std::size_t regions_outside = 0;
   std::string first_region_outside;
+  /// Frames analysed with at least one region: 0 when the regions name no frame or image of
+  /// the input (a regions file of another video), which the run then says.
+  std::size_t frames_with_regions = 0;
 
   /// people_still_found / people_in_regions; NaN when no person was centred in a region.
   double recallInRegions() const;
