@@ -27,6 +27,12 @@ void requireFinite(const char* key, double v) {
 void SimulationParams::validate() const {
   if (!sensor.layout || sensor.layout->size() < 2) throw std::invalid_argument("sensor needs at least 2 beams");
   requirePositive("max_range_m", sensor.max_range_m);
+  // A sensor's scans need some range to measure: the scan's own check would fail later,
+  // naming no key.
+  if (!(sensor.max_range_m > sensor.min_range_m)) {
+    throw std::invalid_argument("max_range_m must be greater than the sensor's minimum range, " +
+                                numberText(sensor.min_range_m) + " m (got " + numberText(sensor.max_range_m) + ")");
+  }
   requireNonNegative("range_sigma_m", sensor.range_sigma_m);
   requireNonNegative("far_range_sigma_m", sensor.far_range_sigma_m);
   requirePositive("frequency_hz", sensor.frequency_hz);
