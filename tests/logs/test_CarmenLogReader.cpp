@@ -296,6 +296,17 @@ TEST(CarmenLogReader, ALineWhoseBeamsSpanMoreThanATurnOrDisagreeWithItsFieldOfVi
       << reader.issues()[1];
 }
 
+// A UTF-8 byte-order mark before the first line (an editor's) made its first scan an
+// unknown line type "\ufeffFLASER"; it is read.
+TEST(CarmenLogReader, AByteOrderMarkBeforeTheFirstLineLosesNoScan) {
+  CarmenLogReader reader(writeText("bom.log", "\xEF\xBB\xBF" + flaser(5, 1.0, 0.0, 1.0) + flaser(5, 1.0, 0.1, 2.0)));
+  std::vector<double> stamps;
+  while (auto l = reader.next()) stamps.push_back(l->stamp_s);
+  EXPECT_EQ(stamps, (std::vector<double>{1.0, 2.0}));
+  EXPECT_TRUE(reader.unknownTypes().empty());
+  EXPECT_TRUE(reader.issues().empty());
+}
+
 // A hexadecimal float ("0x1p0", which strtod reads as 1) is no number of any CARMEN writer:
 // a fuzzed or corrupted range or pose field written so skips its line, with its place,
 // instead of becoming a plausible value.

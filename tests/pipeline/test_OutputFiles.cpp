@@ -134,7 +134,7 @@ TEST(OutputFiles, ASetThatCannotBePublishedLeavesNoManifestBesideItsFiles) {
       error = e.what();
     }
   }
-  EXPECT_NE(error.find("cannot rename"), std::string::npos) << error;
+  EXPECT_NE(error.find("timing.csv' in place: Is a directory"), std::string::npos) << error;
   EXPECT_NE(error.find("timing.csv"), std::string::npos) << error;
   // The new trajectory is in place, but no summary: neither the old one (which would
   // describe another run) nor the new one (whose set is not complete).
@@ -401,6 +401,34 @@ TEST(OutputFiles, AnOutputFileThatIsAFifoOrADeviceIsRefusedAndKept) {
   EXPECT_TRUE(fs::is_fifo(fifo));
   EXPECT_FALSE(fs::exists(dir + "/.lidarseg.lock"));
   EXPECT_TRUE(fs::is_character_file("/dev/null"));
+}
+
+// Issue 16: a legal output name of 250 bytes had no legal temporary (name + ".tmp.PID.N"
+// beyond 255 bytes), and the error named the temporary with no reason.
+TEST(OutputFiles, AnOutputNameNearTheLimitGetsATemporaryThatFits) {
+  const std::string dir = freshFolder("long-name");
+  const std::string path = dir + "/" + std::string(246, 'f') + ".csv";  // 250 bytes
+  OutputSet set;
+  set.add(path, "a,b\n");
+  set.commit();
+  EXPECT_EQ(slurp(path), "a,b\n");
+  std::size_t files = 0;
+  for (const auto& e : fs::directory_iterator(dir)) files += e.path().filename().string().rfind(".lidarseg", 0) != 0;
+  EXPECT_EQ(files, 1u) << "a temporary was left";
+  // A name beyond the limit: the error names the output and says why.
+  const std::string bad = dir + "/" + std::string(300, 'g');
+  try {
+    OutputSet too_long;
+    too_long.add(bad, "x");
+    too_long.commit();
+    ADD_FAILURE() << "a 300-byte name was written";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m.rfind("cannot put '" + bad + "' in place: File name too long", 0), 0u) << m;
+  }
+  files = 0;
+  for (const auto& e : fs::directory_iterator(dir)) files += e.path().filename().string().rfind(".lidarseg", 0) != 0;
+  EXPECT_EQ(files, 1u) << "the failed set left a file";
 }
 
 }  // namespace paths

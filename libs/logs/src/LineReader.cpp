@@ -79,6 +79,8 @@ bool LineReader::next(std::string& line) {
   }
   while (!line.empty() && (line.back() == '\r' || line.back() == '\n')) line.pop_back();
   ++line_;
+  // A UTF-8 byte-order mark (an editor's) before the first line is no part of its first word.
+  if (line_ == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
   return true;
 }
 

@@ -92,15 +92,22 @@ extern "C" void removeTemporariesAndDie(int sig) {
   std::raise(sig);
 }
 
-void writeTemporary(const std::string& tmp, const std::string& content) {
+// Writes `content` to the temporary `tmp` of the output `path`; errors name the output
+// (the file the user asked for) with the system's reason.
+void writeTemporary(const std::string& tmp, const std::string& content, const std::string& path) {
+  errno = 0;
   std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-  if (!out) throw std::runtime_error("cannot write '" + tmp + "'");
+  if (!out) {
+    throw std::runtime_error("cannot write '" + path + "'" + (errno != 0 ? ": " + std::string(std::strerror(errno)) : ""));
+  }
   out << content;
   out.flush();
   if (!out) {
+    const int error = errno;
     out.close();
     std::remove(tmp.c_str());
-    throw std::runtime_error("error while writing '" + tmp + "' (disk full?)");
+    throw std::runtime_error("error while writing '" + path + "'" +
+                             (error != 0 ? ": " + std::string(std::strerror(error)) : std::string(" (disk full?)")));
   }
 }
 
@@ -121,7 +128,14 @@ std::string folderOf(const std::string& path) {
 
 std::string uniqueTemporary(const std::string& path) {
   static std::atomic<unsigned long> counter{0};
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
+  // The file's name, cut so that name and suffix fit a file system's 255-byte name: a legal
+  // output name of 250 bytes had no legal temporary.
+  constexpr std::size_t kMaxNameBytes = 255;
+  const std::string suffix = ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
+  const fs::path p(path);
+  std::string name = p.filename().string();
+  if (name.size() + suffix.size() > kMaxNameBytes) name.resize(kMaxNameBytes - suffix.size());
+  const std::string tmp = (p.parent_path() / (name + suffix)).string();
   registerTemporary(tmp, false);
   return tmp;
 }
@@ -153,15 +167,16 @@ void installCleanupOnSignals() {
 void writeFileAtomically(const std::string& path, const std::string& content) {
   const std::string tmp = uniqueTemporary(path);
   try {
-    writeTemporary(tmp, content);
+    writeTemporary(tmp, content, path);
   } catch (...) {
     releaseTemporary(tmp);
     throw;
   }
   const bool renamed = std::rename(tmp.c_str(), path.c_str()) == 0;
+  const int error = errno;
   if (!renamed) std::remove(tmp.c_str());
   releaseTemporary(tmp);
-  if (!renamed) throw std::runtime_error("cannot rename '" + tmp + "' to '" + path + "'");
+  if (!renamed) throw std::runtime_error("cannot put '" + path + "' in place: " + std::strerror(error));
 }
 
 namespace {
@@ -391,7 +406,7 @@ void OutputSet::add(const std::string& path, std::string content) {
   claim(path);
   const std::string tmp = uniqueTemporary(path);
   pending_.push_back({path, tmp});  // registered first: removed on failure
-  writeTemporary(tmp, content);
+  writeTemporary(tmp, content, path);
 }
 
 std::string OutputSet::addWritten(const std::string& path) {
@@ -540,7 +555,8 @@ void OutputSet::commit() {
   }
   for (const auto& p : pending_) {
     if (std::rename(p.temporary.c_str(), p.path.c_str()) != 0) {
-      throw std::runtime_error("cannot rename '" + p.temporary + "' to '" + p.path + "'");
+      throw std::runtime_error("cannot put '" + p.path + "' in place: " + std::strerror(errno) + " (from '" +
+                               p.temporary + "')");
     }
     releaseTemporary(p.temporary);
   }
