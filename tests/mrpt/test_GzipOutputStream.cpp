@@ -20,6 +20,7 @@
 #include <mrpt/serialization/CArchive.h>
 #include <zlib.h>
 
+#include "FileSizeLimit.h"
 #include "lidarseg/mrpt/GzipOutputStream.h"
 #include "lidarseg/mrpt/RawlogScanReader.h"
 
@@ -126,27 +127,7 @@ TEST(GzipOutputStream, ARawlogWrittenThroughItIsReadBack) {
   EXPECT_EQ(reader.entriesRead(), 50u);
 }
 
-// Runs `body` in a child whose file size limit is `limit` bytes (SIGXFSZ ignored, so a write
-// beyond it fails with EFBIG as on a full disk); returns the child's exit code.
-int inChildWithFileSizeLimit(rlim_t limit, const std::function<int()>& body) {
-  const pid_t child = fork();
-  if (child < 0) return -1;
-  if (child == 0) {
-    std::signal(SIGXFSZ, SIG_IGN);
-    const rlimit cap{limit, limit};
-    if (setrlimit(RLIMIT_FSIZE, &cap) != 0) _exit(90);
-    int code = 91;
-    try {
-      code = body();
-    } catch (...) {
-      code = 92;
-    }
-    _exit(code);
-  }
-  int status = 0;
-  if (waitpid(child, &status, 0) != child || !WIFEXITED(status)) return -2;
-  return WEXITSTATUS(status);
-}
+using lidarseg::testing::inChildWithFileSizeLimit;
 
 // The whole compressed file (about 20 KB) fits in the stream's buffer: every Write() succeeds
 // and only the end of the stream, written by close(), meets the 4 KiB limit. MRPT's

@@ -4,6 +4,7 @@
 // temporary files.
 #include <algorithm>
 #include <csignal>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -19,6 +20,7 @@
 #include <gtest/gtest.h>
 
 #include "TempFiles.h"
+#include "FileSizeLimit.h"
 #include "FolderEvents.h"
 #include <nlohmann/json.hpp>
 
@@ -429,6 +431,33 @@ TEST(OutputFiles, AnOutputNameNearTheLimitGetsATemporaryThatFits) {
   files = 0;
   for (const auto& e : fs::directory_iterator(dir)) files += e.path().filename().string().rfind(".lidarseg", 0) != 0;
   EXPECT_EQ(files, 1u) << "the failed set left a file";
+}
+
+// Issue 16: a set of streamed files is finished whole before any is put in place: on a full
+// disk (here the file size limit) the simulator published its text files without the rawlog
+// and left the failing file's temporary. finish() names the file and the reason and removes
+// its temporary; the others are removed with their objects.
+TEST(OutputFiles, PendingFilesAreFinishedBeforeAnyIsPublishedAndAFailureLeavesNone) {
+  const std::string dir = freshFolder("pending-full");
+  const int code = lidarseg::testing::inChildWithFileSizeLimit(64 * 1024, [&] {
+    {
+      PendingFile small(dir + "/small.csv"), big(dir + "/big.csv");
+      small.out() << "a,b\n";
+      big.out() << std::string(256 * 1024, 'x');
+      try {
+        small.finish();
+        big.finish();
+        return 10;  // no error
+      } catch (const std::runtime_error& e) {
+        if (std::string(e.what()) != "error while writing '" + dir + "/big.csv': " + std::strerror(EFBIG)) return 11;
+      }
+    }
+    for (const auto& e : fs::directory_iterator(dir)) {
+      if (e.path().filename().string().rfind(".lidarseg", 0) != 0) return 12;  // a file or temporary left
+    }
+    return 0;
+  });
+  EXPECT_EQ(code, 0) << "10: no error; 11: message; 12: a file left";
 }
 
 }  // namespace paths

@@ -77,6 +77,11 @@ TEST(FuzzFindings, AnMrptExceptionsOneLineIsNeitherEmptyNorItsBanner) {
   EXPECT_EQ(mrpt_adapter::exceptionMessage("==== MRPT exception ====\nFile: a.cpp:1\nMessage: bad key 'x'\n"), "bad key 'x'");
   EXPECT_EQ(mrpt_adapter::exceptionMessage("==== MRPT exception ====\nFile: a.cpp:1\nMessage:"), "File: a.cpp:1");
   EXPECT_EQ(mrpt_adapter::exceptionMessage("\nplain failure\n"), "plain failure");
+  // THROW_EXCEPTION's banner with the reason on the next line and a backtrace after it (a
+  // rawlog written to a full disk): the reason, not the banner.
+  EXPECT_EQ(mrpt_adapter::exceptionMessage("==== MRPT exception ====\ncannot write 'f.rawlog': No space left on "
+                                           "device\nCall stack backtrace:\n[0 ] 0x7f\n"),
+            "cannot write 'f.rawlog': No space left on device");
   EXPECT_EQ(mrpt_adapter::exceptionMessage(""), "unknown error");
   EXPECT_EQ(mrpt_adapter::exceptionMessage("\n\n"), "unknown error");
   EXPECT_EQ(mrpt_adapter::exceptionMessage("one line"), "one line");

@@ -597,28 +597,44 @@ OutputSet::~OutputSet() {
   }
 }
 
-PendingFile::PendingFile(std::string path) : path_(std::move(path)), tmp_(uniqueTemporary(path_)), out_(tmp_) {
+PendingFile::PendingFile(std::string path) : path_(std::move(path)), tmp_(uniqueTemporary(path_)) {
+  errno = 0;
+  out_.open(tmp_);
   if (!out_) {
+    const int error = errno;
     releaseTemporary(tmp_);
-    throw std::runtime_error("cannot write '" + tmp_ + "'");
+    throw std::runtime_error("cannot write '" + path_ + "'" + (error != 0 ? ": " + std::string(std::strerror(error)) : ""));
   }
   out_ << std::fixed;
 }
 
-void PendingFile::commit() {
+void PendingFile::finish() {
+  if (!out_.is_open()) return;
+  out_.flush();
+  const int error = errno;
+  const bool written = static_cast<bool>(out_);
   out_.close();
-  if (!out_) throw std::runtime_error("error while writing '" + tmp_ + "' (disk full?)");
+  if (written && out_) return;
+  std::error_code ec;
+  std::filesystem::remove(tmp_, ec);
+  releaseTemporary(tmp_);
+  throw std::runtime_error("error while writing '" + path_ + "'" +
+                           (error != 0 ? ": " + std::string(std::strerror(error)) : std::string(" (disk full?)")));
+}
+
+void PendingFile::commit() {
+  finish();
   std::filesystem::rename(tmp_, path_);
   releaseTemporary(tmp_);
+  published_ = true;
 }
 
 PendingFile::~PendingFile() {
-  if (out_.is_open()) {
-    out_.close();
-    std::error_code ec;
-    std::filesystem::remove(tmp_, ec);
-    releaseTemporary(tmp_);
-  }
+  if (published_) return;
+  if (out_.is_open()) out_.close();
+  std::error_code ec;
+  std::filesystem::remove(tmp_, ec);
+  releaseTemporary(tmp_);
 }
 
 }  // namespace lidarseg::pipeline

@@ -157,6 +157,10 @@ void SimulationFiles::writeImage(std::size_t i, const sim::SimulatedFrame& f, st
 // into place last, once its images folder and the text files beside it are the new run's.
 void SimulationFiles::commit(const std::vector<PendingFile*>& companions) {
   rawlog_.close();
+  // Every file written whole before any is put in place: a full disk publishes none.
+  for (PendingFile* f : {&gt_, &odom_, &features_, &rois_}) f->finish();
+  if (carmen_) carmen_->finish();
+  for (PendingFile* f : companions) f->finish();
   const std::string rawlog = prefix_ + ".rawlog";
   std::error_code ec;
   fs::remove(rawlog, ec);

@@ -56,12 +56,16 @@ void refuseOverwritingInput(const std::string& output, const std::string& input,
 /// without commit(), it removes its temporary file. The stream is set to std::fixed.
 class PendingFile {
  public:
-  /// @throws std::runtime_error naming the temporary file when it cannot be written.
+  /// @throws std::runtime_error naming the file when it cannot be written.
   explicit PendingFile(std::string path);
   /// The stream to write to.
   std::ofstream& out() { return out_; }
-  /// Closes the file and renames it to its path.
-  /// @throws std::runtime_error naming the file when writing failed (disk full).
+  /// Closes the file, all of it written (a set finishes every file before it publishes any,
+  /// so that a full disk leaves none of them in place).
+  /// @throws std::runtime_error naming the file when writing failed (disk full); the
+  ///         temporary is then removed.
+  void finish();
+  /// Renames the finished file to its path (finish() first when not done).
   void commit();
   ~PendingFile();
   PendingFile(const PendingFile&) = delete;
@@ -70,6 +74,7 @@ class PendingFile {
  private:
   std::string path_, tmp_;
   std::ofstream out_;
+  bool published_ = false;
 };
 
 /// Numbered files a tool writes in an output folder: PREFIX, a number (any count of
