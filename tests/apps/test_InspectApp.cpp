@@ -227,6 +227,41 @@ TEST(InspectApp, ReportWithoutGnuplotHasNoPlotsAndSaysWhy) {
   EXPECT_NE(html.find("frames/scan_"), std::string::npos);  // the gallery is still there
 }
 
+// Another log's ground truth (no pose within the scans' span): a warning naming the file and
+// both spans, the truth left out of the figures, and the plots still drawn (gnuplot refused
+// the error plot's empty series and the report lost every plot; issue 16).
+TEST(InspectApp, AnotherLogsGroundTruthIsLeftOutWithAWarningAndThePlotsStay) {
+  InspectOptions o;
+  o.input = simulatedLog();
+  o.report_dir = testDir() + "/report";
+  o.gallery = 2;
+  o.progress = false;
+  InspectApp app(o);
+  inspect::Session s(o.input, "", {});
+  eval::StampedTrajectory truth = eval::readTum(o.input.substr(0, o.input.size() - 7) + ".gt.tum");
+  ASSERT_GT(truth.size(), 2u);
+  for (auto& p : truth) p.stamp_s += 1.0e5;  // a day later: another run's clock
+  s.addReference({"ground truth", truth});
+  ::testing::internal::CaptureStderr();
+  const InspectReport r = app.writeReport(s);
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("lidarseg-inspect: warning: ground truth"), std::string::npos) << err;
+  EXPECT_NE(err.find(" 0 of the "), std::string::npos) << err;
+  EXPECT_NE(err.find("truth from "), std::string::npos) << err;
+  EXPECT_EQ(err.find("no plots"), std::string::npos) << err;
+  EXPECT_FALSE(r.final_error_m.has_value());
+  EXPECT_FALSE(r.truth_problem.empty());
+  EXPECT_TRUE(r.no_plots.empty()) << r.no_plots;
+  std::ifstream in(o.report_dir + "/index.html");
+  const std::string html((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(html.find("Ground truth left out"), std::string::npos);
+  EXPECT_NE(html.find("Match uncertainty over time"), std::string::npos);  // the plot without the truth
+  for (const char* f : {"trajectory.png", "error_over_time.png", "timing.png"}) {
+    EXPECT_NE(html.find(f), std::string::npos) << f;
+    EXPECT_GT(fs::file_size(o.report_dir + "/" + f), 1000u) << f;
+  }
+}
+
 // The inspector finds the ground truth beside a CARMEN log as beside a rawlog, as
 // lidarseg-odometry does: PREFIX.gt.tum beside the simulator's PREFIX.carmen.log, and
 // NAME.gt.tum beside NAME.log (issue 15).

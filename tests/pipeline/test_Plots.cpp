@@ -25,6 +25,29 @@ TEST(Plots, EachStyleHasItsGnuplotClause) {
   EXPECT_EQ(makeSeries("a", kIcpColour, PlotStyle::kMarkers).style, PlotStyle::kMarkers);
 }
 
+// A series with no finite point (a reference outside the log's time span) does not stop the
+// picture: gnuplot refused the whole plot for its empty data file. Nor does a plot where no
+// series has a point: its frame says so.
+TEST(Plots, ASeriesWithoutPointsStillGivesAPicture) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  PlotSeries mine = makeSeries("lidarseg", kLidarsegColour);
+  mine.x = {0.0, 1.0, 2.0};
+  mine.y = {0.0, 0.5, 0.0};
+  PlotSeries none = makeSeries("ground truth", kIcpColour);
+  none.x = {nan};
+  none.y = {nan};
+  for (const std::vector<PlotSeries>& series : {std::vector<PlotSeries>{mine, none}, std::vector<PlotSeries>{none}}) {
+    for (const std::string& png : {plotTrajectoriesPng(series, "t"), plotXYPng(series, "t", "x", "y")}) {
+      const std::string path = std::string(LIDARSEG_TEST_TMP_DIR) + "/empty_series.png";
+      std::ofstream(path, std::ios::binary) << png;
+      const auto header = vision::readImageHeader(path);
+      ASSERT_TRUE(header.has_value()) << series.size();
+      EXPECT_EQ(header->format, "PNG");
+      EXPECT_GT(header->width, 100u);
+    }
+  }
+}
+
 TEST(Plots, HistogramsAreStepsOfEachSeriesSharesOverLogarithmicBins) {
   PlotSeries a = makeSeries("lidarseg", kLidarsegColour, PlotStyle::kMarkers);
   a.x = {1.0, 10.0, 100.0, 100.0, 0.0, -3.0, std::numeric_limits<double>::quiet_NaN()};  // 4 usable

@@ -82,8 +82,8 @@ std::unique_ptr<Session> InspectApp::open() {
   if (!options_.config_path.empty()) params = inspect::InspectorParams::fromFile(options_.config_path);
   auto session = std::make_unique<Session>(options_.input, options_.sensor_label, params);
   // Found as lidarseg-odometry finds it: beside a rawlog or a CARMEN log.
-  const std::string truth = options_.truth_path.empty() ? pipeline::groundTruthBeside(options_.input) : options_.truth_path;
-  if (!truth.empty()) session->addReference({"ground truth", eval::readTum(truth)});
+  truth_path_ = options_.truth_path.empty() ? pipeline::groundTruthBeside(options_.input) : options_.truth_path;
+  if (!truth_path_.empty()) session->addReference({"ground truth", eval::readTum(truth_path_)});
   for (const std::string& r : options_.references) {
     const auto eq = r.find('=');
     session->addReference({r.substr(0, eq), eval::readTum(r.substr(eq + 1))});
@@ -408,7 +408,8 @@ int InspectApp::window(Session& session) {
 
 InspectReport InspectApp::writeReport(inspect::Session& session) {
   const InspectReport r = inspect::writeLogReport(
-      session, {options_.report_dir, options_.input, options_.layers, options_.gallery, options_.progress});
+      session, {options_.report_dir, options_.input, options_.layers, options_.gallery, options_.progress, truth_path_});
+  if (!r.truth_problem.empty()) std::cerr << "lidarseg-inspect: warning: " << r.truth_problem << "\n";
   if (!r.no_plots.empty()) std::cerr << "lidarseg-inspect: warning: no plots in the report: " << r.no_plots << "\n";
   return r;
 }

@@ -13,6 +13,7 @@
 #include "lidarseg/pipeline/OutputFiles.h"
 #include "lidarseg/pipeline/Plots.h"
 #include "lidarseg/pipeline/Progress.h"
+#include "lidarseg/pipeline/RunEvaluation.h"
 #include "lidarseg/vision/ImageFile.h"
 
 namespace lidarseg::inspect {
@@ -59,7 +60,7 @@ void compareWithTruth(std::vector<ScanRow>& rows, const eval::StampedTrajectory&
   Pose2D prev_truth;
   bool has_prev = false;  // whether prev_truth is the previous scan's
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    const auto k = eval::nearestIndex(truth, rows[i].t, 0.02);
+    const auto k = eval::nearestIndex(truth, rows[i].t, kTruthToleranceS);
     if (!k) {
       has_prev = false;
       continue;
@@ -106,9 +107,12 @@ std::string htmlResults(const ReportSummary& report, const std::vector<ScanRow>&
        << "<th>p99 (&micro;s)</th><th>max (&micro;s)</th></tr>\n<tr><td>" << report.scans
        << "</td><td>" << fixed(report.length_m, 2) << "</td><td>" << report.failed_matches
        << "</td><td>"
-       << (report.final_error_m ? fixed(*report.final_error_m, 3) : std::string("no ground truth"))
+       << (report.final_error_m       ? fixed(*report.final_error_m, 3)
+           : report.truth_problem.empty() ? std::string("no ground truth")
+                                          : std::string("ground truth left out"))
        << "</td><td>" << fixed(t.median, 1) << "</td><td>" << fixed(t.p99, 1) << "</td><td>"
        << fixed(t.max, 1) << "</td></tr>\n</table>\n";
+  if (!report.truth_problem.empty()) html << "<p>Ground truth left out: " << escapeXml(report.truth_problem) << "</p>\n";
   if (!no_plots.empty()) {
     html << "<p>No plots: " << escapeXml(no_plots) << "</p>\n";
     return html.str();
@@ -172,9 +176,9 @@ std::string trajectoryPlot(const std::vector<ScanRow>& rows, const std::vector<R
   for (std::size_t i = 0; i < references.size(); ++i) {
     const Reference& ref = references[i];
     PlotSeries s = makeSeries(ref.name, colours[i]);
+    // A reference with no pose near the log's first scan keeps its legend entry, "(no data)".
     const auto first = eval::nearestIndex(ref.poses, rows.front().t, 1.0);
-    if (!first) continue;
-    for (std::size_t k = *first; k < ref.poses.size() && ref.poses[k].stamp_s <= rows.back().t + 1e-6; ++k) {
+    for (std::size_t k = first.value_or(ref.poses.size()); k < ref.poses.size() && ref.poses[k].stamp_s <= rows.back().t + 1e-6; ++k) {
       const Pose2D a = relative(ref.poses[k].pose, ref.poses[*first].pose);
       s.x.push_back(a.x), s.y.push_back(a.y);
     }
@@ -275,8 +279,18 @@ ReportSummary writeLogReport(Session& session, const ReportSettings& settings) {
   const std::string& dir = settings.dir;
   fs::create_directories(dir + "/frames");
   const eval::StampedTrajectory* truth = groundTruth(session);
-  const std::vector<ScanRow> rows = scanRows(session, truth, settings.progress);
+  std::vector<ScanRow> rows = scanRows(session, nullptr, settings.progress);
+  std::string truth_problem;
+  if (truth != nullptr) {
+    std::vector<double> stamps;
+    stamps.reserve(rows.size());
+    for (const ScanRow& r : rows) stamps.push_back(r.t);
+    truth_problem = pipeline::truthPairingProblem(settings.truth_path, *truth, stamps, kTruthToleranceS);
+    if (truth_problem.empty()) compareWithTruth(rows, *truth, session.mountOfFirstScan());
+    else truth = nullptr;
+  }
   ReportSummary report = summarizeRows(rows);
+  report.truth_problem = std::move(truth_problem);
   report.gallery = worstFirst(rows, settings.gallery);
 
   pipeline::OutputSet outputs;

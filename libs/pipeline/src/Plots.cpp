@@ -130,22 +130,31 @@ std::string preamble(const ScratchFolder& dir, const std::string& title, const s
   return gp.str();
 }
 
-// Writes each series to DIR/seriesK.dat ("x y" rows) and returns the plot command.
+// Writes each series to DIR/seriesK.dat ("x y" rows) and returns the plot command. A series
+// with no finite point keeps its legend entry, marked "(no data)" (gnuplot refuses a data
+// file with no valid point); when no series has one, the frame says "no data" instead of
+// gnuplot failing on a plot with nothing to scale.
 std::string plotCommand(const ScratchFolder& dir, const std::vector<PlotSeries>& series) {
   std::ostringstream plot;
   plot << "plot ";
+  bool any = false;
   for (std::size_t k = 0; k < series.size(); ++k) {
     const PlotSeries& s = series[k];
     const std::string data = dir.file("series" + std::to_string(k) + ".dat");
     std::ofstream out(data);
     out << std::setprecision(9);
+    std::size_t rows = 0;
     for (std::size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
-      if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) out << s.x[i] << ' ' << s.y[i] << '\n';
+      if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) out << s.x[i] << ' ' << s.y[i] << '\n', ++rows;
     }
-    plot << (k ? ", " : "") << quoted(data) << " using 1:2 " << gnuplotWith(s.style) << " lc rgb '" << rgb(s)
-         << "' title " << quoted(s.name);
+    any = any || rows > 0;
+    plot << (k ? ", " : "") << (rows > 0 ? quoted(data) + " using 1:2 " : std::string("NaN ")) << gnuplotWith(s.style)
+         << " lc rgb '" << rgb(s) << "' title " << quoted(rows > 0 ? s.name : s.name + " (no data)");
   }
-  return plot.str() + "\n";
+  if (series.empty()) plot << "NaN notitle";
+  if (any) return plot.str() + "\n";
+  return "set label 'no data' at graph 0.5, 0.5 center\nunset logscale\nset xrange [0:1]\nset yrange [0:1]\n" +
+         plot.str() + "\n";
 }
 
 }  // namespace

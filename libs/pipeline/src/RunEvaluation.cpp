@@ -1,6 +1,7 @@
 #include "lidarseg/pipeline/RunEvaluation.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -47,6 +48,27 @@ std::string groundTruthBeside(const std::string& log_path) {
   return {};
 }
 
+std::string truthPairingProblem(const std::string& truth_path, const eval::StampedTrajectory& truth,
+                                const std::vector<double>& stamps_s, double tolerance_s) {
+  std::size_t paired = 0;
+  for (double t : stamps_s) paired += eval::nearestIndex(truth, t, tolerance_s).has_value();
+  if (paired >= 2) return {};
+  std::string text = "ground truth '" + truth_path + "': " + std::to_string(paired) + " of the " +
+                     std::to_string(stamps_s.size()) + " scans have a pose within " + numberText(tolerance_s) +
+                     " s; no trajectory errors";
+  if (!truth.empty() && !stamps_s.empty()) {
+    const auto [lo, hi] = std::minmax_element(stamps_s.begin(), stamps_s.end());
+    const auto stamp = [](double t) {  // absolute stamps: millisecond digits, no exponent
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%.3f", t);
+      return std::string(buf);
+    };
+    text += " (truth from " + stamp(truth.front().stamp_s) + " to " + stamp(truth.back().stamp_s) + " s, scans from " +
+            stamp(*lo) + " to " + stamp(*hi) + " s)";
+  }
+  return text;
+}
+
 RunReferences readRunReferences(const std::string& gt_path, const std::string& relations_path) {
   RunReferences refs;
   if (!gt_path.empty()) refs.gt = eval::readTum(gt_path);
@@ -70,18 +92,10 @@ void evaluateRun(const OdometryRun& run, RunReferences& refs, bool log_reference
     // A ground truth that pairs with fewer than two scans gives no trajectory error: say so
     // with both time spans (another log's truth, relative against absolute stamps, or a log
     // of one scan) rather than fail the run or print errors of nothing.
-    const auto& t = report.lidarseg.trajectory;
-    std::size_t paired = 0;
-    for (const auto& p : t) paired += eval::nearestIndex(*refs.gt, p.stamp_s, refs.gt_tolerance_s).has_value();
-    if (paired < 2) {
-      std::string warning = "ground truth '" + report.gt_path + "': " + std::to_string(paired) + " of the " +
-                            std::to_string(t.size()) + " scans have a pose within " +
-                            numberText(refs.gt_tolerance_s) + " s; no trajectory errors";
-      if (!refs.gt->empty() && !t.empty()) {
-        warning += " (truth from " + numberText(refs.gt->front().stamp_s) + " to " +
-                   numberText(refs.gt->back().stamp_s) + " s, scans from " + numberText(t.front().stamp_s) + " to " +
-                   numberText(t.back().stamp_s) + " s)";
-      }
+    std::vector<double> stamps;
+    for (const auto& p : report.lidarseg.trajectory) stamps.push_back(p.stamp_s);
+    const std::string warning = truthPairingProblem(report.gt_path, *refs.gt, stamps, refs.gt_tolerance_s);
+    if (!warning.empty()) {
       report.warnings.push_back(warning);
       report.warning_kinds.add(warning);
       refs.gt.reset();

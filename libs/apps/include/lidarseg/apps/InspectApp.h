@@ -82,6 +82,7 @@ class InspectApp {
   int window(inspect::Session& session);
 
   InspectOptions options_;
+  std::string truth_path_;  ///< the ground truth read (given, or found beside the log); empty without one
 };
 
 }  // namespace lidarseg::apps

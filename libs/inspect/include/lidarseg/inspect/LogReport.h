@@ -26,6 +26,9 @@ struct ReportSummary {
   std::vector<std::size_t> gallery;     ///< frames drawn, worst first
   /// Why the report has no plots (gnuplot missing or failing); empty when it has them.
   std::string no_plots;
+  /// Why a ground truth the session holds was left out (fewer than two scans have a pose
+  /// of it within kTruthToleranceS: another log's truth); empty when it was used or absent.
+  std::string truth_problem;
 };
 
 /// One scan's row of the report's tables.
@@ -43,6 +46,10 @@ struct ScanRow {
   double drift_m =
       std::nan("");  ///< position error against the truth, aligned at the first scan (m)
 };
+
+/// Largest difference between a scan's stamp and a ground-truth pose's for the two to be
+/// compared (s).
+inline constexpr double kTruthToleranceS = 0.02;
 
 /// The ground truth among the session's references (named "ground truth"), nullptr without one.
 const eval::StampedTrajectory* groundTruth(const Session& session);
@@ -79,13 +86,15 @@ struct ReportSettings {
   std::string layers;
   std::size_t gallery = 12;  ///< frames in the gallery
   bool progress = true;      ///< progress of the rows on stderr (only on a terminal)
+  std::string truth_path;    ///< the ground truth's file, as warnings name it
 };
 
 /// The whole --report of the session's log, put in place together: DIR/index.html
 /// (reportHtml()), trajectory.png (lidarseg and every reference from its pose at the first
 /// scan), error_over_time.png (the error against the truth, or the match's sd),
 /// timing.png (time per scan) and the gallery's frames/scan_N.png (900 x 700). Without
-/// gnuplot the plots are left out and the summary's `no_plots` says why.
+/// gnuplot the plots are left out and the summary's `no_plots` says why. A ground truth
+/// that pairs with fewer than two scans is left out and `truth_problem` says why.
 /// @throws std::runtime_error when a file cannot be written.
 ReportSummary writeLogReport(Session& session, const ReportSettings& settings);
 

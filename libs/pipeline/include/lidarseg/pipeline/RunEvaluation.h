@@ -31,6 +31,14 @@ struct RunReferences {
 /// no such file. lidarseg-odometry and lidarseg-inspect look for their ground truth so.
 std::string groundTruthBeside(const std::string& log_path);
 
+/// Why the ground truth `truth` (read from `truth_path`) cannot measure scans stamped
+/// `stamps_s`: fewer than two of them have a pose within `tolerance_s` (another log's truth,
+/// relative stamps against absolute ones, a log of one scan). The text names the file, the
+/// count and both time spans; empty when at least two scans pair. lidarseg-odometry and
+/// lidarseg-inspect warn with it and leave the truth out.
+std::string truthPairingProblem(const std::string& truth_path, const eval::StampedTrajectory& truth,
+                                const std::vector<double>& stamps_s, double tolerance_s);
+
 /// The ground truth (TUM) and relations files read before the run, so that a bad file fails
 /// early; an empty path reads nothing.
 /// @throws std::runtime_error naming the file and line.
