@@ -205,5 +205,24 @@ TEST(SimulateApp, BadInputNamesTheFileAndLeavesNoOutput) {
   EXPECT_FALSE(fs::exists(testDir() + "/bad.rawlog.tmp"));
 }
 
+// A path through a wall was simulated as if the robot passed through it (issue 16): refused
+// before anything is written, naming the trajectory, the world, the leg and the wall.
+TEST(SimulateApp, APathThroughAWallIsRefusedNamingTheLegAndTheWall) {
+  SimulateOptions o = shortRun("through", 1);
+  // From the bottom corridor up through the wall at y = 1.2 (hospital.world).
+  std::ofstream(o.trajectory_path) << "speed 1\nturn_radius 0.5\nwaypoint 5 0\nwaypoint 15 0\nwaypoint 15 8\n";
+  try {
+    SimulateApp(o).run();
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind("'" + o.trajectory_path + "': the path goes through a wall of '" + o.world_path + "' at (15, 1.2)", 0), 0u)
+        << what;
+    EXPECT_NE(what.find("on the leg from waypoint 2 (15, 0) to waypoint 3 (15, 8)"), std::string::npos) << what;
+  }
+  EXPECT_FALSE(fs::exists(o.out_prefix + ".rawlog"));
+  EXPECT_FALSE(fs::exists(o.out_prefix + ".gt.tum"));
+}
+
 }  // namespace
 }  // namespace lidarseg::apps

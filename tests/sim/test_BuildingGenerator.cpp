@@ -7,6 +7,7 @@
 #include "lidarseg/core/BeamLayout.h"
 #include "lidarseg/sim/BuildingGenerator.h"
 #include "lidarseg/sim/FeatureOracle.h"
+#include "lidarseg/sim/Trajectory.h"
 #include "lidarseg/sim/WorldFile.h"
 
 namespace lidarseg::sim {
@@ -40,6 +41,17 @@ TEST(BuildingGenerator, SameSeedGivesTheSameBuilding) {
       EXPECT_EQ(a.doors[i].kind, b.doors[i].kind);
     }
   }
+}
+
+// The generated path goes through openings only: lidarseg-simulate refuses a path through a
+// wall, and the held-out evaluation runs seeds 101-150.
+TEST(BuildingGenerator, ThePathGoesThroughNoWall) {
+  for (std::uint64_t seed = 1; seed <= 150; ++seed) {
+    const Building b = generateBuilding(seed);
+    const auto c = firstWallCrossing(b.world(), b.trajectory());
+    EXPECT_FALSE(c.has_value()) << "seed " << seed << " at (" << c->point.x() << ", " << c->point.y() << ")";
+  }
+  for (std::uint64_t seed : kTestSeeds) EXPECT_FALSE(firstWallCrossing(generateBuilding(seed).world(), generateBuilding(seed).trajectory()).has_value()) << seed;
 }
 
 TEST(BuildingGenerator, DifferentSeedsGiveDifferentBuildings) {

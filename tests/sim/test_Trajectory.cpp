@@ -14,6 +14,66 @@ namespace {
 using lidarseg::kPi;
 const std::string kWorlds = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/";
 
+// The first wall a path goes through: on a straight leg, on a rounded corner's arc, a door
+// leaf; none through an opening or beside a wall; and the project's own worlds are clear.
+TEST(Trajectory, TheFirstWallCrossedIsFoundOnLegsAndArcs) {
+  World w;
+  w.addWall({5, -1}, {5, 1});  // across the first leg
+  const Trajectory straight({{0, 0}, {10, 0}}, 1.0, 0.5);
+  auto c = firstWallCrossing(w, straight);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_NEAR(c->s_m, 5.0, 1e-9);
+  EXPECT_NEAR(c->point.x(), 5.0, 1e-9);
+  EXPECT_EQ(c->wall, 0u);
+  EXPECT_EQ(straight.legAtDistance(c->s_m), 0u);
+  // An opening in that wall lets the path through.
+  World open;
+  open.addWall({5, -1}, {5, -0.4});
+  open.addWall({5, 0.4}, {5, 1});
+  EXPECT_FALSE(firstWallCrossing(open, straight).has_value());
+  // The rounded corner (radius 1 m at (10, 0): the arc from (9, 0) to (10, 1) about (9, 1))
+  // crosses a short wall inside the corner, on the leg it leaves; it passes inside one that
+  // cuts the corner's tip, which the waypoints' polyline would cross.
+  const Trajectory turn({{0, 0}, {10, 0}, {10, 10}}, 1.0, 1.0);
+  World diagonal;  // on x + y = 9.5: the arc meets it at (9.41, 0.09)
+  diagonal.addWall({9.0, 0.5}, {9.5, 0.0});
+  ASSERT_TRUE(firstWallCrossing(diagonal, turn).has_value());
+  EXPECT_EQ(turn.legAtDistance(firstWallCrossing(diagonal, turn)->s_m), 0u);
+  World beside;  // on x + y = 10.2 across the tip: the arc meets that line at x = 9.8, off the wall
+  beside.addWall({9.9, 0.3}, {10.3, -0.1});
+  EXPECT_FALSE(firstWallCrossing(beside, turn).has_value());
+  // The arc's chords stay within 1 mm of it.
+  const auto poly = turn.polyline(1e-3);
+  for (std::size_t k = 0; k + 1 < poly.size(); ++k) {
+    const Pose2D mid = turn.poseAtDistance(0.5 * (poly[k].first + poly[k + 1].first));
+    const Eigen::Vector2d chord_mid = 0.5 * (poly[k].second + poly[k + 1].second);
+    EXPECT_LT((chord_mid - Eigen::Vector2d(mid.x, mid.y)).norm(), 1.0e-3 + 1e-9) << k;
+  }
+  // A closed door's leaf is a wall to the robot.
+  World door_world;
+  door_world.addWall({5, -2}, {5, 2});
+  Door d;
+  d.jamb_a = {5, -0.45};
+  d.jamb_b = {5, 0.45};
+  d.kind = DoorKind::kClosed;
+  d.recess_m = 0.05;
+  door_world.addDoor(d);
+  c = firstWallCrossing(door_world, straight);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_EQ(door_world.walls()[c->wall].kind, SurfaceKind::kDoor);
+  d.kind = DoorKind::kOpen;
+  World open_door;
+  open_door.addWall({5, -2}, {5, 2});
+  open_door.addDoor(d);
+  EXPECT_FALSE(firstWallCrossing(open_door, straight).has_value());
+  // The committed worlds and their trajectories.
+  for (const char* name : {"maze", "hospital"}) {
+    EXPECT_FALSE(firstWallCrossing(loadWorldFile(kWorlds + name + ".world"),
+                                   loadTrajectoryFile(kWorlds + name + ".traj")).has_value())
+        << name;
+  }
+}
+
 TEST(Trajectory, StraightLegsAndRoundedCorner) {
   const Trajectory t({{0, 0}, {10, 0}, {10, 10}}, 2.0, 1.0);
   // Two legs of 10 m minus 1 m each, plus a quarter circle of radius 1.

@@ -1,5 +1,6 @@
 #include "lidarseg/apps/SimulateApp.h"
 
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "lidarseg/apps/CommandLine.h"
+#include "lidarseg/core/NumberText.h"
 #include "lidarseg/mrpt/SimulationConfig.h"
 #include "lidarseg/pipeline/OutputFiles.h"
 #include "lidarseg/pipeline/Progress.h"
@@ -92,6 +94,24 @@ struct Scene {
   sim::Trajectory trajectory;
 };
 
+// A robot driven through a wall (a waypoint on the wrong side, a closed door on the way)
+// would give scans no robot can take: refused, naming the leg, the place and the wall.
+void refusePathThroughWalls(const SimulateOptions& o, const sim::World& world, const sim::Trajectory& trajectory) {
+  const auto crossing = sim::firstWallCrossing(world, trajectory);
+  if (!crossing) return;
+  const auto point = [](const Eigen::Vector2d& p) { return "(" + numberText(p.x()) + ", " + numberText(p.y()) + ")"; };
+  const sim::Wall& wall = world.walls()[crossing->wall];
+  const std::size_t leg = trajectory.legAtDistance(crossing->s_m);
+  const auto& wp = trajectory.waypoints();
+  const char* what = wall.kind == sim::SurfaceKind::kDoor ? "a door leaf" : wall.kind == sim::SurfaceKind::kClutter ? "clutter" : "a wall";
+  const std::string path = o.building_seed ? "building " + std::to_string(*o.building_seed) : "'" + o.trajectory_path + "'";
+  const std::string in = o.building_seed ? std::string() : " of '" + o.world_path + "'";
+  throw std::runtime_error(path + ": the path goes through " + what + in + " at " + point(crossing->point) + ", " +
+                           numberText(std::round(crossing->s_m * 1e3) / 1e3) + " m from its start, on the leg from waypoint " +
+                           std::to_string(leg + 1) + " " + point(wp[leg]) + " to waypoint " + std::to_string(leg + 2) + " " +
+                           point(wp[leg + 1]) + " (it runs from " + point(wall.a) + " to " + point(wall.b) + ")");
+}
+
 Scene loadScene(const SimulateOptions& o) {
   std::optional<sim::Building> building;
   if (o.building_seed) {
@@ -104,6 +124,7 @@ Scene loadScene(const SimulateOptions& o) {
   }
   sim::World world = building ? building->world() : sim::loadWorldFile(o.world_path);
   sim::Trajectory trajectory = building ? building->trajectory() : sim::loadTrajectoryFile(o.trajectory_path);
+  refusePathThroughWalls(o, world, trajectory);
   return Scene{std::move(building), std::move(world), std::move(trajectory)};
 }
 

@@ -20,7 +20,7 @@ double wrap(double a) { return std::remainder(a, 2.0 * kPi); }
 }  // namespace
 
 Trajectory::Trajectory(std::vector<Eigen::Vector2d> wp, double speed_mps, double radius)
-    : speed_(speed_mps) {
+    : waypoints_(wp), speed_(speed_mps) {
   if (wp.size() < 2) throw std::invalid_argument("Trajectory: needs at least 2 waypoints");
   if (!(speed_mps > 0.0)) throw std::invalid_argument("Trajectory: speed must be > 0");
   if (!(radius >= 0.0)) throw std::invalid_argument("Trajectory: turn radius must be >= 0");
@@ -46,12 +46,12 @@ Trajectory::Trajectory(std::vector<Eigen::Vector2d> wp, double speed_mps, double
   for (std::size_t i = 0; i + 1 < n; ++i) {
     const Eigen::Vector2d d = (wp[i + 1] - wp[i]).normalized();
     const double heading = std::atan2(d.y(), d.x());
-    Piece line{wp[i] + cut[i] * d, heading, (wp[i + 1] - wp[i]).norm() - cut[i] - cut[i + 1], 0.0, s};
+    Piece line{wp[i] + cut[i] * d, heading, (wp[i + 1] - wp[i]).norm() - cut[i] - cut[i + 1], 0.0, s, i};
     pieces_.push_back(line);
     s += line.length;
     if (i + 1 < n - 1 && cut[i + 1] > 0.0) {
       Piece arc{wp[i + 1] - cut[i + 1] * d, heading, r_eff[i + 1] * std::abs(turn[i + 1]),
-                (turn[i + 1] > 0 ? 1.0 : -1.0) / r_eff[i + 1], s};
+                (turn[i + 1] > 0 ? 1.0 : -1.0) / r_eff[i + 1], s, i};
       pieces_.push_back(arc);
       s += arc.length;
     }
@@ -75,6 +75,59 @@ Pose2D Trajectory::poseAtDistance(double s) const {
 }
 
 Pose2D Trajectory::poseAt(double t) const { return poseAtDistance(t * speed_); }
+
+std::size_t Trajectory::legAtDistance(double s) const {
+  s = std::clamp(s, 0.0, length_);
+  auto it = std::upper_bound(pieces_.begin(), pieces_.end(), s, [](double v, const Piece& p) { return v < p.s0; });
+  return (it == pieces_.begin() ? it : it - 1)->leg;
+}
+
+std::vector<std::pair<double, Eigen::Vector2d>> Trajectory::polyline(double tolerance_m) const {
+  std::vector<std::pair<double, Eigen::Vector2d>> out;
+  const auto at = [&](double s) {
+    const Pose2D p = poseAtDistance(s);
+    out.emplace_back(s, Eigen::Vector2d(p.x, p.y));
+  };
+  at(0.0);
+  for (const Piece& p : pieces_) {
+    std::size_t chords = 1;
+    if (p.curvature != 0.0) {
+      // A chord of angle a on radius r lies at most r (1 - cos(a / 2)) from its arc.
+      const double r = 1.0 / std::abs(p.curvature);
+      const double a_max = tolerance_m < r ? 2.0 * std::acos(1.0 - tolerance_m / r) : kPi;
+      const double angle = p.length * std::abs(p.curvature);
+      chords = static_cast<std::size_t>(std::clamp(std::ceil(angle / std::max(a_max, 1e-6)), 1.0, 1e5));
+    }
+    for (std::size_t k = 1; k <= chords; ++k) at(p.s0 + p.length * static_cast<double>(k) / static_cast<double>(chords));
+  }
+  return out;
+}
+
+std::optional<WallCrossing> firstWallCrossing(const World& world, const Trajectory& trajectory) {
+  constexpr double kChordToleranceM = 1e-3;
+  const auto points = trajectory.polyline(kChordToleranceM);
+  const auto& walls = world.walls();
+  for (std::size_t k = 0; k + 1 < points.size(); ++k) {
+    const Eigen::Vector2d p = points[k].second, d = points[k + 1].second - p;
+    if (!(d.squaredNorm() > 0.0)) continue;
+    std::optional<WallCrossing> first;
+    double first_t = 2.0;
+    for (std::size_t w = 0; w < walls.size(); ++w) {
+      // p + t d = a + u e, solved with 2D cross products; touching counts (t, u in [0, 1]).
+      const Eigen::Vector2d e = walls[w].b - walls[w].a, ap = walls[w].a - p;
+      const double denom = d.x() * e.y() - d.y() * e.x();
+      if (std::abs(denom) < 1e-15) continue;  // parallel: a path along a wall's line does not cross it
+      const double t = (ap.x() * e.y() - ap.y() * e.x()) / denom;
+      const double u = (ap.x() * d.y() - ap.y() * d.x()) / denom;
+      if (t >= 0.0 && t <= 1.0 && u >= 0.0 && u <= 1.0 && t < first_t) {
+        first_t = t;
+        first = WallCrossing{points[k].first + t * (points[k + 1].first - points[k].first), p + t * d, w};
+      }
+    }
+    if (first) return first;
+  }
+  return std::nullopt;
+}
 
 Trajectory loadTrajectoryFile(const std::string& path) {
   std::ifstream in(path);
