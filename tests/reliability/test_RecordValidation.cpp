@@ -722,6 +722,57 @@ TEST(RecordValidation, AnEmbeddedJpegImageDeclaringAHugeSizeIsSkippedBeforeItIsD
             "read from 1 x 1 up to 8192 x 8192 pixels); the entry skipped but its 1 laser scan(s)");
 }
 
+// A grey camera image stored raw (64 x 48) or zipped (256 x 128: above MRPT's 16 KB) whose
+// declared width and height are 20000 x 20000: MRPT allocated those 400 MB before it read
+// the pixels (and 100000 x 100000 asked 10 GB). The allocation is refused above the tools'
+// 8192 x 8192 cap and the log's error names the entry (issue 16).
+TEST(RecordValidation, AnEmbeddedGreyImageDeclaringAHugeSizeIsRefusedBeforeItsBufferIsAllocated) {
+  fs::create_directories(kTmp);
+  for (const auto& [cols, rows] : {std::pair<int, int>{64, 48}, std::pair<int, int>{256, 128}}) {
+    const std::string plain = kTmp + "/grey_image_" + std::to_string(cols) + ".rawlog";
+    {
+      mrpt::io::CFileOutputStream out(plain);
+      auto archive = mrpt::serialization::archiveFrom(out);
+      ScanSpec sp;
+      archive << *scanAt(sp, 100.0);
+      auto image = mrpt::obs::CObservationImage::Create();
+      image->sensorLabel = "CAMERA";
+      image->timestamp = mrpt::Clock::fromDouble(100.05);
+      image->image = mrpt::img::CImage(cv::Mat(rows, cols, CV_8UC1, cv::Scalar(90)), mrpt::img::DEEP_COPY);
+      archive << *image;
+    }
+    std::string bytes = fileBytes(plain);
+    // The image's width and height as MRPT writes them: two little-endian int32 in a row.
+    const auto le32 = [](int v) {
+      std::string b(4, '\0');
+      for (int k = 0; k < 4; ++k) b[static_cast<std::size_t>(k)] = static_cast<char>((v >> (8 * k)) & 0xFF);
+      return b;
+    };
+    const std::size_t at = bytes.find(le32(cols) + le32(rows), bytes.find("CImage"));
+    ASSERT_NE(at, std::string::npos) << cols;
+    bytes.replace(at, 8, le32(20000) + le32(20000));
+    const std::string bad = kTmp + "/grey_image_huge_" + std::to_string(cols) + ".rawlog";
+    std::ofstream(bad, std::ios::binary) << bytes;
+    mrpt_adapter::RawlogScanReader raw(bad);
+    ASSERT_TRUE(raw.next().has_value()) << "the scan before the image";
+    try {
+      while (raw.next()) {
+      }
+      ADD_FAILURE() << "no error for a " << cols << "-column image declaring 20000 x 20000 pixels";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("rawlog '" + bad + "', entry 1: "), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("an oversized image: image of 20000 x 20000 pixels; images are read from 1 x 1 "
+                                           "up to 8192 x 8192 pixels"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  // Images within the cap still read (the allocator passes them through).
+  mrpt_adapter::RawlogScanReader fine(kTmp + "/grey_image_64.rawlog");
+  EXPECT_TRUE(fine.next().has_value());
+  EXPECT_FALSE(fine.next().has_value());
+}
+
 // The observations layout (each observation its own entry), gzip-compressed, two corrupt
 // images: each is skipped with its entry number and the scans after it are read.
 TEST(RecordValidation, CorruptJpegImageEntriesOfAGzipRawlogAreSkippedAndTheScansAfterThemRead) {

@@ -16,6 +16,8 @@
 #include <jpeglib.h>
 #include <zlib.h>
 
+#include <opencv2/core/mat.hpp>
+
 #include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CMemoryStream.h>
@@ -66,6 +68,49 @@ struct JpegErrorsThrow {
   cinfo->global_state = 0;
   ++jpeg_errors_thrown;
   throw std::runtime_error(std::string(kJpegErrorPrefix) + message);
+}
+}  // namespace
+
+namespace {
+// An image MRPT sizes from its declared width and height before it reads the pixels (a raw
+// or zipped grey image: the buffer is allocated first) is refused above the tools' cap
+// (8192 x 8192, decision 52) while an entry is deserialised on this thread: OpenCV's default
+// Mat allocator is wrapped once per process, and passes every other allocation through
+// (decision 104).
+constexpr const char* kImageOversizePrefix = "an oversized image: ";
+
+class CappedImageAllocator final : public cv::MatAllocator {
+ public:
+  explicit CappedImageAllocator(cv::MatAllocator* next) : next_(next) {}
+  cv::UMatData* allocate(int dims, const int* sizes, int type, void* data, size_t* step, cv::AccessFlag flags,
+                         cv::UMatUsageFlags usage) const override {
+    if (jpeg_errors_throw > 0 && data == nullptr && dims == 2) {
+      const auto rows = static_cast<std::uint64_t>(std::max(sizes[0], 0));
+      const auto cols = static_cast<std::uint64_t>(std::max(sizes[1], 0));
+      try {
+        if (rows > 0 && cols > 0) lidarseg::vision::requireImageSize(cols, rows, "image", "image");
+      } catch (const std::runtime_error& e) {  // "image: image of W x H pixels; ..."
+        throw std::runtime_error(std::string(kImageOversizePrefix) + (e.what() + std::strlen("image: ")));
+      }
+    }
+    return next_->allocate(dims, sizes, type, data, step, flags, usage);
+  }
+  bool allocate(cv::UMatData* data, cv::AccessFlag flags, cv::UMatUsageFlags usage) const override {
+    return next_->allocate(data, flags, usage);
+  }
+  void deallocate(cv::UMatData* data) const override { next_->deallocate(data); }
+
+ private:
+  cv::MatAllocator* next_;
+};
+
+void capImageAllocations() {
+  static const bool installed = [] {
+    static CappedImageAllocator capped(cv::Mat::getDefaultAllocator());
+    cv::Mat::setDefaultAllocator(&capped);
+    return true;
+  }();
+  (void)installed;
 }
 }  // namespace
 
@@ -263,6 +308,7 @@ std::string failureOf(const std::exception& e) {
   std::string what = e.what();
   auto jpeg = what.find(kJpegErrorPrefix);
   if (jpeg == std::string::npos) jpeg = what.find(kJpegOversizePrefix);
+  if (jpeg == std::string::npos) jpeg = what.find(kImageOversizePrefix);
   if (jpeg != std::string::npos) what = "Message: " + what.substr(jpeg);
   const auto m = what.find("Message:");
   if (m != std::string::npos) what = what.substr(m + 8);
@@ -284,6 +330,7 @@ std::string imageFailure(const std::string& what) {
 
 RawlogScanReader::RawlogScanReader(const std::string& path, std::string sensor_label)
     : path_(path), label_(std::move(sensor_label)), label_requested_(!label_.empty()) {
+  capImageAllocations();
   file_ = std::make_unique<mrpt::io::CFileGZInputStream>();
   bool opened = false;
   try {
