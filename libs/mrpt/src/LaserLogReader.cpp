@@ -14,11 +14,10 @@
 #include "lidarseg/core/Angles.h"
 #include "lidarseg/core/NumberText.h"
 #include "lidarseg/core/StampPolicy.h"
-#include "lidarseg/logs/CarmenLogReader.h"
-#include "lidarseg/logs/CarmenScan.h"
+#include "lidarseg/logs/CarmenScanSource.h"
 #include "lidarseg/mrpt/ScanConverter.h"
 #include "lidarseg/mrpt/PoseConversion.h"
-#include "lidarseg/mrpt/RawlogScanReader.h"
+#include "lidarseg/mrpt/RawlogScanSource.h"
 
 namespace lidarseg::mrpt_adapter {
 
@@ -26,50 +25,6 @@ namespace {
 
 bool endsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-// The largest tilt (pitch or roll, rad) of a scan plane taken as horizontal: 0.6 deg, a
-// range error below 0.01 %.
-constexpr double kMaxTiltRad = 0.01;
-constexpr std::size_t kMaxBeams = 100000;
-
-bool finitePose(const mrpt::poses::CPose3D& p) {
-  return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()) && std::isfinite(p.yaw()) &&
-         std::isfinite(p.pitch()) && std::isfinite(p.roll());
-}
-
-// What makes a rawlog scan unusable ("" when nothing). A laser mounted upside down is
-// rewritten in place as the same scan seen by an upright laser (beams in the other order).
-std::string checkRawlogScan(mrpt::obs::CObservation2DRangeScan& obs) {
-  const double stamp = mrpt::Clock::toDouble(obs.timestamp);
-  // A log without stamps (MRPT's INVALID_TIMESTAMP) runs on synthetic time steps.
-  if (!std::isfinite(stamp)) return "timestamp is not finite";
-  if (obs.timestamp != INVALID_TIMESTAMP && std::abs(stamp) > kMaxLogStampS) {
-    return "timestamp " + numberText(stamp) + " s is beyond +-1e10 s (the year 2286): not a clock reading";
-  }
-  const std::size_t n = obs.getScanSize();
-  if (n < 2 || n > kMaxBeams) return std::to_string(n) + " beams (need 2 to " + std::to_string(kMaxBeams) + ")";
-  if (!std::isfinite(obs.aperture) || !(obs.aperture > 0.0f) || obs.aperture > 2.0f * static_cast<float>(kPi) + 1e-3f) {
-    return "aperture " + numberText(static_cast<double>(obs.aperture)) + " rad is not in (0, 2 pi]";
-  }
-  if (!std::isfinite(obs.maxRange) || !(obs.maxRange > 0.0f)) return "maximum range is not finite and > 0";
-  if (!finitePose(obs.sensorPose)) return "sensor pose is not finite";
-  const auto R = obs.sensorPose.getRotationMatrix();
-  const double up = R(2, 2);  // the sensor's z axis, in the robot's z
-  if (std::abs(up) < std::cos(kMaxTiltRad)) {
-    char text[160];
-    std::snprintf(text, sizeof text, "scan plane tilted by %.3g deg (the planar pipeline needs it within %.2g deg of horizontal)",
-                  std::acos(std::min(1.0, std::abs(up))) * kRadToDeg, kMaxTiltRad * kRadToDeg);
-    return text;
-  }
-  const double yaw = std::atan2(R(1, 0), R(0, 0));  // where the sensor's x axis points
-  if (up < 0.0) {
-    // Upside down: the beams sweep the other way round the robot's z axis.
-    obs.rightToLeft = !obs.rightToLeft;
-  }
-  const auto& p = obs.sensorPose;
-  obs.sensorPose = mrpt::poses::CPose3D(p.x(), p.y(), p.z(), yaw, 0.0, 0.0);
-  return "";
 }
 
 }  // namespace
@@ -106,64 +61,6 @@ mrpt::poses::CPose3D sensorPose3D(const LaserRecord& record) {
   if (record.observation) return record.observation->sensorPose;
   const Pose2D& s = record.sensor_on_robot;
   return mrpt::poses::CPose3D(s.x, s.y, 0.0, s.yaw, 0.0, 0.0);
-}
-
-void LaserLogReader::watchGeometry(LaserRecord& r) {
-  if (r.odometry && !(std::isfinite(r.odometry->x) && std::isfinite(r.odometry->y) && std::isfinite(r.odometry->yaw))) {
-    warn(r.where + ": wheel odometry is not finite; not used");
-    r.odometry.reset();
-  }
-  const BeamLayout& layout = *r.scan.layout;
-  const Geometry g{layout.size(), layout.angle(0), layout.angle(layout.size() - 1), r.sensor_on_robot.x,
-                   r.sensor_on_robot.y, r.sensor_on_robot.yaw};
-  if (!geometry_) {
-    geometry_ = g;
-  } else if (!geometry_changed_ && !(g == *geometry_)) {
-    geometry_changed_ = true;
-    warn(r.where + ": the laser '" + r.sensor + "' changes its beam count, aperture or mounting (" +
-         std::to_string(geometry_->beams) + " -> " + std::to_string(g.beams) + " beams); each scan is taken as it is");
-  }
-}
-
-std::vector<std::string> LaserLogReader::warnings() const {
-  std::vector<std::string> out = warnings_;
-  if (rawlog_) {
-    for (const auto& m : rawlog_->skippedEntries()) out.push_back(m);
-    if (rawlog_->skippedEntryCount() > rawlog_->skippedEntries().size()) {
-      out.push_back(path_ + ": " + std::to_string(rawlog_->skippedEntryCount()) +
-                    " entries skipped for a corrupt JPEG image in all");
-    }
-    for (const auto& m : rawlog_->droppedOdometry()) out.push_back(m);
-    if (rawlog_->droppedOdometryCount() > rawlog_->droppedOdometry().size()) {
-      out.push_back(path_ + ": " + std::to_string(rawlog_->droppedOdometryCount()) + " non-finite odometry values in all");
-    }
-    if (rawlog_->droppedCompanions() > 0) {
-      out.push_back(path_ + ": " + std::to_string(rawlog_->droppedCompanions()) +
-                    " observations not kept: more than " + std::to_string(RawlogScanReader::kMaxCompanions) +
-                    " came between two scans of '" + rawlog_->sensorLabel() + "' (only the latest are kept)");
-    }
-  }
-  return out;
-}
-
-void LaserLogReader::warn(const std::string& message) {
-  if (warnings_.size() < 100) warnings_.push_back(message);
-  tally_.add(message);
-}
-
-WarningTally LaserLogReader::warningTally() const {
-  WarningTally out = tally_;
-  if (rawlog_) {
-    out.merge(rawlog_->skippedEntriesTally());
-    out.merge(rawlog_->droppedOdometryTally());
-    if (rawlog_->droppedCompanions() > 0) {
-      out.add(path_ + ": " + std::to_string(rawlog_->droppedCompanions()) + " observations not kept: more than " +
-              std::to_string(RawlogScanReader::kMaxCompanions) + " came between two scans of '" +
-              rawlog_->sensorLabel() + "' (only the latest are kept)");
-    }
-  }
-  for (const auto& m : unknownTypes()) out.add(m);
-  return out;
 }
 
 LogFormat detectLogFormat(const std::string& path) {
@@ -211,111 +108,34 @@ LogFormat detectLogFormat(const std::string& path) {
 LaserLogReader::LaserLogReader(const std::string& path, const std::string& sensor)
     : path_(path), format_(detectLogFormat(path)) {
   if (format_ == LogFormat::kRawlog) {
-    std::error_code ec;
-    if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec)) {
-      // MRPT's reader and the gzip end check open the file more than once: a pipe would
-      // lose data or block.
-      throw std::runtime_error("rawlog '" + path + "' is not a regular file (a pipe?): give the file itself");
-    }
-    rawlog_ = std::make_unique<RawlogScanReader>(path, sensor);
+    auto rawlog = std::make_unique<RawlogScanSource>(path, sensor);
+    rawlog_ = rawlog.get();
+    source_ = std::move(rawlog);
   } else {
-    logs::CarmenReaderOptions options;
-    options.laser_type = sensor;
-    carmen_ = std::make_unique<logs::CarmenLogReader>(path, options);
+    source_ = std::make_unique<logs::CarmenScanSource>(path, sensor);
   }
 }
 
 LaserLogReader::~LaserLogReader() = default;
 
-double LaserLogReader::fractionRead() const {
-  return rawlog_ ? rawlog_->fractionRead() : carmen_->fractionRead();
-}
-
-std::string LaserLogReader::sensor() const {
-  return rawlog_ ? rawlog_->sensorLabel() : carmen_->laserType();
-}
-
-void LaserLogReader::note(const std::string& message) {
-  ++skipped_;
-  if (issues_.size() < 100) issues_.push_back(message);
-}
-
-std::vector<std::string> LaserLogReader::unknownTypes() const {
-  std::vector<std::string> out;
-  if (carmen_) {
-    for (const auto& [type, n] : carmen_->unknownTypes()) {
-      out.push_back(path_ + ": " + std::to_string(n) + " line(s) of unknown type '" + type + "' skipped");
-    }
-  }
-  return out;
-}
+double LaserLogReader::fractionRead() const { return source_->fractionRead(); }
+std::string LaserLogReader::sensor() const { return source_->sensor(); }
+const std::vector<std::string>& LaserLogReader::issues() const { return source_->issues(); }
+std::size_t LaserLogReader::skipped() const { return source_->skipped(); }
+std::vector<std::string> LaserLogReader::unknownTypes() const { return source_->unknownTypes(); }
+std::vector<std::string> LaserLogReader::warnings() const { return source_->warnings(); }
+WarningTally LaserLogReader::warningTally() const { return source_->warningTally(); }
 
 std::optional<LaserRecord> LaserLogReader::next() {
-  if (rawlog_) {
-    while (true) {
-      auto scan = rawlog_->next();
-      if (!scan) return std::nullopt;
-      const std::string where = path_ + ", entry " + std::to_string(scan->entry_index);
-      const std::string problem = checkRawlogScan(*scan->observation);
-      if (!problem.empty()) {
-        note(where + ": " + problem + "; scan skipped");
-        continue;
-      }
-      LaserRecord r;
-      r.where = where;
-      r.stamp_s = mrpt::Clock::toDouble(scan->observation->timestamp);
-      r.observation = scan->observation;
-      r.sensor = r.observation->sensorLabel;
-      try {  // a scan the core cannot represent is skipped with its place, as before
-        r.scan = converter_.convert(*r.observation);
-      } catch (const std::invalid_argument& e) {
-        note(where + ": " + e.what() + "; scan skipped");
-        continue;
-      }
-      r.scan.stamp_s = r.stamp_s;
-      r.sensor_on_robot = sensorOnRobot(*r.observation);
-      if (scan->odometry) r.odometry = toPose2D(*scan->odometry);
-      r.companions = std::move(scan->companions);
-      watchGeometry(r);
-      r.index = returned_++;
-      return r;
-    }
+  std::optional<ScanRecord> scan = source_->next();
+  if (!scan) return std::nullopt;
+  LaserRecord r;
+  static_cast<ScanRecord&>(r) = std::move(*scan);
+  if (rawlog_ != nullptr) {
+    r.observation = rawlog_->lastObservation();
+    r.companions = rawlog_->takeCompanions();
   }
-  while (true) {
-    const std::size_t malformed_before = carmen_->malformedLines();
-    auto laser = carmen_->next();
-    // Lines the CARMEN reader skipped become this reader's issues too.
-    for (std::size_t k = malformed_before; k < carmen_->malformedLines(); ++k) {
-      note(k < carmen_->issues().size() ? carmen_->issues()[k] : path_ + ": malformed line");
-    }
-    if (!laser) return std::nullopt;
-    if (laser->ranges_m.size() < 2 || !(laser->angular_resolution_rad != 0.0) ||
-        !(laser->max_range_m > 0.0)) {
-      note(path_ + ":" + std::to_string(laser->line) + ": " + laser->type + " with " +
-           std::to_string(laser->ranges_m.size()) + " beam(s) (need 2 or more) skipped");
-      continue;
-    }
-    LaserRecord r;
-    r.where = path_ + ":" + std::to_string(laser->line);
-    r.stamp_s = laser->stamp_s;
-    r.sensor = laser->type;
-    // The core scan straight from the line (no MRPT observation in between). A line the core
-    // cannot represent (an aperture overflowing to infinity) is skipped with its place.
-    try {
-      r.scan = logs::carmenScan(*laser, carmen_layouts_);
-    } catch (const std::invalid_argument& e) {
-      note(r.where + ": " + e.what() + "; line skipped");
-      continue;
-    }
-    r.index = returned_++;
-    r.sensor_on_robot = logs::carmenSensorOnRobot(*laser);
-    // Raw wheel odometry: the last ODOM line when the log has them (corrected logs
-    // rewrite the laser line's odometry fields), else the laser line's own fields.
-    r.odometry = carmen_->lastOdometry() ? *carmen_->lastOdometry() : laser->robot_pose;
-    r.log_pose = compose(laser->laser_pose, inverse(laser->laser_on_robot));
-    watchGeometry(r);
-    return r;
-  }
+  return r;
 }
 
 }  // namespace lidarseg::mrpt_adapter

@@ -16,12 +16,12 @@
 #include "lidarseg/mrpt/ScanConverter.h"
 
 namespace lidarseg::logs {
-class CarmenLogReader;
+class ScanSource;
 }
 
 namespace lidarseg::mrpt_adapter {
 
-class RawlogScanReader;
+class RawlogScanSource;
 
 /// Format of a laser log.
 enum class LogFormat { kRawlog, kCarmen };
@@ -48,7 +48,9 @@ mrpt::obs::CObservation2DRangeScan::Ptr observationOf(const LaserRecord& record)
 /// camera projection needs it), or the planar sensor_on_robot of a CARMEN line (z = 0).
 mrpt::poses::CPose3D sensorPose3D(const LaserRecord& record);
 
-/// Streams the scans of a laser log of either format, one sensor only.
+/// Streams the scans of a laser log of either format, one sensor only: the log's
+/// logs::ScanSource (CARMEN without MRPT, or a rawlog), each record with the MRPT
+/// observations a rawlog holds for the MRPT-side consumers.
 class LaserLogReader {
  public:
   /// Opens `path`: a rawlog when the name ends in .rawlog (or .rawlog.gz), CARMEN when it
@@ -73,8 +75,8 @@ class LaserLogReader {
   /// The sensor label or line type being read (known after the first scan).
   std::string sensor() const;
   /// Skipped lines/scans with their location (the first 100), and how many in all.
-  const std::vector<std::string>& issues() const { return issues_; }
-  std::size_t skipped() const { return skipped_; }
+  const std::vector<std::string>& issues() const;
+  std::size_t skipped() const;
   /// Messages about line types that were not understood ("UNKNOWN: 12 lines").
   std::vector<std::string> unknownTypes() const;
   /// What was read but is worth a word (non-finite odometry dropped, a laser whose beam
@@ -85,32 +87,10 @@ class LaserLogReader {
   WarningTally warningTally() const;
 
  private:
-  void note(const std::string& message);
-  void warn(const std::string& message);
-  // Checks a record's odometry and whether the laser's geometry changed.
-  void watchGeometry(LaserRecord& record);
-  struct Geometry {
-    std::size_t beams;
-    double first_angle, last_angle;  // of the scan's layout (sensor frame)
-    double x, y, yaw;                // sensor_on_robot
-    bool operator==(const Geometry& o) const {
-      return beams == o.beams && first_angle == o.first_angle && last_angle == o.last_angle && x == o.x && y == o.y &&
-             yaw == o.yaw;
-    }
-  };
-  std::optional<Geometry> geometry_;
-  bool geometry_changed_ = false;
-  std::vector<std::string> warnings_;
-  WarningTally tally_;  // every warn(), in full
   std::string path_;
   LogFormat format_ = LogFormat::kRawlog;
-  std::unique_ptr<RawlogScanReader> rawlog_;
-  ScanConverter converter_;  // rawlog observations to core scans (beam layouts cached)
-  CentredLayoutCache carmen_layouts_;  // CARMEN lines' beam layouts
-  std::unique_ptr<logs::CarmenLogReader> carmen_;
-  std::size_t returned_ = 0;
-  std::size_t skipped_ = 0;
-  std::vector<std::string> issues_;
+  std::unique_ptr<logs::ScanSource> source_;
+  RawlogScanSource* rawlog_ = nullptr;  // source_ when it is a rawlog: its MRPT observations
 };
 
 /// The format `path` is read as (see LaserLogReader).
