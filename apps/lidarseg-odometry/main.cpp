@@ -9,7 +9,7 @@
 #include "lidarseg/apps/CommandLine.h"
 #include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/eval/Csv.h"
-#include "lidarseg/pipeline/ReportWriters.h"
+#include "lidarseg/report/ReportWriters.h"
 
 namespace {
 
@@ -124,8 +124,8 @@ int main(int argc, char** argv) {
     const std::optional<OdometryOptions> options = optionsOf(command_line);
     if (!options) return 2;
     const auto report = lidarseg::apps::OdometryApp(*options).run();
-    lidarseg::pipeline::printRunSummary(report, std::cout);
-    lidarseg::pipeline::printRunWarnings(report, "lidarseg-odometry", std::cerr);
+    lidarseg::report::printRunSummary(report, std::cout);
+    lidarseg::report::printRunWarnings(report, "lidarseg-odometry", std::cerr);
     warnIfLost(report, options->max_lost_ratio);
     return lidarseg::apps::exitAfterStdout("lidarseg-odometry", report.log_error.empty() ? 0 : 3);
   } catch (const std::exception& e) {

@@ -14,7 +14,7 @@
 #include "ErrorOf.h"
 #include "lidarseg/apps/BatchApp.h"
 #include "lidarseg/eval/Csv.h"
-#include "lidarseg/pipeline/BatchResults.h"
+#include "lidarseg/report/BatchResults.h"
 
 namespace lidarseg::apps {
 namespace {
@@ -185,9 +185,9 @@ TEST(BatchApp, TheFolderStaysLockedFromTheRunsToTheirTable) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   // A stand-in job writing a metrics.csv with its seed and every figure 1.
-  std::string values = pipeline::metricsLine(0, std::vector<double>(pipeline::batchMetricNames().size(), 1.0));
+  std::string values = report::metricsLine(0, std::vector<double>(report::batchMetricNames().size(), 1.0));
   values = values.substr(values.find(','));
-  std::ofstream(dir + "/metrics.head") << pipeline::metricsHeader();
+  std::ofstream(dir + "/metrics.head") << report::metricsHeader();
   std::ofstream(dir + "/metrics.values") << values;
   // It also checks that it inherited the runner's folder lock under the number it is given.
   const std::string script = dir + "/job.sh";

@@ -18,8 +18,8 @@
 #include "lidarseg/eval/Csv.h"
 #include "lidarseg/apps/SimulateApp.h"
 #include "lidarseg/mrpt/RawlogScanReader.h"
-#include "lidarseg/pipeline/OutputFiles.h"
-#include "lidarseg/pipeline/ReportWriters.h"
+#include "lidarseg/report/OutputFiles.h"
+#include "lidarseg/report/ReportWriters.h"
 
 namespace lidarseg::apps {
 namespace {
@@ -93,7 +93,7 @@ TEST(OdometryApp, SimulatedRunBothMethodsEveryOutput) {
   EXPECT_EQ(r.skipped_count, 0u);
   EXPECT_EQ(r.gt_path, prefix + ".gt.tum");  // found beside the rawlog
   ASSERT_TRUE(r.lidarseg.errors);
-  const pipeline::MethodReport* icp = r.baseline("icp");
+  const report::MethodReport* icp = r.baseline("icp");
   ASSERT_TRUE(icp && icp->errors);
   EXPECT_EQ(r.baselines.size(), 1u) << "only the keyframed ICP was asked for";
   EXPECT_GT(r.lidarseg.errors->path_length_m, 15.0);
@@ -184,7 +184,7 @@ TEST(OdometryApp, RelationsThatPairWithNoScanGiveAWarningAndNoStatistics) {
     OdometryOptions b = optionsFor(prefix + ".rawlog", "");
     b.relations_path = relations;
     b.relations_tolerance_s = bad;
-    EXPECT_THROW(OdometryApp(b).run(), pipeline::UsageError) << bad;
+    EXPECT_THROW(OdometryApp(b).run(), report::UsageError) << bad;
   }
 }
 
@@ -430,8 +430,8 @@ TEST(OdometryApp, WarningsAreSummarisedApartFromTheResults) {
   r.skipped_count = 3;
   r.skipped = {"log.clf:12: bad FLASER line"};
   std::ostringstream out, err;
-  pipeline::printRunSummary(r, out);
-  pipeline::printRunWarnings(r, "lidarseg-odometry", err);
+  report::printRunSummary(r, out);
+  report::printRunWarnings(r, "lidarseg-odometry", err);
   EXPECT_EQ(out.str().find("warning"), std::string::npos) << out.str();
   const std::string e = err.str();
   EXPECT_NE(e.find("449 x, the first: log.clf:1130: time gap"), std::string::npos) << e;

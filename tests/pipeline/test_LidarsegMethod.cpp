@@ -8,7 +8,7 @@
 #include "SyntheticScenes.h"
 #include "lidarseg/core/StampPolicy.h"
 #include "lidarseg/mrpt/LaserOdometry.h"
-#include "lidarseg/pipeline/Baselines.h"
+#include "lidarseg/report/Baselines.h"
 #include "lidarseg/pipeline/OdometryMethods.h"
 #include "lidarseg/pipeline/OdometryRun.h"
 
@@ -68,7 +68,7 @@ TEST(LidarsegMethod, GivesTheOdometryOfTheScanOnTheModelClockAndKeepsTheRecord) 
       for (int j = 0; j < 3; ++j) EXPECT_EQ(got.robot_pose.cov(i, j), expected.robot_pose.cov(i, j)) << record.where;
     }
     // The step returned is the one the report records.
-    const MethodReport& so_far = method.report();
+    const report::MethodReport& so_far = method.report();
     EXPECT_EQ(step.stamp_s, time.output_stamp_s) << record.where;
     EXPECT_EQ(step.pose.x, so_far.trajectory.back().pose.x) << record.where;
     EXPECT_EQ(step.pose.yaw, so_far.trajectory.back().pose.yaw) << record.where;
@@ -80,7 +80,7 @@ TEST(LidarsegMethod, GivesTheOdometryOfTheScanOnTheModelClockAndKeepsTheRecord) 
   // Both ways through the method were taken.
   EXPECT_GT(kept, 2u);
   EXPECT_GT(repaired, 2u);
-  const MethodReport& report = method.report();
+  const report::MethodReport& report = method.report();
   ASSERT_EQ(report.trajectory.size(), log.size());
   // The robot drove 0.04 m per scan: the trajectory ends near there.
   EXPECT_NEAR(report.trajectory.back().pose.x, 0.04 * static_cast<double>(log.size() - 1), 0.05);
@@ -101,7 +101,7 @@ TEST(OdometryRun, RunsTheBaselinesNamedInTheRegistrysOrder) {
     EXPECT_EQ(step.steps[1].stamp_s, step.steps[0].stamp_s);
     if (&record == &log.front()) EXPECT_EQ(step.steps[1].status, "first");
   }
-  const OdometryReport report = run.finish(0.01);
+  const report::OdometryReport report = run.finish(0.01);
   ASSERT_EQ(report.baselines.size(), 2u);
   EXPECT_EQ(report.baselines[0].name, "icp");
   EXPECT_EQ(report.baselines[1].name, "icp-s2s");
@@ -109,8 +109,8 @@ TEST(OdometryRun, RunsTheBaselinesNamedInTheRegistrysOrder) {
   EXPECT_EQ(report.baseline("icp-s2s")->trajectory.size(), log.size());
   EXPECT_EQ(report.baseline("csm"), nullptr);
   EXPECT_GT(report.speedup_median, 0.0) << "measured against the keyframed ICP";
-  for (const MethodReport& b : report.baselines) {
-    ASSERT_NE(baselineKind(b.name), nullptr) << b.name;
+  for (const report::MethodReport& b : report.baselines) {
+    ASSERT_NE(report::baselineKind(b.name), nullptr) << b.name;
     EXPECT_GT(b.trajectory.back().pose.x, 0.1) << b.name << " did not follow the drive forward";
   }
   // The keyframed ICP follows the same 0.56 m corridor drive as lidarseg (scan to scan, it
@@ -120,9 +120,9 @@ TEST(OdometryRun, RunsTheBaselinesNamedInTheRegistrysOrder) {
   settings.baselines = {"icp", "csm"};
   try {
     OdometryRun unknown(settings);
-    FAIL() << "an unknown baseline was accepted";
+    FAIL() << "an unknown report::baseline was accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_EQ(std::string(e.what()), "unknown baseline 'csm' (known: 'icp', 'icp-s2s')");
+    EXPECT_EQ(std::string(e.what()), "unknown report::baseline 'csm' (known: 'icp', 'icp-s2s')");
   }
 }
 

@@ -30,7 +30,7 @@
 #include "lidarseg/core/SegmentOdometry.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/mrpt/OdometryConfig.h"
-#include "lidarseg/pipeline/ReportWriters.h"
+#include "lidarseg/report/ReportWriters.h"
 
 namespace lidarseg {
 namespace {
@@ -333,7 +333,7 @@ TEST(BadInputs, EveryWarningKindIsCountedInFullWhenItsMessagesAreCapped) {
   EXPECT_EQ(kinds.size(), 2u) << "one kind each, whatever the numbers in the messages";
   EXPECT_GT(all, summary.at("warnings").size());
   std::ostringstream err;
-  pipeline::printRunWarnings(r, "lidarseg-odometry", err);
+  report::printRunWarnings(r, "lidarseg-odometry", err);
   EXPECT_NE(err.str().find("lidarseg-odometry: warning: 150 x, the first: " + path + ":2: time gap of 2"),
             std::string::npos) << err.str();
   EXPECT_NE(err.str().find("lidarseg-odometry: warning: " + std::to_string(r.clock_jumps) + " x, the first: " + path +
@@ -464,7 +464,7 @@ std::vector<double> csvColumn(const std::string& path, std::size_t column) {
 }
 
 // lidarseg-odometry, lidarseg-features and lidarseg-segment read a log through the same
-// records path (pipeline::RecordGate): the same lines skipped with the same messages and
+// records path (report::RecordGate): the same lines skipped with the same messages and
 // counts, the same scans used, and the same repaired stamps in their per-scan files.
 TEST(BadInputs, TheOdometryFeaturesAndSegmentToolsSkipAndCountTheSameRecords) {
   std::ostringstream log;
@@ -563,7 +563,7 @@ TEST(BadInputs, TheFeaturesAndSegmentToolsReportGapsAndClockJumpsAsTheOdometryDo
   ASSERT_EQ(o.clock_jumps, 2u);
   ASSERT_EQ(o.time_gaps, 1u);
   std::ostringstream odometry_err;
-  pipeline::printRunWarnings(o, "lidarseg-odometry", odometry_err);
+  report::printRunWarnings(o, "lidarseg-odometry", odometry_err);
 
   apps::FeaturesOptions fo;
   fo.input = path;

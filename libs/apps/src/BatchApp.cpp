@@ -1,5 +1,5 @@
 #include "lidarseg/apps/BatchApp.h"
-#include "lidarseg/pipeline/Progress.h"
+#include "lidarseg/report/Progress.h"
 
 #include <algorithm>
 #include <chrono>
@@ -14,8 +14,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "lidarseg/pipeline/BatchResults.h"
-#include "lidarseg/pipeline/OutputFiles.h"
+#include "lidarseg/report/BatchResults.h"
+#include "lidarseg/report/OutputFiles.h"
 #include "lidarseg/pipeline/ParallelJobs.h"
 #include "lidarseg/apps/OdometryApp.h"
 #include "lidarseg/apps/SimulateApp.h"
@@ -26,8 +26,8 @@
 
 namespace lidarseg::apps {
 
-using pipeline::writeFileAtomically;
-using pipeline::OutputSet;
+using report::writeFileAtomically;
+using report::OutputSet;
 
 namespace fs = std::filesystem;
 
@@ -117,7 +117,7 @@ void BatchApp::runOne(const BatchJob& job) {
     // Jobs sharing the folder record or check its experiment one at a time (a runner's own
     // job too: a descriptor opened by hand on the lock file passes while no one holds it).
     const pipeline::FileLock record((fs::path(job.out_dir) / ".locks" / "experiment.lock").string());
-    pipeline::claimExperiment(job.out_dir, experimentOf(job));
+    report::claimExperiment(job.out_dir, experimentOf(job));
   }
   if (finished(job.out_dir, job.seed)) return;
   const pipeline::FileLock lock((fs::path(job.out_dir) / ".locks" / ("run_" + std::to_string(job.seed) + ".lock")).string());
@@ -131,7 +131,7 @@ void BatchApp::runOne(const BatchJob& job) {
   SimulateApp(simulateOptions(job, work)).run();
   const OdometryReport report = OdometryApp(odometryOptions(job, work)).run();
   writeFileAtomically((work / "metrics.csv").string(),
-                      pipeline::metricsHeader() + pipeline::metricsLine(job.seed, pipeline::runMetrics(report)));
+                      report::metricsHeader() + report::metricsLine(job.seed, report::runMetrics(report)));
   if (!job.keep_data) removeSimulatedData(work);
   fs::remove_all(final_dir, ec);
   fs::rename(work, final_dir);
@@ -199,12 +199,12 @@ std::vector<std::string> runSeeds(const BatchJob& base, const std::vector<std::u
       failed.push_back("seed " + std::to_string(seed) + ": " + pipeline::exitDescription(status, children[k].log_path));
     }
     // A line per finished run (the runs' own progress is not shown): readable in a log file,
-    // where pipeline::Progress, redrawn in place on a terminal, is silent; the same estimate.
+    // where report::Progress, redrawn in place on a terminal, is silent; the same estimate.
     if (progress) {
       const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::cerr << "[lidarseg-batch] " << done << "/" << todo.size() << " done (seed " << seed
                 << (ok ? " ok" : " FAILED") << "), " << std::fixed << std::setprecision(0) << elapsed_s << " s";
-      const double left_s = pipeline::secondsLeft(elapsed_s, done, todo.size(), -1.0);
+      const double left_s = report::secondsLeft(elapsed_s, done, todo.size(), -1.0);
       if (left_s >= 0) std::cerr << ", ~" << left_s << " s left";
       std::cerr << std::defaultfloat << "\n";
     }
@@ -226,7 +226,7 @@ std::vector<std::string> runManyClaimed(const BatchJob& given, const std::vector
                        {given.world_path, given.trajectory_path, given.sim_config_path, given.odometry_config_path});
   BatchJob base = given;
   base.folder_lock_fd = claimed.folderLockDescriptor(base.out_dir);
-  pipeline::claimExperiment(base.out_dir, experimentOf(base));
+  report::claimExperiment(base.out_dir, experimentOf(base));
   // Progress only on a terminal (as every tool's): a line per finished run, with the time
   // so far and the time left at the rate of the runs done.
   progress = progress && ::isatty(STDERR_FILENO) == 1;
@@ -259,19 +259,19 @@ BatchOutcome BatchApp::runAndAggregate(const BatchJob& base, const std::vector<s
 BatchSummary BatchApp::aggregate(const std::string& out_dir, const std::string& title) {
   OutputSet outputs;
   outputs.claimFolder(out_dir);  // before reading: no runner may be adding runs meanwhile
-  const pipeline::MetricRows rows = pipeline::readFinishedRuns(out_dir);
-  const pipeline::MetricStats stats = pipeline::metricStats(rows);
+  const report::MetricRows rows = report::readFinishedRuns(out_dir);
+  const report::MetricStats stats = report::metricStats(rows);
   BatchSummary summary;
   summary.runs = rows.size();
   for (const auto& r : rows) summary.seeds.push_back(static_cast<std::uint64_t>(r[0]));
-  summary.table_markdown = pipeline::table1Markdown(title, summary.seeds, stats);
+  summary.table_markdown = report::table1Markdown(title, summary.seeds, stats);
   const fs::path out(out_dir);
-  outputs.add((out / "aggregate.csv").string(), pipeline::aggregateCsv(rows));
+  outputs.add((out / "aggregate.csv").string(), report::aggregateCsv(rows));
   outputs.add((out / "table1.md").string(), summary.table_markdown);
   // Without gnuplot the table is written without its picture, with a warning (decision 55).
   try {
     outputs.add((out / "final_errors.png").string(),
-                pipeline::finalErrorsPng(rows, stats.at("icp_final_error_m").count > 0, title));
+                report::finalErrorsPng(rows, stats.at("icp_final_error_m").count > 0, title));
   } catch (const std::runtime_error& e) {
     std::cerr << "lidarseg-batch: warning: no picture final_errors.png: " << e.what() << "\n";
     std::error_code ec;

@@ -3,11 +3,11 @@
 #include <iostream>
 
 #include "lidarseg/mrpt/ExceptionMessage.h"
-#include "lidarseg/pipeline/OutputFiles.h"
+#include "lidarseg/report/OutputFiles.h"
 
 namespace lidarseg::apps {
 
-using pipeline::installCleanupOnSignals;
+using report::installCleanupOnSignals;
 
 namespace {
 

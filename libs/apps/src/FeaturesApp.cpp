@@ -11,9 +11,10 @@
 #include <stdexcept>
 
 #include "lidarseg/mrpt/CameraRois.h"
-#include "lidarseg/pipeline/FeatureCsv.h"
-#include "lidarseg/pipeline/Plots.h"
-#include "lidarseg/pipeline/RecordGate.h"
+#include "lidarseg/report/FeatureCsv.h"
+#include "lidarseg/report/Plots.h"
+#include "lidarseg/pipeline/ReadRecords.h"
+#include "lidarseg/report/RecordGate.h"
 #include "ReportTools.h"
 #include "lidarseg/core/FeatureDetector.h"
 #include "lidarseg/core/NumberText.h"
@@ -27,7 +28,7 @@ using mrpt_adapter::CameraRois;
 using mrpt_adapter::drawRois;
 using mrpt_adapter::writeRoiCsvHeader;
 using mrpt_adapter::writeRoiCsvRows;
-using pipeline::scanFeaturesPng;
+using report::scanFeaturesPng;
 
 namespace {
 
@@ -67,7 +68,7 @@ class LogPass {
       truth_ = eval::readTrueFeatures(options.truth_path);
       report.evaluation.emplace(options.gate_m);
     }
-    pipeline::writeFeatureCsvHeader(csv_);
+    report::writeFeatureCsvHeader(csv_);
     if (!options.matches_out.empty()) eval::writeMatchesCsvHeader(matches_csv_);
     writeRoiCsvHeader(rois_csv_);
   }
@@ -101,7 +102,7 @@ class LogPass {
     const mrpt::poses::CPose3D sp = mrpt_adapter::sensorPose3D(record);
     last_ = LastScan{record.index, sp, features_};
     for (const Feature& f : features_) ++report_.detections[static_cast<std::size_t>(f.type)];
-    pipeline::writeFeatureCsvRows(csv_, time.output_stamp_s, record.index, {sp.x(), sp.y(), sp.yaw()}, features_);
+    report::writeFeatureCsvRows(csv_, time.output_stamp_s, record.index, {sp.x(), sp.y(), sp.yaw()}, features_);
     if (report_.evaluation) score(record.index, record.stamp_s);
     if (options_.figure_scan && *options_.figure_scan == record.index) drawFigure(record.index);
   }
@@ -192,7 +193,7 @@ class LogPass {
         "scan " + std::to_string(scan) + " of " + std::filesystem::path(options_.input).filename().string();
     std::string png;
     try {
-      png = scanFeaturesPng(pipeline::scanPictureOf(segmentation_, detector_.params().level, features_), title);
+      png = scanFeaturesPng(report::scanPictureOf(segmentation_, detector_.params().level, features_), title);
     } catch (const std::runtime_error& e) {
       report_.warnings.push_back("no figure " + options_.figure_path + ": " + e.what());
       return;
@@ -231,8 +232,8 @@ void writeOutputs(const FeaturesOptions& options, const FeaturesReport& report, 
   if (!options.matches_out.empty()) outputs.add(options.matches_out, pass.matchesCsv());
   if (!options.report_dir.empty()) {
     std::filesystem::create_directories(options.report_dir);
-    outputs.add(options.report_dir + "/features.md", pipeline::featuresMarkdown(report));
-    outputs.add(options.report_dir + "/features.json", pipeline::featuresJson(report));
+    outputs.add(options.report_dir + "/features.md", report::featuresMarkdown(report));
+    outputs.add(options.report_dir + "/features.json", report::featuresJson(report));
   }
   outputs.commit();
 }
@@ -268,14 +269,14 @@ void claimOutputs(const FeaturesOptions& o, OutputSet& outputs) {
 void readLog(const FeaturesOptions& o, const mrpt_adapter::LidarsegConfig& config, LogPass& pass,
              FeaturesReport& report) {
   mrpt_adapter::LaserLogReader reader(o.input, o.sensor_label);
-  pipeline::RecordGate gate(config.stamps);
+  report::RecordGate gate(config.stamps);
   const auto use = [&](const mrpt_adapter::LaserRecord& record) {
     gate.pass(record, [&](const StampStep& time) { pass.addScan(record, time); });
   };
   const auto images = [&](const mrpt_adapter::LaserRecord& record) { pass.addImages(record); };
   pipeline::readRecords(reader, gate.counts(), {"lidarseg-features", o.sensor_label, o.max_scans, o.progress}, use,
                         images);
-  pipeline::RecordCounts counts = gate.counts();
+  report::RecordCounts counts = gate.counts();
   pipeline::addReaderCounts(reader, counts);
   report.skipped.insert(report.skipped.end(), counts.skipped.begin(), counts.skipped.end());
   report.skipped_count += counts.skipped_count;
@@ -310,11 +311,11 @@ FeaturesReport FeaturesApp::run() {
   return report;
 }
 
-void FeaturesApp::print(const FeaturesReport& report, std::ostream& os) { os << pipeline::featuresMarkdown(report); }
+void FeaturesApp::print(const FeaturesReport& report, std::ostream& os) { os << report::featuresMarkdown(report); }
 
 void FeaturesApp::printWarnings(const FeaturesReport& report, std::ostream& err) {
   const std::string tool = "lidarseg-features: warning: ";
-  pipeline::printRecordWarnings(report.log_warning_kinds, "lidarseg-features", err);
+  report::printRecordWarnings(report.log_warning_kinds, "lidarseg-features", err);
   for (const std::string& w : report.warnings) err << tool << w << '\n';
   if (!report.skipped.empty()) {
     err << tool << report.skipped_count << " scans or images skipped, the first: " << report.skipped.front() << '\n';

@@ -21,8 +21,8 @@
 #include <mrpt/img/CImage.h>
 #include <opencv2/imgcodecs.hpp>
 
-#include "lidarseg/pipeline/OutputFiles.h"
-#include "lidarseg/pipeline/RunEvaluation.h"
+#include "lidarseg/report/OutputFiles.h"
+#include "lidarseg/report/RunEvaluation.h"
 #include "lidarseg/inspect/Drawing.h"
 #include "lidarseg/inspect/LayerSwitches.h"
 #include "lidarseg/inspect/LogReport.h"
@@ -32,9 +32,9 @@ namespace lidarseg::apps {
 
 using vision::encodePng;
 
-using pipeline::writeFileAtomically;
-using pipeline::refuseOverwritingInput;
-using pipeline::OutputSet;
+using report::writeFileAtomically;
+using report::refuseOverwritingInput;
+using report::OutputSet;
 
 namespace fs = std::filesystem;
 using inspect::Layers;
@@ -82,7 +82,7 @@ std::unique_ptr<Session> InspectApp::open() {
   if (!options_.config_path.empty()) params = inspect::InspectorParams::fromFile(options_.config_path);
   auto session = std::make_unique<Session>(options_.input, options_.sensor_label, params);
   // Found as lidarseg-odometry finds it: beside a rawlog or a CARMEN log.
-  truth_path_ = options_.truth_path.empty() ? pipeline::groundTruthBeside(options_.input) : options_.truth_path;
+  truth_path_ = options_.truth_path.empty() ? report::groundTruthBeside(options_.input) : options_.truth_path;
   if (!truth_path_.empty()) session->addReference({"ground truth", eval::readTum(truth_path_)});
   for (const std::string& r : options_.references) {
     const auto eq = r.find('=');

@@ -9,22 +9,23 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "lidarseg/pipeline/FeatureCsv.h"
-#include "lidarseg/pipeline/OutputFiles.h"
-#include "lidarseg/pipeline/RecordGate.h"
+#include "lidarseg/report/FeatureCsv.h"
+#include "lidarseg/report/OutputFiles.h"
+#include "lidarseg/pipeline/ReadRecords.h"
+#include "lidarseg/report/RecordGate.h"
 #include "lidarseg/core/FeatureDetector.h"
 #include "lidarseg/core/NumberText.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/pipeline/OdometryRun.h"
 #include "lidarseg/pipeline/RawlogWriter.h"
-#include "lidarseg/pipeline/RunEvaluation.h"
-#include "lidarseg/pipeline/ReportWriters.h"
+#include "lidarseg/report/RunEvaluation.h"
+#include "lidarseg/report/ReportWriters.h"
 
 namespace lidarseg::apps {
 
-using pipeline::installCleanupOnSignals;
-using pipeline::refuseOverwritingInput;
-using pipeline::OutputSet;
+using report::installCleanupOnSignals;
+using report::refuseOverwritingInput;
+using report::OutputSet;
 
 
 namespace fs = std::filesystem;
@@ -78,17 +79,18 @@ void checkOptions(const OdometryOptions& o) {
 OdometryReport OdometryApp::run() {
   const OdometryOptions& o = options_;
   checkOptions(o);
-  gt_path_ = o.gt_path.empty() && o.auto_gt ? pipeline::groundTruthBeside(o.input) : o.gt_path;
+  gt_path_ = o.gt_path.empty() && o.auto_gt ? report::groundTruthBeside(o.input) : o.gt_path;
   OutputSet outputs;
   claimOutputs(outputs);  // before anything is read
   const pipeline::RunSettings settings = settingsOf(o);
-  pipeline::RunReferences refs = readReferences();
+  report::RunReferences refs = readReferences();
   mrpt_adapter::LaserLogReader reader(o.input, o.sensor);
   pipeline::OdometryRun odometry(settings);
   processLog(reader, odometry, settings, outputs);
   OdometryReport report = odometry.finish(o.max_lost_ratio);
   collectReaderCounts(reader, report);
-  pipeline::evaluateRun(odometry, refs, o.log_reference, o.relations_tolerance_s, report);
+  report::evaluateRun({&odometry.logPoses(), odometry.medianStep()}, refs, o.log_reference, o.relations_tolerance_s,
+                      report);
   writeOutputs(report, refs, odometry.logPoses(), odometry.wheelOdometry(), outputs);
   return report;
 }
@@ -101,13 +103,13 @@ void OdometryApp::claimOutputs(OutputSet& outputs) const {
   // The inputs are also what the publishing of the -o folder never removes. Every file this
   // run may write in the folder is checked against the inputs and the other outputs.
   outputs.claimOutputs({{o.write_rawlog, "--write-rawlog"}, {o.features_out, "--features-out"}},
-                       {{o.out_dir, "-o", pipeline::runOutputNames(baselinesOf(o), o.plots)}},
+                       {{o.out_dir, "-o", report::runOutputNames(baselinesOf(o), o.plots)}},
                        {o.input, gt_path_, o.relations_path, o.config_path});
 }
 
 // Ground truth (PREFIX.gt.tum beside the input unless given) and relations files.
-pipeline::RunReferences OdometryApp::readReferences() {
-  return pipeline::readRunReferences(gt_path_, options_.relations_path);
+report::RunReferences OdometryApp::readReferences() {
+  return report::readRunReferences(gt_path_, options_.relations_path);
 }
 
 // Every scan through the run; doors and corners and the rawlog output beside it.
@@ -118,7 +120,7 @@ void OdometryApp::processLog(mrpt_adapter::LaserLogReader& reader, pipeline::Odo
   const FeatureDetector detector(settings.config.features);
   std::vector<Feature> features;
   std::ostringstream features_csv;
-  pipeline::writeFeatureCsvHeader(features_csv);
+  report::writeFeatureCsvHeader(features_csv);
   std::optional<pipeline::RawlogWriter> rawlog;
   if (!o.write_rawlog.empty()) rawlog.emplace(o.write_rawlog, outputs, o.write_landmarks);
   const auto use = [&](const mrpt_adapter::LaserRecord& record) {
@@ -127,7 +129,7 @@ void OdometryApp::processLog(mrpt_adapter::LaserLogReader& reader, pipeline::Odo
     if (want_features) {
       detector.detect(odometry.lidarseg().core().lastSegmentation(), features);
       if (!o.features_out.empty()) {
-        pipeline::writeFeatureCsvRows(features_csv, step.time.output_stamp_s, record.index, record.sensor_on_robot,
+        report::writeFeatureCsvRows(features_csv, step.time.output_stamp_s, record.index, record.sensor_on_robot,
                                       features);
       }
     }
@@ -152,14 +154,14 @@ void OdometryApp::collectReaderCounts(const mrpt_adapter::LaserLogReader& reader
 
 
 // Trajectories, timings, summary, table and pictures, all put in place together.
-void OdometryApp::writeOutputs(OdometryReport& report, const pipeline::RunReferences& refs, const eval::StampedTrajectory& log_poses,
+void OdometryApp::writeOutputs(OdometryReport& report, const report::RunReferences& refs, const eval::StampedTrajectory& log_poses,
                                const eval::StampedTrajectory& wheel_odometry, OutputSet& outputs) const {
   const OdometryOptions& o = options_;
   if (!o.out_dir.empty()) {
-    const std::vector<std::string> written = pipeline::addRunOutputs(outputs, o.out_dir, report, log_poses, wheel_odometry);
+    const std::vector<std::string> written = report::addRunOutputs(outputs, o.out_dir, report, log_poses, wheel_odometry);
     if (o.plots) {
       try {
-        pipeline::addRunPlots(outputs, o.out_dir, report, refs, log_poses, wheel_odometry,
+        report::addRunPlots(outputs, o.out_dir, report, refs, log_poses, wheel_odometry,
                               fs::path(o.input).filename().string());
       } catch (const std::runtime_error& e) {
         std::cerr << "lidarseg-odometry: warning: no pictures: " << e.what() << "\n";

@@ -4,23 +4,23 @@
 // number formatting of lidarseg::pipeline and the PNG encoder of lidarseg::vision, named in
 // lidarseg::apps once.
 
-#include "lidarseg/pipeline/Format.h"
-#include "lidarseg/pipeline/JsonText.h"
-#include "lidarseg/pipeline/OutputFiles.h"
-#include "lidarseg/pipeline/Progress.h"
-#include "lidarseg/pipeline/Timing.h"
+#include "lidarseg/report/Format.h"
+#include "lidarseg/report/JsonText.h"
+#include "lidarseg/report/OutputFiles.h"
+#include "lidarseg/report/Progress.h"
+#include "lidarseg/report/Timing.h"
 #include "lidarseg/vision/ImageFile.h"
 
 namespace lidarseg::apps {
 
-using pipeline::Clock;
-using pipeline::finiteOrNull;
-using pipeline::fixed;
-using pipeline::Json;
-using pipeline::jsonText;
-using pipeline::microsecondsSince;
-using pipeline::OutputSet;
-using pipeline::Progress;
+using report::Clock;
+using report::finiteOrNull;
+using report::fixed;
+using report::Json;
+using report::jsonText;
+using report::microsecondsSince;
+using report::OutputSet;
+using report::Progress;
 using vision::encodePng;
 
 }  // namespace lidarseg::apps

@@ -1,9 +1,10 @@
 #include "lidarseg/apps/SegmentStatsApp.h"
 #include "lidarseg/core/Angles.h"
 
-#include "lidarseg/pipeline/OutputFiles.h"
-#include "lidarseg/pipeline/RecordGate.h"
-#include "lidarseg/pipeline/Timing.h"
+#include "lidarseg/report/OutputFiles.h"
+#include "lidarseg/pipeline/ReadRecords.h"
+#include "lidarseg/report/RecordGate.h"
+#include "lidarseg/report/Timing.h"
 
 #include <iomanip>
 #include <sstream>
@@ -16,10 +17,10 @@
 
 namespace lidarseg::apps {
 
-using pipeline::OutputSet;
+using report::OutputSet;
 
-using pipeline::Clock;
-using pipeline::microsecondsSince;
+using report::Clock;
+using report::microsecondsSince;
 
 namespace {
 
@@ -97,13 +98,13 @@ namespace {
 // report.
 void readLog(const SegmentStatsOptions& o, const StampPolicyParams& stamps, ScanPass& pass, SegmentStatsReport& report) {
   mrpt_adapter::LaserLogReader reader(o.input, o.sensor_label);
-  pipeline::RecordGate gate(stamps);
+  report::RecordGate gate(stamps);
   const auto use = [&](const mrpt_adapter::LaserRecord& record) {
     gate.pass(record, [&](const StampStep& time) { pass.addScan(record, time); });
   };
   pipeline::readRecords(reader, gate.counts(), {"lidarseg-segment", o.sensor_label, o.max_scans, o.progress}, use);
   report.sensor_label = reader.sensor();
-  pipeline::RecordCounts counts = gate.counts();
+  report::RecordCounts counts = gate.counts();
   pipeline::addReaderCounts(reader, counts);
   report.skipped = counts.skipped;
   report.skipped_count = counts.skipped_count;
@@ -131,11 +132,11 @@ SegmentStatsReport SegmentStatsApp::run() {
 
 void SegmentStatsApp::print(const SegmentStatsReport& r, std::ostream& os) {
   eval::printSegmentStats(r, os);
-  os << "  " << pipeline::recordCountsLine(r.skipped_count, r.stamps) << "\n";
+  os << "  " << report::recordCountsLine(r.skipped_count, r.stamps) << "\n";
 }
 
 void SegmentStatsApp::printWarnings(const SegmentStatsReport& r, std::ostream& err) {
-  pipeline::printRecordWarnings(r.warning_kinds, "lidarseg-segment", err);
+  report::printRecordWarnings(r.warning_kinds, "lidarseg-segment", err);
   if (r.skipped.empty()) return;
   err << "lidarseg-segment: warning: " << r.skipped_count << " scans or lines skipped, the first: " << r.skipped.front()
       << "\n";

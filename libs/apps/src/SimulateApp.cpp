@@ -11,8 +11,8 @@
 #include "lidarseg/apps/CommandLine.h"
 #include "lidarseg/core/NumberText.h"
 #include "lidarseg/mrpt/SimulationConfig.h"
-#include "lidarseg/pipeline/OutputFiles.h"
-#include "lidarseg/pipeline/Progress.h"
+#include "lidarseg/report/OutputFiles.h"
+#include "lidarseg/report/Progress.h"
 #include "lidarseg/pipeline/SimulationFiles.h"
 #include "lidarseg/sim/BuildingGenerator.h"
 #include "lidarseg/sim/Simulation.h"
@@ -21,8 +21,8 @@
 
 namespace lidarseg::apps {
 
-using pipeline::NamedOutput;
-using pipeline::OutputSet;
+using report::NamedOutput;
+using report::OutputSet;
 
 namespace fs = std::filesystem;
 
@@ -80,7 +80,7 @@ SimulateReport SimulateApp::run() {
     // Leave nothing half-written behind.
     std::error_code ec;
     fs::remove_all(options_.out_prefix + "_Images.tmp", ec);
-    pipeline::releaseTemporary(options_.out_prefix + "_Images.tmp");
+    report::releaseTemporary(options_.out_prefix + "_Images.tmp");
     throw;
   }
 }
@@ -130,12 +130,12 @@ Scene loadScene(const SimulateOptions& o) {
 
 // The generated building as files: the same run again with -w/-t, and its doors (none
 // without a building). Committed with the run's other outputs.
-std::vector<std::unique_ptr<pipeline::PendingFile>> writeBuildingFiles(const std::string& prefix,
+std::vector<std::unique_ptr<report::PendingFile>> writeBuildingFiles(const std::string& prefix,
                                                                        const std::optional<sim::Building>& building) {
-  std::vector<std::unique_ptr<pipeline::PendingFile>> files;
+  std::vector<std::unique_ptr<report::PendingFile>> files;
   if (!building) return files;
   for (const char* ext : {".world", ".traj", ".doors.csv"}) {
-    files.push_back(std::make_unique<pipeline::PendingFile>(prefix + ext));
+    files.push_back(std::make_unique<report::PendingFile>(prefix + ext));
   }
   sim::writeWorldFile(files[0]->out(), *building);
   sim::writeTrajectoryFile(files[1]->out(), *building);
@@ -145,7 +145,7 @@ std::vector<std::unique_ptr<pipeline::PendingFile>> writeBuildingFiles(const std
 
 // Every scan of the simulation into the files, with progress on stderr.
 void simulateScans(sim::Simulation& simulation, pipeline::SimulationFiles& files, bool show_progress) {
-  pipeline::Progress progress("lidarseg-simulate", show_progress, simulation.numScans());
+  report::Progress progress("lidarseg-simulate", show_progress, simulation.numScans());
   for (std::size_t i = 0; i < simulation.numScans(); ++i) {
     files.write(i, simulation.next());
     progress.update(i + 1);
@@ -177,7 +177,7 @@ SimulateReport SimulateApp::runOrThrow() {
   auto building_files = writeBuildingFiles(options_.out_prefix, scene.building);
   pipeline::SimulationFiles files(options_.out_prefix, params, scene.world, options_.world_path, options_.write_carmen);
   simulateScans(simulation, files, options_.progress);
-  std::vector<pipeline::PendingFile*> companions;
+  std::vector<report::PendingFile*> companions;
   for (auto& f : building_files) companions.push_back(f.get());
   files.commit(companions);  // the rawlog last
   return reportOf(options_.out_prefix, scene.trajectory, files.counts());

@@ -7,14 +7,14 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "lidarseg/pipeline/Format.h"
+#include "lidarseg/report/Format.h"
 #include "lidarseg/vision/ImageFile.h"
 
 namespace lidarseg::inspect {
 
 using vision::encodePng;
 
-using pipeline::escapeXml;
+using report::escapeXml;
 
 namespace {
 
@@ -105,7 +105,7 @@ cv::Mat renderPng(const Drawing& d, const cv::Size& size) {
   }
   // The sensor: a small triangle pointing along x.
   std::vector<cv::Point> robot = {v({0.35, 0}), v({-0.15, 0.15}), v({-0.15, -0.15})};
-  cv::fillConvexPoly(img, robot, bgr(pipeline::kRobotColour), cv::LINE_AA);
+  cv::fillConvexPoly(img, robot, bgr(report::kRobotColour), cv::LINE_AA);
   if (!d.camera.empty()) {
     const cv::Rect r = insetRect(d.camera, size);
     if ((r & cv::Rect(cv::Point(0, 0), size)) == r && r.area() > 0) {

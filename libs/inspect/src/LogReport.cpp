@@ -9,22 +9,22 @@
 #include "lidarseg/core/Statistics.h"
 #include "lidarseg/inspect/Drawing.h"
 #include "lidarseg/inspect/LayerSwitches.h"
-#include "lidarseg/pipeline/Format.h"
-#include "lidarseg/pipeline/OutputFiles.h"
-#include "lidarseg/pipeline/Plots.h"
-#include "lidarseg/pipeline/Progress.h"
-#include "lidarseg/pipeline/RunEvaluation.h"
+#include "lidarseg/report/Format.h"
+#include "lidarseg/report/OutputFiles.h"
+#include "lidarseg/report/Plots.h"
+#include "lidarseg/report/Progress.h"
+#include "lidarseg/report/RunEvaluation.h"
 #include "lidarseg/vision/ImageFile.h"
 
 namespace lidarseg::inspect {
 
-using pipeline::escapeXml;
-using pipeline::fixed;
-using pipeline::makeSeries;
-using pipeline::plotHistogramsPng;
-using pipeline::plotTrajectoriesPng;
-using pipeline::plotXYPng;
-using pipeline::PlotSeries;
+using report::escapeXml;
+using report::fixed;
+using report::makeSeries;
+using report::plotHistogramsPng;
+using report::plotTrajectoriesPng;
+using report::plotXYPng;
+using report::PlotSeries;
 
 namespace fs = std::filesystem;
 
@@ -167,12 +167,12 @@ constexpr const char* kGalleryLayers = "raw,l1,l3,predicted,matches,features,tra
 // trajectory.png: lidarseg's path and every reference's from its pose at the first scan.
 std::string trajectoryPlot(const std::vector<ScanRow>& rows, const std::vector<Reference>& references) {
   std::vector<PlotSeries> series;
-  PlotSeries mine = makeSeries("lidarseg", pipeline::kLidarsegColour);
+  PlotSeries mine = makeSeries("lidarseg", report::kLidarsegColour);
   for (const ScanRow& r : rows) mine.x.push_back(r.pose.x), mine.y.push_back(r.pose.y);
   series.push_back(mine);
   std::vector<std::string> names;
   for (const auto& ref : references) names.push_back(ref.name);
-  const std::vector<pipeline::Rgb> colours = pipeline::referenceColours(names);
+  const std::vector<report::Rgb> colours = report::referenceColours(names);
   for (std::size_t i = 0; i < references.size(); ++i) {
     const Reference& ref = references[i];
     PlotSeries s = makeSeries(ref.name, colours[i]);
@@ -190,7 +190,7 @@ std::string trajectoryPlot(const std::vector<ScanRow>& rows, const std::vector<R
 // error_over_time.png: the position error against the truth, or without one the match sd.
 std::string errorPlot(const std::vector<ScanRow>& rows, bool with_truth) {
   PlotSeries over_time = makeSeries(with_truth ? "lidarseg: position error against the ground truth" : "lidarseg: match sd",
-                                    pipeline::kLidarsegColour);
+                                    report::kLidarsegColour);
   for (const ScanRow& r : rows) {
     const double v = with_truth ? r.drift_m : r.sd_xy_m;
     if (std::isfinite(v)) over_time.x.push_back(r.t - rows.front().t), over_time.y.push_back(v);
@@ -201,7 +201,7 @@ std::string errorPlot(const std::vector<ScanRow>& rows, bool with_truth) {
 
 // timing.png: the histogram of the time per scan.
 std::string timingPlot(const std::vector<ScanRow>& rows) {
-  PlotSeries times = makeSeries("lidarseg: W-D + cascade + matching", pipeline::kLidarsegColour);
+  PlotSeries times = makeSeries("lidarseg: W-D + cascade + matching", report::kLidarsegColour);
   for (const ScanRow& r : rows) {
     if (r.total_us > 0) times.x.push_back(r.total_us);
   }
@@ -224,7 +224,7 @@ std::vector<ScanRow> scanRows(Session& session, const eval::StampedTrajectory* t
   const auto traj = session.trajectory(n - 1);
   std::vector<ScanRow> rows;
   rows.reserve(n);
-  pipeline::Progress progress("lidarseg-inspect", show_progress, n);
+  report::Progress progress("lidarseg-inspect", show_progress, n);
   for (std::size_t i = 0; i < n; ++i) {
     rows.push_back(scanRow(session.frame(i), traj[i]));
     progress.update(i + 1);
@@ -285,7 +285,7 @@ ReportSummary writeLogReport(Session& session, const ReportSettings& settings) {
     std::vector<double> stamps;
     stamps.reserve(rows.size());
     for (const ScanRow& r : rows) stamps.push_back(r.t);
-    truth_problem = pipeline::truthPairingProblem(settings.truth_path, *truth, stamps, kTruthToleranceS);
+    truth_problem = report::truthPairingProblem(settings.truth_path, *truth, stamps, kTruthToleranceS);
     if (truth_problem.empty()) compareWithTruth(rows, *truth, session.mountOfFirstScan());
     else truth = nullptr;
   }
@@ -293,7 +293,7 @@ ReportSummary writeLogReport(Session& session, const ReportSettings& settings) {
   report.truth_problem = std::move(truth_problem);
   report.gallery = worstFirst(rows, settings.gallery);
 
-  pipeline::OutputSet outputs;
+  report::OutputSet outputs;
   const Layers layers = parseLayers(settings.layers.empty() ? kGalleryLayers : settings.layers);
   for (std::size_t i : report.gallery) {
     outputs.add(dir + "/frames/scan_" + std::to_string(i) + ".png",

@@ -10,10 +10,10 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/obs/CObservationImage.h>
 
-#include "lidarseg/pipeline/Format.h"
+#include "lidarseg/report/Format.h"
 #include "lidarseg/mrpt/CameraRois.h"
-#include "lidarseg/pipeline/OutputFiles.h"
-#include "lidarseg/pipeline/Timing.h"
+#include "lidarseg/report/OutputFiles.h"
+#include "lidarseg/report/Timing.h"
 #include "lidarseg/pipeline/OdometryRun.h"
 #include "lidarseg/mrpt/LidarsegConfig.h"
 #include "lidarseg/mrpt/PoseConversion.h"
@@ -28,11 +28,11 @@ namespace lidarseg::inspect {
 using mrpt_adapter::CameraRois;
 using mrpt_adapter::drawRois;
 
-using pipeline::writeFileAtomically;
+using report::writeFileAtomically;
 
-using pipeline::Clock;
-using pipeline::microsecondsSince;
-using pipeline::fixed;
+using report::Clock;
+using report::microsecondsSince;
+using report::fixed;
 
 InspectorParams InspectorParams::fromFile(const std::string& path) {
   const mrpt_adapter::LidarsegConfig c = mrpt_adapter::LidarsegConfig::loadFile(path);
@@ -295,7 +295,7 @@ double viewHalfWidth(const std::vector<Eigen::Vector2d>& points, double otherwis
 
 // The scan's valid points.
 PointLayer rawPoints(const std::vector<Eigen::Vector2d>& points) {
-  PointLayer layer{{}, pipeline::kScanPointColour, 2};
+  PointLayer layer{{}, report::kScanPointColour, 2};
   for (const auto& p : points) {
     if (std::isfinite(p.x())) layer.points.push_back(p);
   }
@@ -348,7 +348,7 @@ LineLayer matchedPairs(const Frame& f) {
 // Doors (red) and corners (green): a circle and the type's name.
 void drawFeatures(const std::vector<Feature>& features, Drawing& d) {
   for (const Feature& ft : features) {
-    const Rgb colour = isDoor(ft.type) ? pipeline::kDoorColour : pipeline::kCornerColour;
+    const Rgb colour = isDoor(ft.type) ? report::kDoorColour : report::kCornerColour;
     d.circles.push_back({ft.position, isDoor(ft.type) ? 0.35 : 0.25, colour});
     d.labels.push_back({ft.position, toString(ft.type), colour});
   }
@@ -363,11 +363,11 @@ void Session::drawTrajectories(const Frame& f, Drawing& d) {
     const Pose2D q = compose(T_sensor_odom, p);
     mine.emplace_back(q.x, q.y);
   }
-  d.lines.push_back(polyline(mine, pipeline::kLidarsegColour, 2));
-  d.legend.push_back({"lidarseg trajectory", pipeline::kLidarsegColour});
+  d.lines.push_back(polyline(mine, report::kLidarsegColour, 2));
+  d.legend.push_back({"lidarseg trajectory", report::kLidarsegColour});
   std::vector<std::string> names;
   for (const Reference& r : references_) names.push_back(r.name);
-  const std::vector<Rgb> colours = pipeline::referenceColours(names);
+  const std::vector<Rgb> colours = report::referenceColours(names);
   for (std::size_t k = 0; k < references_.size(); ++k) {
     const std::string& name = references_[k].name;
     const Rgb colour = colours[k];

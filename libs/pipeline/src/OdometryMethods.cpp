@@ -5,8 +5,8 @@
 
 #include <mrpt/poses/CPosePDFGaussian.h>
 
-#include "lidarseg/pipeline/Baselines.h"
-#include "lidarseg/pipeline/Timing.h"
+#include "lidarseg/report/Baselines.h"
+#include "lidarseg/report/Timing.h"
 #include "lidarseg/mrpt/PoseConversion.h"
 
 namespace lidarseg::pipeline {
@@ -36,7 +36,7 @@ MethodStep LidarsegMethod::process(const ScanInput& scan) {
 
 MethodStep LidarsegMethod::record(const ScanInput& scan) {
   const OdometryStep& c = last_.core;
-  MethodReport& m = report_;
+  report::MethodReport& m = report_;
   m.trajectory.push_back({scan.time.output_stamp_s, toPose2D(last_.robot_pose.mean)});
   m.segmentation_us.push_back(c.wall_danielsson_us);
   m.cascade_us.push_back(c.cascade_us);
@@ -89,7 +89,7 @@ MethodStep IcpMethod::process(const ScanInput& scan) {
   // A CARMEN line has no observation of its own: made here, outside ICP's time (a reader
   // of rawlogs would hand it over made).
   const auto observation = mrpt_adapter::observationOf(scan.record);
-  const auto t0 = Clock::now();
+  const auto t0 = report::Clock::now();
   auto current = std::make_unique<mrpt::maps::CSimplePointsMap>();
   current->insertionOptions.minDistBetweenLaserPoints = 0.0f;
   current->loadFromRangeScan(*observation);
@@ -123,7 +123,7 @@ MethodStep IcpMethod::process(const ScanInput& scan) {
     reference_ = std::move(current);
     reference_pose_ = pose_;
   }
-  report_.time_us.push_back(microsecondsSince(t0));
+  report_.time_us.push_back(report::microsecondsSince(t0));
   report_.trajectory.push_back({scan.time.output_stamp_s, pose_});
   return {scan.time.output_stamp_s, pose_, report_.time_us.back(), status};
 }
@@ -133,8 +133,8 @@ std::unique_ptr<OdometryMethod> makeBaseline(const std::string& name, const mrpt
   if (name == "icp") return std::make_unique<IcpMethod>(name, config.icp, true, p.keyframe_distance_m, p.keyframe_angle_rad);
   if (name == "icp-s2s") return std::make_unique<IcpMethod>(name, config.icp, false, 0.0, 0.0);
   std::string known;
-  for (const BaselineKind& k : baselineKinds()) known += (known.empty() ? "'" : ", '") + k.name + "'";
-  throw std::invalid_argument("unknown baseline '" + name + "' (known: " + known + ")");
+  for (const report::BaselineKind& k : report::baselineKinds()) known += (known.empty() ? "'" : ", '") + k.name + "'";
+  throw std::invalid_argument("unknown report::baseline '" + name + "' (known: " + known + ")");
 }
 
 }  // namespace lidarseg::pipeline

@@ -1,5 +1,5 @@
 #include "lidarseg/pipeline/OdometryRun.h"
-#include "lidarseg/pipeline/Baselines.h"
+#include "lidarseg/report/Baselines.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,13 +12,13 @@ OdometryRun::OdometryRun(const RunSettings& settings) : settings_(settings), gat
   p.validate();
   lidarseg_ = std::make_unique<LidarsegMethod>(p);
   // In the registry's order whatever the order asked, each once.
-  for (const BaselineKind& kind : baselineKinds()) {
+  for (const report::BaselineKind& kind : report::baselineKinds()) {
     if (std::find(settings_.baselines.begin(), settings_.baselines.end(), kind.name) != settings_.baselines.end()) {
       baselines_.push_back(makeBaseline(kind.name, settings_.config));
     }
   }
   for (const std::string& name : settings_.baselines) {
-    if (!baselineKind(name)) (void)makeBaseline(name, settings_.config);  // throws, naming the known ones
+    if (!report::baselineKind(name)) (void)makeBaseline(name, settings_.config);  // throws, naming the known ones
   }
 }
 
@@ -62,9 +62,9 @@ RunStep OdometryRun::process(const mrpt_adapter::LaserRecord& record) {
 
 double OdometryRun::medianStep() const { return steps_.empty() ? StampPolicy::kStartStepS : summarize(steps_).median; }
 
-OdometryReport OdometryRun::finish(double max_lost_ratio) {
-  OdometryReport r;
-  static_cast<RecordCounts&>(r) = gate_.counts();
+report::OdometryReport OdometryRun::finish(double max_lost_ratio) {
+  report::OdometryReport r;
+  static_cast<report::RecordCounts&>(r) = gate_.counts();
   r.odometry_jumps = odometry_jumps_;
   lidarseg_->report().time_summary_us = summarize(lidarseg_->report().time_us);
   r.lidarseg = std::move(lidarseg_->report());
@@ -73,7 +73,7 @@ OdometryReport OdometryRun::finish(double max_lost_ratio) {
     m->report().time_summary_us = summarize(m->report().time_us);
     r.baselines.push_back(std::move(m->report()));
   }
-  const MethodReport* reference = r.baseline(kSpeedupBaseline);
+  const report::MethodReport* reference = r.baseline(report::kSpeedupBaseline);
   if (reference && r.lidarseg.time_summary_us.median > 0.0) {
     r.speedup_median = reference->time_summary_us.median / r.lidarseg.time_summary_us.median;
   }

@@ -17,7 +17,7 @@ namespace lidarseg::pipeline {
 
 using mrpt_adapter::toMrpt;
 
-RawlogWriter::RawlogWriter(const std::string& path, OutputSet& outputs, bool landmarks)
+RawlogWriter::RawlogWriter(const std::string& path, report::OutputSet& outputs, bool landmarks)
     : path_(path), landmarks_(landmarks), out_(outputs.addWritten(path), path, 1) {}
 
 void RawlogWriter::close() {

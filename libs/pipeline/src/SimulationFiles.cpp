@@ -88,7 +88,7 @@ void prepareSimulationFolders(const std::string& prefix, bool camera) {
   std::error_code ec;
   fs::remove_all(prefix + "_Images.tmp", ec);
   if (camera) {
-    registerTemporaryFolder(prefix + "_Images.tmp");
+    report::registerTemporaryFolder(prefix + "_Images.tmp");
     fs::create_directories(prefix + "_Images.tmp");
   }
 }
@@ -104,8 +104,8 @@ SimulationFiles::SimulationFiles(const std::string& prefix, const sim::Simulatio
       odom_(prefix_ + ".odom.tum"),
       features_(prefix_ + ".features.csv"),
       rois_(prefix_ + ".rois.csv"),
-      carmen_(write_carmen ? std::make_unique<PendingFile>(prefix_ + ".carmen.log") : nullptr),
-      rawlog_tmp_(uniqueTemporary(prefix_ + ".rawlog")),
+      carmen_(write_carmen ? std::make_unique<report::PendingFile>(prefix_ + ".carmen.log") : nullptr),
+      rawlog_tmp_(report::uniqueTemporary(prefix_ + ".rawlog")),
       rawlog_(rawlog_tmp_, prefix_ + ".rawlog", 1) {
   gt_.out() << "# timestamp x y z qx qy qz qw (true robot pose, world frame)\n";
   odom_.out() << "# timestamp x y z qx qy qz qw (wheel odometry, drifting)\n";
@@ -155,12 +155,12 @@ void SimulationFiles::writeImage(std::size_t i, const sim::SimulatedFrame& f, st
 
 // The rawlog is what a reader opens: the one it replaces is removed first, and it is renamed
 // into place last, once its images folder and the text files beside it are the new run's.
-void SimulationFiles::commit(const std::vector<PendingFile*>& companions) {
+void SimulationFiles::commit(const std::vector<report::PendingFile*>& companions) {
   rawlog_.close();
   // Every file written whole before any is put in place: a full disk publishes none.
-  for (PendingFile* f : {&gt_, &odom_, &features_, &rois_}) f->finish();
+  for (report::PendingFile* f : {&gt_, &odom_, &features_, &rois_}) f->finish();
   if (carmen_) carmen_->finish();
-  for (PendingFile* f : companions) f->finish();
+  for (report::PendingFile* f : companions) f->finish();
   const std::string rawlog = prefix_ + ".rawlog";
   std::error_code ec;
   fs::remove(rawlog, ec);
@@ -171,9 +171,9 @@ void SimulationFiles::commit(const std::vector<PendingFile*>& companions) {
   features_.commit();
   rois_.commit();
   if (carmen_) carmen_->commit();
-  for (PendingFile* f : companions) f->commit();
+  for (report::PendingFile* f : companions) f->commit();
   fs::rename(rawlog_tmp_, rawlog);
-  releaseTemporary(rawlog_tmp_);
+  report::releaseTemporary(rawlog_tmp_);
   committed_ = true;
 }
 
@@ -184,7 +184,7 @@ void SimulationFiles::publishImages() {
   fs::remove_all(images, ec);
   if (ec) throw std::runtime_error("cannot remove the previous '" + images + "': " + ec.message());
   fs::rename(images + ".tmp", images);
-  releaseTemporary(images + ".tmp");
+  report::releaseTemporary(images + ".tmp");
 }
 
 // A run that did not commit leaves no rawlog temporary behind.
@@ -192,7 +192,7 @@ SimulationFiles::~SimulationFiles() {
   if (committed_) return;
   std::error_code ec;  // the stream's file is closed, unchecked, with it
   fs::remove(rawlog_tmp_, ec);
-  releaseTemporary(rawlog_tmp_);
+  report::releaseTemporary(rawlog_tmp_);
 }
 
 }  // namespace lidarseg::pipeline

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "lidarseg/pipeline/BatchResults.h"
+#include "lidarseg/report/BatchResults.h"
 
 namespace lidarseg::apps {
 
@@ -92,6 +92,6 @@ class BatchApp {
 };
 
 /// Parses "1-50", "3", "1,4,9-12" (lidarseg::pipeline's).
-using pipeline::parseSeeds;
+using report::parseSeeds;
 
 }  // namespace lidarseg::apps

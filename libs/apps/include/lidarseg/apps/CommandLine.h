@@ -10,13 +10,13 @@
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
-#include "lidarseg/pipeline/OutputFiles.h"
+#include "lidarseg/report/OutputFiles.h"
 
 namespace lidarseg::apps {
 
 /// A command line that cannot be run as given (thrown by the tools' option checks and by
-/// pipeline::OutputSet::claimOutputs); errorExit() makes it exit status 2.
-using pipeline::UsageError;
+/// report::OutputSet::claimOutputs); errorExit() makes it exit status 2.
+using report::UsageError;
 
 /// Exit status of a usage error (a bad flag or value, a missing argument).
 inline constexpr int kUsageError = 2;

@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-#include "lidarseg/pipeline/FeaturesReport.h"
+#include "lidarseg/report/FeaturesReport.h"
 
 namespace lidarseg::apps {
 
@@ -52,7 +52,7 @@ struct FeaturesOptions {
 };
 
 /// Everything `lidarseg-features` measured (lidarseg::pipeline's, with its writers).
-using FeaturesReport = pipeline::FeaturesReport;
+using FeaturesReport = report::FeaturesReport;
 
 /// Runs the door and corner detector over a whole log.
 class FeaturesApp {
@@ -63,7 +63,7 @@ class FeaturesApp {
   /// for an unreadable log, configuration or ground truth.
   FeaturesReport run();
 
-  /// The report as Markdown (pipeline::featuresMarkdown) on `os` (the results: stdout).
+  /// The report as Markdown (report::featuresMarkdown) on `os` (the results: stdout).
   static void print(const FeaturesReport& report, std::ostream& os);
   /// The run's warnings on `err` (stderr), after the results: one line per kind of the log's
   /// warnings (time gaps, clock jumps, ...) with its count and first place, as

@@ -68,7 +68,7 @@ class InspectApp {
   InspectReport writeReport(inspect::Session& session);
 
   /// The log's session with its references: the ground truth (--gt, or PREFIX.gt.tum found
-  /// beside the log as lidarseg-odometry finds it, pipeline::groundTruthBeside) and the
+  /// beside the log as lidarseg-odometry finds it, report::groundTruthBeside) and the
   /// --trajectory files; used by run().
   /// @throws std::runtime_error naming the file for an unreadable log or reference.
   std::unique_ptr<inspect::Session> open();

@@ -10,25 +10,28 @@
 #include <string>
 #include <vector>
 
-#include "lidarseg/pipeline/RunReport.h"
+#include "lidarseg/report/RunReport.h"
 
 namespace lidarseg::mrpt_adapter {
 class LaserLogReader;
 }
 
 namespace lidarseg::pipeline {
-class OutputSet;
 class OdometryRun;
-struct RunReferences;
 struct RunSettings;
 }  // namespace lidarseg::pipeline
 
+namespace lidarseg::report {
+class OutputSet;
+struct RunReferences;
+}  // namespace lidarseg::report
+
 namespace lidarseg::apps {
 
-using pipeline::OutputSet;
+using report::OutputSet;
 /// The report lidarseg-odometry's run returns (lidarseg::pipeline's, one for every tool).
-using pipeline::MethodReport;
-using pipeline::OdometryReport;
+using report::MethodReport;
+using report::OdometryReport;
 
 /// The range of --scanner-hz (besides 0, no correction): a 2D scanner turns at a few to a
 /// few hundred revolutions per second.
@@ -106,12 +109,12 @@ class OdometryApp {
   OdometryReport run();
 
  private:
-  pipeline::RunReferences readReferences();
+  report::RunReferences readReferences();
   void claimOutputs(OutputSet& outputs) const;
   void processLog(mrpt_adapter::LaserLogReader& reader, pipeline::OdometryRun& odometry, const pipeline::RunSettings& settings,
                   OutputSet& outputs);
   void collectReaderCounts(const mrpt_adapter::LaserLogReader& reader, OdometryReport& report) const;
-  void writeOutputs(OdometryReport& report, const pipeline::RunReferences& refs, const eval::StampedTrajectory& log_poses,
+  void writeOutputs(OdometryReport& report, const report::RunReferences& refs, const eval::StampedTrajectory& log_poses,
                     const eval::StampedTrajectory& wheel_odometry, OutputSet& outputs) const;
 
   OdometryOptions options_;

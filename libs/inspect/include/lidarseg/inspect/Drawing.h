@@ -10,12 +10,12 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
-#include "lidarseg/pipeline/Palette.h"
+#include "lidarseg/report/Palette.h"
 
 namespace lidarseg::inspect {
 
 /// sRGB colour, 0..255: the palette's, shared with every chart of the tools.
-using Rgb = pipeline::Rgb;
+using Rgb = report::Rgb;
 
 /// Points of one colour (size in pixels).
 struct PointLayer {

@@ -12,7 +12,7 @@
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/slam/CICP.h>
 
-#include "lidarseg/pipeline/RunReport.h"
+#include "lidarseg/report/RunReport.h"
 #include "lidarseg/core/StampPolicy.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/mrpt/LidarsegConfig.h"
@@ -48,12 +48,12 @@ class OdometryMethod {
   /// @throws std::invalid_argument when the scan cannot be used (the run then skips it
   ///         for every method, and this method's state is unchanged).
   virtual MethodStep process(const ScanInput& scan) = 0;
-  MethodReport& report() { return report_; }
-  const MethodReport& report() const { return report_; }
+  report::MethodReport& report() { return report_; }
+  const report::MethodReport& report() const { return report_; }
 
  protected:
   explicit OdometryMethod(std::string name) { report_.name = std::move(name); }
-  MethodReport report_;
+  report::MethodReport report_;
 };
 
 /// lidarseg: segmentation, segment match, refinement, search, run by the MRPT-facing

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "lidarseg/pipeline/OdometryMethods.h"
-#include "lidarseg/pipeline/RecordGate.h"
-#include "lidarseg/pipeline/RunReport.h"
+#include "lidarseg/report/RecordGate.h"
+#include "lidarseg/report/RunReport.h"
 #include "lidarseg/mrpt/LidarsegConfig.h"
 
 namespace lidarseg::pipeline {
@@ -48,7 +48,7 @@ class OdometryRun {
   /// lidarseg's method: its last step and segmentation.
   const LidarsegMethod& lidarseg() const { return *lidarseg_; }
   /// Counts of the run so far (frames, stamps, skipped scans, warnings): its RecordGate's.
-  const RecordCounts& counts() const { return gate_.counts(); }
+  const report::RecordCounts& counts() const { return gate_.counts(); }
   /// The poses the log holds beside its scans (CARMEN "corrected" logs), at the output stamps.
   const eval::StampedTrajectory& logPoses() const { return log_poses_; }
   /// The log's wheel odometry of every processed scan that has one (robot poses in the
@@ -58,12 +58,12 @@ class OdometryRun {
   double medianStep() const;
   /// Ends the run: the counts with every method's report moved in (lidarseg, then the
   /// baselines), time summaries computed and the tracking verdict given.
-  OdometryReport finish(double max_lost_ratio);
+  report::OdometryReport finish(double max_lost_ratio);
 
  private:
   std::optional<Pose2D> priorOf(const mrpt_adapter::LaserRecord& record, const StampStep& time);
   RunSettings settings_;
-  RecordGate gate_;
+  report::RecordGate gate_;
   std::size_t odometry_jumps_ = 0;
   std::unique_ptr<LidarsegMethod> lidarseg_;
   std::vector<std::unique_ptr<OdometryMethod>> baselines_;

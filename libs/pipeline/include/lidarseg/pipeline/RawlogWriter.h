@@ -12,7 +12,7 @@
 #include "lidarseg/mrpt/GzipOutputStream.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
 #include "lidarseg/mrpt/LaserOdometry.h"
-#include "lidarseg/pipeline/OutputFiles.h"
+#include "lidarseg/report/OutputFiles.h"
 
 namespace lidarseg::pipeline {
 
@@ -26,7 +26,7 @@ class RawlogWriter {
  public:
   /// @param landmarks add each scan's features as landmarks (for MRPT's EKF SLAM).
   /// @throws std::runtime_error naming the temporary file when it cannot be written.
-  RawlogWriter(const std::string& path, OutputSet& outputs, bool landmarks);
+  RawlogWriter(const std::string& path, report::OutputSet& outputs, bool landmarks);
 
   /// One scan. `stamp_s`: the scan's repaired stamp (the TUM files'), strictly increasing;
   /// `features`: the scan's doors and corners (sensor frame), used with landmarks only.

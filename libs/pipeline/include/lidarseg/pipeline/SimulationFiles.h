@@ -14,7 +14,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include "lidarseg/mrpt/GzipOutputStream.h"
-#include "lidarseg/pipeline/OutputFiles.h"
+#include "lidarseg/report/OutputFiles.h"
 #include "lidarseg/sim/Simulation.h"
 #include "lidarseg/sim/World.h"
 
@@ -52,7 +52,7 @@ class SimulationFiles {
   ///         rawlog's gzip stream cannot be written (nothing is then published), or
   ///         (std::filesystem::filesystem_error) naming the file that could not be replaced;
   ///         the folder then holds no PREFIX.rawlog.
-  void commit(const std::vector<PendingFile*>& companions = {});
+  void commit(const std::vector<report::PendingFile*>& companions = {});
   /// What was written so far.
   const SimulationCounts& counts() const { return counts_; }
   ~SimulationFiles();
@@ -70,8 +70,8 @@ class SimulationFiles {
   const sim::SimulationParams& params_;
   const sim::World& world_;
   const mrpt::poses::CPose3D lidar_pose_;
-  PendingFile gt_, odom_, features_, rois_;
-  std::unique_ptr<PendingFile> carmen_;
+  report::PendingFile gt_, odom_, features_, rois_;
+  std::unique_ptr<report::PendingFile> carmen_;
   std::string rawlog_tmp_;  // registered for the SIGINT/SIGTERM cleanup
   mrpt_adapter::GzipOutputStream rawlog_;  // every write and the stream's end checked
   mrpt::serialization::CArchiveStreamBase<mrpt_adapter::GzipOutputStream> archive_{rawlog_};

@@ -1,0 +1,265 @@
+#include "lidarseg/report/BatchResults.h"
+#include "lidarseg/report/Baselines.h"
+#include "lidarseg/core/NumberText.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iterator>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+
+#include "lidarseg/eval/Csv.h"
+#include "lidarseg/report/OutputFiles.h"
+#include "lidarseg/report/Plots.h"
+
+namespace lidarseg::report {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The metrics.csv of every finished run in OUT: run_<seed>/, not run_<seed>.partial/.
+std::vector<fs::path> finishedMetricsFiles(const std::string& out_dir) {
+  if (!fs::is_directory(out_dir)) throw std::runtime_error("'" + out_dir + "' is not a folder");
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(out_dir)) {
+    const auto name = entry.path().filename().string();
+    if (entry.is_directory() && name.rfind("run_", 0) == 0 && name.find('.') == std::string::npos &&
+        fs::exists(entry.path() / "metrics.csv")) {
+      files.push_back(entry.path() / "metrics.csv");
+    }
+  }
+  return files;
+}
+
+// The data line of one metrics.csv: the seed, then one value per metric.
+std::vector<double> readMetricsRow(const fs::path& f) {
+  std::ifstream in(f);
+  eval::CsvReader reader(in, f.string());
+  std::vector<std::string> cells;
+  if (!reader.next(cells) || !reader.next(cells)) {
+    throw std::runtime_error(f.string() + ":2: missing the data line");
+  }
+  std::vector<double> row;
+  for (const std::string& cell : cells) {
+    if (cell.empty()) {  // not measured
+      row.push_back(std::nan(""));
+      continue;
+    }
+    const ParsedNumber parsed = parseNumber(cell);
+    const double v = parsed.value;
+    if (parsed.status == ParsedNumber::Status::not_a_number) {
+      throw std::runtime_error(reader.where() + ": '" + cell + "' is not a number");
+    }
+    row.push_back(v);
+  }
+  const std::size_t columns = batchMetricNames().size() + 1;
+  if (row.size() != columns) {
+    throw std::runtime_error(reader.where() + ": " + std::to_string(row.size()) + " values, expected " +
+                             std::to_string(columns));
+  }
+  return row;
+}
+
+}  // namespace
+
+// The per-run figures aggregated over runs, in metrics.csv's column order.
+const std::vector<std::string>& batchMetricNames() {
+  // clang-format off
+  static const std::vector<std::string> names = {
+      "frames",
+      "lidarseg_final_error_m", "lidarseg_ate_rmse_m", "lidarseg_t_ms", "lidarseg_sigma_t_ms",
+      "lidarseg_median_ms", "lidarseg_p99_ms", "lidarseg_edx_m", "lidarseg_sigma_edx_m", "lidarseg_edy_m",
+      "lidarseg_sigma_edy_m", "lidarseg_edtheta_rad", "lidarseg_sigma_edtheta_rad",
+      "icp_final_error_m", "icp_ate_rmse_m", "icp_t_ms", "icp_sigma_t_ms", "icp_median_ms", "icp_p99_ms",
+      "icp_edx_m", "icp_sigma_edx_m", "icp_edy_m", "icp_sigma_edy_m", "icp_edtheta_rad",
+      "icp_sigma_edtheta_rad", "speedup_median", "path_length_m"};
+  // clang-format on
+  return names;
+}
+
+// The column of a metric in a MetricRows row (column 0 is the seed).
+std::size_t metricColumn(const std::string& name) {
+  const auto& names = batchMetricNames();
+  return 1 + static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
+}
+
+// One run's figures in batchMetricNames() order; NaN for what was not measured.
+std::vector<double> runMetrics(const OdometryReport& r) {
+  const auto method = [](const MethodReport* m, std::vector<double>& out) {
+    if (!m || !m->errors) {
+      out.insert(out.end(), 12, std::nan(""));
+      return;
+    }
+    const auto& e = *m->errors;
+    const auto& t = m->time_summary_us;
+    out.insert(out.end(), {e.final_position_error_m, e.ate_rmse_m, t.mean * 1e-3, t.stddev * 1e-3,
+                           t.median * 1e-3, t.p99 * 1e-3, e.motion.dx_m.mean, e.motion.dx_m.stddev,
+                           e.motion.dy_m.mean, e.motion.dy_m.stddev, e.motion.dtheta_rad.mean,
+                           e.motion.dtheta_rad.stddev});
+  };
+  std::vector<double> out = {static_cast<double>(r.frames)};
+  method(&r.lidarseg, out);
+  const MethodReport* icp = r.baseline(kSpeedupBaseline);
+  method(icp, out);
+  out.push_back(icp ? r.speedup_median : std::nan(""));  // no ratio without ICP
+  out.push_back(r.lidarseg.errors ? r.lidarseg.errors->path_length_m : std::nan(""));
+  return out;
+}
+
+// The header line of metrics.csv and aggregate.csv: "seed", then batchMetricNames().
+std::string metricsHeader() {
+  std::string header = "seed";
+  for (const auto& n : batchMetricNames()) header += ',' + n;
+  return header + '\n';
+}
+
+// A line of metrics.csv and aggregate.csv: the seed, then the figures (10 significant
+// digits); a figure not measured (a baseline not run) is an empty cell, never "nan".
+std::string metricsLine(std::uint64_t seed, const std::vector<double>& values) {
+  std::ostringstream line;
+  line << seed << std::setprecision(10);
+  for (double v : values) {
+    line << ',';
+    if (std::isfinite(v)) line << v;
+  }
+  line << '\n';
+  return line.str();
+}
+
+// Every finished run's row, in seed order.
+MetricRows readFinishedRuns(const std::string& out_dir) {
+  MetricRows rows;
+  for (const auto& f : finishedMetricsFiles(out_dir)) rows.push_back(readMetricsRow(f));
+  if (rows.empty())
+    throw std::runtime_error("no finished run (run_*/metrics.csv) in '" + out_dir + "'");
+  std::sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return a[0] < b[0]; });
+  return rows;
+}
+
+// Mean (and spread) of each metric over the runs; NaN values are left out.
+MetricStats metricStats(const MetricRows& rows) {
+  MetricStats stats;
+  for (std::size_t c = 0; c < batchMetricNames().size(); ++c) {
+    std::vector<double> v;
+    for (const auto& r : rows) {
+      if (std::isfinite(r[c + 1])) v.push_back(r[c + 1]);
+    }
+    stats[batchMetricNames()[c]] = summarize(v);
+  }
+  return stats;
+}
+
+// table1.md: the paper's Table I, one row per method that ran, then the median times per scan.
+std::string table1Markdown(const std::string& title, const std::vector<std::uint64_t>& seeds,
+                           const MetricStats& stats) {
+  std::ostringstream md;
+  md << std::fixed;
+  md << "## " << title << "\n\n"
+     << seeds.size() << " runs (seeds " << seeds.front() << "–" << seeds.back()
+     << "), mean over runs of each run's figures (paper Table I).\n\n";
+  md << "| method | t (ms) | σt (ms) | edx (mm) | σedx (mm) | edy (mm) | σedy (mm) | edθ (mrad) | "
+        "σedθ (mrad) | final error (m): mean | median | max | ATE RMSE (m) |\n";
+  md << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const std::string m : {"lidarseg", "icp"}) {
+    const auto g = [&](const std::string& k) { return stats.at(m + "_" + k); };
+    if (g("final_error_m").count == 0) continue;
+    md << "| " << (m == "icp" ? "MRPT ICP" : m) << std::setprecision(4) << " | " << g("t_ms").mean
+       << " | " << g("sigma_t_ms").mean << std::setprecision(2) << " | " << g("edx_m").mean * 1e3
+       << " | " << g("sigma_edx_m").mean * 1e3 << " | " << g("edy_m").mean * 1e3 << " | "
+       << g("sigma_edy_m").mean * 1e3 << " | " << g("edtheta_rad").mean * 1e3 << " | "
+       << g("sigma_edtheta_rad").mean * 1e3 << std::setprecision(3) << " | "
+       << g("final_error_m").mean << " | " << g("final_error_m").median << " | "
+       << g("final_error_m").max << " | " << g("ate_rmse_m").mean << " |\n";
+  }
+  if (stats.at("speedup_median").count > 0) {
+    md << "\nMedian time per scan: lidarseg " << std::setprecision(4)
+       << stats.at("lidarseg_median_ms").median * 1e3 << " µs, MRPT ICP "
+       << stats.at("icp_median_ms").median * 1e3 << " µs; speed-up (median over runs of each "
+       << "run's median ratio) " << std::setprecision(1) << stats.at("speedup_median").median
+       << "x. Path length " << std::setprecision(1) << stats.at("path_length_m").mean << " m.\n";
+  } else if (stats.at("lidarseg_median_ms").count > 0) {  // --no-icp: no ratio to give
+    md << "\nMedian time per scan: lidarseg " << std::setprecision(4)
+       << stats.at("lidarseg_median_ms").median * 1e3 << " µs (MRPT ICP not run). Path length "
+       << std::setprecision(1) << stats.at("path_length_m").mean << " m.\n";
+  }
+  return md.str();
+}
+
+// aggregate.csv: every run's metrics.csv line under one header.
+std::string aggregateCsv(const MetricRows& rows) {
+  std::string csv = metricsHeader();
+  for (const auto& r : rows) {
+    csv += metricsLine(static_cast<std::uint64_t>(r[0]), {r.begin() + 1, r.end()});
+  }
+  return csv;
+}
+
+std::vector<std::uint64_t> parseSeeds(const std::string& text) {
+  std::vector<std::uint64_t> seeds;
+  for (const std::string& part : eval::splitCsvLine(text)) {
+    const auto dash = part.find('-');
+    try {
+      std::size_t used = 0;
+      if (dash == std::string::npos) {
+        const auto v = std::stoull(part, &used);
+        if (used != part.size()) throw std::invalid_argument(part);
+        seeds.push_back(v);
+      } else {
+        const std::string a = part.substr(0, dash), b = part.substr(dash + 1);
+        std::size_t ua = 0, ub = 0;
+        const auto lo = std::stoull(a, &ua), hi = std::stoull(b, &ub);
+        if (ua != a.size() || ub != b.size() || hi < lo || hi - lo > 100000)
+          throw std::invalid_argument(part);
+        for (std::uint64_t k = 0; k <= hi - lo; ++k)
+          seeds.push_back(lo + k);  // no wrap at the top of uint64
+      }
+    } catch (const std::exception&) {
+      throw std::invalid_argument("seeds: '" + part + "' is not a seed or a range like 1-50");
+    }
+  }
+  if (seeds.empty()) throw std::invalid_argument("seeds: none given");
+  if (seeds.size() > 100000) throw std::invalid_argument("seeds: more than 100000 runs asked for");
+  std::sort(seeds.begin(), seeds.end());
+  seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+  return seeds;
+}
+
+void claimExperiment(const std::string& out_dir, const std::string& mine) {
+  const std::string path = (fs::path(out_dir) / "experiment.txt").string();
+  std::ifstream in(path);
+  if (in) {
+    const std::string theirs((std::istreambuf_iterator<char>(in)), {});
+    if (theirs != mine) {
+      throw std::runtime_error("'" + out_dir + "' holds the runs of another experiment (" + path +
+                               " differs: world, trajectory, sensor, configurations or baselines); "
+                               "choose another --out");
+    }
+    return;
+  }
+  fs::create_directories(out_dir);
+  writeFileAtomically(path, mine);
+}
+
+std::string finalErrorsPng(const MetricRows& rows, bool with_icp, const std::string& title) {
+  const std::size_t lidarseg = metricColumn("lidarseg_final_error_m");
+  const std::size_t icp = metricColumn("icp_final_error_m");
+  PlotSeries a = makeSeries("lidarseg", kLidarsegColour, PlotStyle::kMarkers);
+  PlotSeries b = makeSeries("MRPT ICP keyframed", kIcpColour, PlotStyle::kMarkers);
+  for (const auto& r : rows) {
+    a.x.push_back(r[0]);
+    a.y.push_back(r[lidarseg]);
+    b.x.push_back(r[0]);
+    b.y.push_back(r[icp]);
+  }
+  std::vector<PlotSeries> series = {a};
+  if (with_icp) series.push_back(b);
+  return plotXYPng(series, "Final position error per run: " + title, "seed", "final error (m)", true);
+}
+
+}  // namespace lidarseg::report
