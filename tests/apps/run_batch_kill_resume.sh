@@ -14,13 +14,16 @@ rm -rf "$out"; mkdir -p "$out"
 printf 'speed 1.0\nturn_radius 0.6\nwaypoint 24 0\nwaypoint 34 0\nwaypoint 34 6\n' > "$out/short.traj"
 args=(run --world "$worlds/maze.world" --trajectory "$out/short.traj" --seeds 1-8 --jobs 2 --no-icp -q --out "$out/b")
 fail() { echo "FAIL: $*"; exit 1; }
+# Finished runs only: a run writes its metrics.csv inside run_N.partial before the folder is
+# renamed into place, so a glob on run_*/metrics.csv also sees a run still being finished.
+finished_runs() { find "$out/b" -mindepth 2 -maxdepth 2 -name metrics.csv -path '*/run_*/*' ! -path '*.partial/*' 2>/dev/null | wc -l; }
 
 "$batch" "${args[@]}" & runner=$!
 for _ in $(seq 1 6000); do  # until the first run has finished (at most 10 min, a loaded machine)
-  ls "$out"/b/run_*/metrics.csv > /dev/null 2>&1 && break
+  [ "$(finished_runs)" -gt 0 ] && break
   sleep 0.1
 done
-ls "$out"/b/run_*/metrics.csv > /dev/null 2>&1 || fail "no run finished"
+[ "$(finished_runs)" -gt 0 ] || fail "no run finished"
 kill -9 "$runner"; wait "$runner" 2>/dev/null || true
 # The jobs die with their runner (the kernel signals them): wait for that state, bounded.
 for _ in $(seq 1 600); do
@@ -28,9 +31,9 @@ for _ in $(seq 1 600); do
   sleep 0.1
 done
 if pgrep -f -- "--out $out/b" > /dev/null; then fail "jobs outlived the killed runner by a minute"; fi
-finished_before=$(ls -d "$out"/b/run_*/ 2>/dev/null | grep -v partial | wc -l)
+finished_before=$(finished_runs)
 [ "$finished_before" -lt 8 ] || fail "all runs finished before the kill: nothing to resume"
-sums_before=$(cd "$out/b" && sha256sum run_*/metrics.csv)
+sums_before=$(cd "$out/b" && find . -mindepth 2 -maxdepth 2 -name metrics.csv -path './run_*/*' ! -path '*.partial/*' -exec sha256sum {} + | sed 's| \./| |')
 echo "killed with $finished_before of 8 runs finished"
 
 "$batch" "${args[@]}" || fail "the resumed runner failed"
