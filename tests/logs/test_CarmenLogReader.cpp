@@ -388,3 +388,44 @@ TEST(CarmenScan, ALineBecomesTheCoreScanAndItsMounting) {
   l.angular_resolution_rad = 0.01;
   EXPECT_THROW(carmenScan(l, layouts), std::invalid_argument);
 }
+
+// A negative field of view (or resolution) would turn the beams the other way and mirror
+// every pose: the line is skipped with the PARAM named, never read mirrored.
+TEST(CarmenLogReader, ANegativeFieldOfViewOrResolutionSkipsTheLinesWithTheParamNamed) {
+  for (const std::string param : {"laser_front_laser_fov -180", "laser_front_laser_resolution -1"}) {
+    CarmenLogReader reader(writeText("fov.log", "PARAM " + param + " host 0\n" + flaser(181, 2.5, 1.0, 10.0)));
+    EXPECT_FALSE(reader.next()) << param;
+    ASSERT_EQ(reader.issues().size(), 1u) << param;
+    const std::string key = param.substr(0, param.find(' '));
+    EXPECT_NE(reader.issues()[0].find("fov.log:2: FLASER: PARAM " + key + " = -"), std::string::npos)
+        << reader.issues()[0];
+  }
+  CarmenLogReader fine(writeText("fov.log", "PARAM laser_front_laser_fov 100 host 0\n" + flaser(101, 2.5, 1.0, 10.0)));
+  const auto scan = fine.next();
+  ASSERT_TRUE(scan);
+  EXPECT_NEAR(scan->start_angle_rad, -50.0 * M_PI / 180.0, 1e-12);
+  EXPECT_GT(scan->angular_resolution_rad, 0.0);
+}
+
+// A log of laser lines this reader does not read: they are counted by type, so that the
+// "no usable laser scan" error can say what the log holds.
+TEST(CarmenLogReader, LaserLinesOfTypesNotReadAreCounted) {
+  const std::string raw = "RAWLASER1 0 -1.5708 3.14159 0.0174533 80 0.01 0 3 1 1 1 0 1.0 host 1.0\n";
+  CarmenLogReader reader(writeText("raw.log", raw + raw + flaser(5, 1.0, 0.0, 2.0)));
+  ASSERT_TRUE(reader.next());
+  EXPECT_FALSE(reader.next());
+  ASSERT_EQ(reader.unreadLaserLines().size(), 1u);
+  EXPECT_EQ(reader.unreadLaserLines().at("RAWLASER1"), 2u);
+  EXPECT_TRUE(reader.unknownTypes().empty());
+}
+
+TEST(CarmenLogReader, AMissingFileIsNamedWithTheSystemsReason) {
+  try {
+    CarmenLogReader reader(tmp("no-such-dir/missing.log"));
+    FAIL() << "a missing file opened";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot open '" + tmp("no-such-dir/missing.log") + "': No such file or directory"),
+              std::string::npos)
+        << e.what();
+  }
+}

@@ -398,6 +398,18 @@ TEST(BadInputs, ALogWithNoUsableScanSaysWhichLinesWereSkipped) {
   EXPECT_NE(e.find("all_malformed.clf:2"), std::string::npos) << e;
 }
 
+// A log of laser lines of a type not read (RAWLASER1: scans without a pose): the error says
+// what the log holds instead of only that it has no usable scan.
+TEST(BadInputs, ALogOfOnlyUnreadLaserTypesSaysWhatItHolds) {
+  std::string text;
+  for (int k = 0; k < 20; ++k) text += "RAWLASER1 0 -1.5708 3.14159 0.0174533 80 0.01 0 3 1 1 1 0 1.0 host 1.0\n";
+  const std::string path = put("rawlaser_only.log", text);
+  const std::string e = errorOf(optionsFor(path, ""));
+  EXPECT_NE(e.find("'" + path + "' holds no usable laser scan; it holds 20 RAWLASER1 line(s), a laser type not read"),
+            std::string::npos)
+      << e;
+}
+
 TEST(BadInputs, CarmenFieldCountsRangeValuesAndBeamCounts) {
   std::ostringstream log;
   double t = 10.0;

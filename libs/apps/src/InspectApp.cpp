@@ -214,7 +214,14 @@ InspectorWindow::InspectorWindow(Session& session, const InspectOptions& options
       win_("lidarseg-inspect: " + fs::path(options.input).filename().string(), static_cast<unsigned>(options.width),
            static_cast<unsigned>(options.height)),
       index_(options.frame) {
-  win_.wait_for_GL_context(5.0);
+  // A display that cannot be reached (a stale DISPLAY, a closed X server): MRPT's GUI thread
+  // gives up without a window, and the loop would end at once as if the user had closed it.
+  if (!win_.wait_for_GL_context(5.0) || !win_.isOpen()) {
+    const char* display = std::getenv("DISPLAY");
+    std::cerr << "lidarseg-inspect: error: cannot open a window on display '" << (display != nullptr ? display : "")
+              << "': use --render FRAME --out FILE.png or --report DIR, or run under xvfb-run\n";
+    leave(1);
+  }
 }
 
 void InspectorWindow::screenshot() {

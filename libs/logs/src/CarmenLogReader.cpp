@@ -90,6 +90,14 @@ const std::set<std::string>& ignoredTypes() {
   return types;
 }
 
+// Ignored line types that hold laser scans in another form (no pose, another layout): a
+// log of only these has no scan this reader reads, and the error says why.
+const std::set<std::string>& unreadLaserTypes() {
+  static const std::set<std::string> types = {"RAWLASER1", "RAWLASER2", "RAWLASER3", "RAWLASER4", "ROBOTLASER2",
+                                              "POSITIONLASER", "LASER1", "LASER2", "LASER3", "LASER4", "LASER5"};
+  return types;
+}
+
 }  // namespace
 
 bool isLaserType(const std::string& type) {
@@ -164,6 +172,16 @@ bool CarmenLogReader::parseLaser(const std::string& type, const std::vector<std:
     out.stamp_s = stampNumber(f, n + 8, "ipc_timestamp");
     const double fov_deg = paramDouble("laser_" + side + "_laser_fov", 180.0);
     double res_deg = paramDouble("laser_" + side + "_laser_resolution", 0.0);
+    // A negative field of view or resolution would turn the beams the other way: the scan,
+    // and every pose from it, mirrored.
+    if (!(fov_deg > 0.0 && fov_deg <= 360.0)) {
+      throw std::invalid_argument("PARAM laser_" + side + "_laser_fov = " + numberText(fov_deg) +
+                                  ": a field of view in (0, 360] degrees is needed");
+    }
+    if (res_deg < 0.0) {
+      throw std::invalid_argument("PARAM laser_" + side + "_laser_resolution = " + numberText(res_deg) +
+                                  ": a resolution > 0 degrees is needed");
+    }
     if (!(res_deg > 0.0) && n > 1) res_deg = (n % 2 == 1) ? fov_deg / static_cast<double>(n - 1)
                                                           : fov_deg / static_cast<double>(n);
     out.angular_resolution_rad = res_deg * kDegToRad;
@@ -238,6 +256,7 @@ std::optional<CarmenLaser> CarmenLogReader::next() {
       if (options_.laser_type.empty()) options_.laser_type = type;
       return laser;
     }
+    if (unreadLaserTypes().count(type) != 0) ++unread_lasers_[type];
     if (ignoredTypes().count(type) == 0) {
       // Distinct types are counted up to a bound; beyond it they share one entry.
       const bool known = unknown_.count(type) != 0 || unknown_.size() < kMaxUnknownTypes;

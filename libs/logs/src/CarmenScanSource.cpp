@@ -25,6 +25,15 @@ std::vector<std::string> CarmenScanSource::unknownTypes() const {
   return out;
 }
 
+std::string CarmenScanSource::unreadScans() const {
+  std::string lines;
+  for (const auto& [type, n] : reader_.unreadLaserLines()) {
+    lines += (lines.empty() ? "" : ", ") + std::to_string(n) + " " + type + " line(s)";
+  }
+  if (lines.empty()) return {};
+  return "it holds " + lines + ", a laser type not read (FLASER, RLASER and ROBOTLASER1 are)";
+}
+
 std::optional<ScanRecord> CarmenScanSource::read() {
   while (true) {
     const std::size_t malformed_before = reader_.malformedLines();

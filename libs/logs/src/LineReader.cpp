@@ -1,16 +1,24 @@
 #include "lidarseg/logs/LineReader.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
+#include <string>
 
 #include <zlib.h>
 
 namespace lidarseg::logs {
 
 LineReader::LineReader(const std::string& path) : path_(path) {
+  errno = 0;
   gzFile f = gzopen(path.c_str(), "rb");
-  if (f == nullptr) throw std::runtime_error("cannot open '" + path + "'");
+  if (f == nullptr) {
+    // The system's reason (no such file, permission denied); zlib's own failures set none.
+    const int err = errno;
+    throw std::runtime_error("cannot open '" + path + "'" + (err != 0 ? ": " + std::string(std::strerror(err)) : std::string()));
+  }
   file_ = f;
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);

@@ -123,6 +123,7 @@ std::string LaserLogReader::sensor() const { return source_->sensor(); }
 const std::vector<std::string>& LaserLogReader::issues() const { return source_->issues(); }
 std::size_t LaserLogReader::skipped() const { return source_->skipped(); }
 std::vector<std::string> LaserLogReader::unknownTypes() const { return source_->unknownTypes(); }
+std::string LaserLogReader::unreadScans() const { return source_->unreadScans(); }
 std::vector<std::string> LaserLogReader::warnings() const { return source_->warnings(); }
 WarningTally LaserLogReader::warningTally() const { return source_->warningTally(); }
 

@@ -20,6 +20,7 @@ std::runtime_error noUsableScan(const mrpt_adapter::LaserLogReader& reader, cons
   std::string why;
   for (std::size_t k = 0; k < std::min(issues.size(), kNamedSkips); ++k) why += "; " + issues[k];
   if (issues.size() > kNamedSkips) why += "; ... (" + std::to_string(issues.size()) + " skipped in all)";
+  if (const std::string unread = reader.unreadScans(); !unread.empty()) why += "; " + unread;
   return std::runtime_error("'" + reader.path() + "' holds no usable laser scan" +
                             (sensor.empty() ? std::string() : " with sensor '" + sensor + "'") + why);
 }

@@ -13,6 +13,13 @@ namespace lidarseg::report {
 
 namespace {
 
+// A tolerance as a user reads it (3 significant digits: 0.005, not 0.004999995231628418).
+std::string shortNumber(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", v);
+  return text;
+}
+
 std::string stemOf(const std::string& path) {
   for (const char* ext : {".rawlog.gz", ".rawlog", ".clf.gz", ".log.gz", ".clf", ".log"}) {
     const std::string e(ext);
@@ -53,7 +60,7 @@ std::string truthPairingProblem(const std::string& truth_path, const eval::Stamp
   for (double t : stamps_s) paired += eval::nearestIndex(truth, t, tolerance_s).has_value();
   if (paired >= 2) return {};
   std::string text = "ground truth '" + truth_path + "': " + std::to_string(paired) + " of the " +
-                     std::to_string(stamps_s.size()) + " scans have a pose within " + numberText(tolerance_s) +
+                     std::to_string(stamps_s.size()) + " scans have a pose within " + shortNumber(tolerance_s) +
                      " s; no trajectory errors";
   if (!truth.empty() && !stamps_s.empty()) {
     const auto [lo, hi] = std::minmax_element(stamps_s.begin(), stamps_s.end());

@@ -77,6 +77,9 @@ class CarmenLogReader {
   std::size_t malformedLines() const { return malformed_; }
   /// Lines of unknown type, by type.
   const std::map<std::string, std::size_t>& unknownTypes() const { return unknown_; }
+  /// Lines of the laser types this reader does not read (RAWLASER1..4, ROBOTLASER2,
+  /// POSITIONLASER, LASER1..5), by type: what a log without FLASER, RLASER or ROBOTLASER1 holds.
+  const std::map<std::string, std::size_t>& unreadLaserLines() const { return unread_lasers_; }
   /// PARAM values read so far.
   const std::map<std::string, std::string>& params() const { return params_; }
   const std::string& laserType() const { return options_.laser_type; }
@@ -96,6 +99,7 @@ class CarmenLogReader {
   std::vector<std::string> issues_;
   std::size_t malformed_ = 0;
   std::map<std::string, std::size_t> unknown_;
+  std::map<std::string, std::size_t> unread_lasers_;
 };
 
 }  // namespace lidarseg::logs

@@ -26,6 +26,8 @@ class CarmenScanSource final : public ScanSource {
   std::string sensor() const override { return reader_.laserType(); }
   double fractionRead() const override { return reader_.fractionRead(); }
   std::vector<std::string> unknownTypes() const override;
+  /// The laser lines of types the CARMEN reader does not read (RAWLASER1 ...), counted.
+  std::string unreadScans() const override;
 
  protected:
   std::optional<ScanRecord> read() override;

@@ -45,6 +45,9 @@ class ScanSource {
   std::size_t skipped() const { return skipped_; }
   /// Line types or objects not understood ("FILE: 12 line(s) of unknown type 'X' skipped").
   virtual std::vector<std::string> unknownTypes() const { return {}; }
+  /// Why a file gave no scan beyond its skipped lines (e.g. only laser lines of a type the
+  /// format's reader does not read); empty when there is nothing to add.
+  virtual std::string unreadScans() const { return {}; }
   /// What was read but is worth a word, with its place; the first 100 of this source's own
   /// and the format's (sourceWarnings()).
   std::vector<std::string> warnings() const;

@@ -79,6 +79,8 @@ class LaserLogReader {
   std::size_t skipped() const;
   /// Messages about line types that were not understood ("UNKNOWN: 12 lines").
   std::vector<std::string> unknownTypes() const;
+  /// Why the file gave no scan beyond its skipped lines (ScanSource::unreadScans()).
+  std::string unreadScans() const;
   /// What was read but is worth a word (non-finite odometry dropped, a laser whose beam
   /// count, aperture or mounting changes), with its place; the first 100.
   std::vector<std::string> warnings() const;
