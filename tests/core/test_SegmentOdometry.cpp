@@ -89,6 +89,35 @@ double corridorErrorAlongX(bool refine, std::size_t* degenerate) {
   return std::abs(step.T_odom_sensor.x - true_x);
 }
 
+// A non-finite odometry increment is refused before anything changes (it reached the
+// recovery search's grid indices: SIGSEGV); the next scan with a good one goes on as if the
+// bad call had not been made.
+TEST(SegmentOdometry, ANonFiniteOdometryIncrementIsRefusedAndChangesNothing) {
+  const sim::World world = testing::officeScene();
+  const auto sensor = testing::makeSensor(541, 270.0, 0.01);
+  const Scan a = testing::simulate(world, sensor, Pose2D{1.0, 1.0, 0.0}, 1);
+  const Scan b = testing::simulate(world, sensor, Pose2D{1.1, 1.0, 0.0}, 2);
+  SegmentOdometry with_bad, without;
+  with_bad.process(a);
+  without.process(a);
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  for (const Pose2D bad : {Pose2D{nan, 0.0, 0.0}, Pose2D{0.0, inf, 0.0}, Pose2D{0.0, 0.0, -inf}}) {
+    try {
+      with_bad.process(b, bad);
+      FAIL() << "a non-finite odometry increment was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("the odometry increment ("), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(") is not finite"), std::string::npos) << e.what();
+    }
+  }
+  const OdometryStep s1 = with_bad.process(b, Pose2D{0.1, 0.0, 0.0});
+  const OdometryStep s2 = without.process(b, Pose2D{0.1, 0.0, 0.0});
+  EXPECT_EQ(s1.index, s2.index);
+  EXPECT_EQ(s1.T_odom_sensor.x, s2.T_odom_sensor.x);
+  EXPECT_EQ(s1.T_odom_sensor.y, s2.T_odom_sensor.y);
+  EXPECT_NEAR(s1.T_odom_sensor.x, 0.1, 0.01);
+}
+
 TEST(SegmentOdometry, PilasterCorridorIsConstrainedByTheRefinement) {
   std::size_t degenerate_without = 0, degenerate_with = 0;
   const double without = corridorErrorAlongX(false, &degenerate_without);

@@ -1,5 +1,7 @@
 // lidarseg's segment matcher behind MRPT's map-alignment interface.
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <iostream>
 
 #include <gtest/gtest.h>
@@ -69,6 +71,61 @@ TEST(SegmentAlignment, RecoversTheMotionBetweenTwoScansWithItsCovariance) {
   EXPECT_GT(g.cov.det(), 0.0);
   EXPECT_LT(g.cov(0, 0), 0.01 * 0.01);
   EXPECT_LT(g.cov(2, 2), std::pow(0.5 * kDeg, 2));
+}
+
+// Maps and estimates an MRPT program may pass: an empty map, one point, points with a NaN
+// coordinate (beams without return), points a million metres away, an estimate of 1e30 m.
+// Never an exception on data, never a non-finite pose or covariance; only a non-finite
+// estimate is refused. (A NaN estimate reached the recovery search's grid indices:
+// SIGSEGV.)
+TEST(SegmentAlignment, OddMapsAndEstimatesGiveFiniteResultsAndANonFiniteEstimateIsRefused) {
+  const auto good = mapAt({1.0, 1.0, 0.0}, 1);
+  mrpt::maps::CSimplePointsMap empty, one, with_nan = good, far;
+  one.insertPoint(1.0f, 2.0f, 0.0f);
+  for (size_t k = 0; k < with_nan.size(); k += 3) with_nan.setPoint(k, std::nanf(""), 1.0f, 0.0f);
+  for (size_t k = 0; k < good.size(); ++k) {
+    float x, y, z;
+    good.getPoint(k, x, y, z);
+    far.insertPoint(x + 1e6f, y, z);
+  }
+  const std::vector<const mrpt::maps::CSimplePointsMap*> odd = {&empty, &one, &far};
+  SegmentAlignment align;
+  const auto finite = [](const mrpt::poses::CPosePDFGaussian& g) {
+    return std::isfinite(g.mean.x()) && std::isfinite(g.mean.y()) && std::isfinite(g.mean.phi()) &&
+           g.cov.array().isFinite().all();
+  };
+  const std::vector<const mrpt::maps::CSimplePointsMap*> all = {&empty, &one, &with_nan, &far, &good};
+  for (const auto* a : all) {
+    for (const auto* b : all) {
+      for (const double x0 : {0.0, 1e30, -1e15}) {
+        SegmentAlignment::TReturnInfo info;
+        const mrpt::poses::CPose2D guess(x0, x0 == 0.0 ? 0.0 : 3.0, 0.0);
+        const auto pdf = align.AlignPDF(a, b, mrpt::poses::CPosePDFGaussian(guess), info);
+        const auto& g = dynamic_cast<const mrpt::poses::CPosePDFGaussian&>(*pdf);
+        ASSERT_TRUE(finite(g)) << g.mean << " from " << guess;
+        const bool hopeless = x0 != 0.0 || std::find(odd.begin(), odd.end(), a) != odd.end() ||
+                              std::find(odd.begin(), odd.end(), b) != odd.end();
+        if (hopeless) {
+          EXPECT_EQ(info.track, TrackStatus::kLost) << guess;
+          EXPECT_EQ(g.mean.x(), guess.x());
+          EXPECT_GE(g.cov(0, 0), 0.5);
+        } else {  // the same scene, some beams without return: the identity, precisely
+          EXPECT_NE(info.track, TrackStatus::kLost);
+          EXPECT_LT(std::hypot(g.mean.x(), g.mean.y()), 0.01) << g.mean;
+          EXPECT_LT(std::abs(g.mean.phi()), 0.2 * kDeg) << g.mean;
+        }
+      }
+    }
+  }
+  for (const double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+    try {
+      align.AlignPDF(&good, &good, mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D(0.0, bad, 0.0)));
+      FAIL() << "a non-finite initial estimate was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("SegmentAlignment::AlignPDF: the initial estimate (0, "), std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 // One object aligns many pairs (it keeps its odometry between calls): each result equals a

@@ -1,4 +1,6 @@
 #include "lidarseg/core/SegmentOdometry.h"
+
+#include "lidarseg/core/NumberText.h"
 #include "lidarseg/core/Angles.h"
 
 #include <algorithm>
@@ -374,6 +376,13 @@ const Scan& SegmentOdometry::withBeamTimes(const Scan& scan) {
 }
 
 OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pose2D>& odometry_increment) {
+  // Before any state changes: a non-finite prior would reach the search's grid indices.
+  if (odometry_increment && !(std::isfinite(odometry_increment->x) && std::isfinite(odometry_increment->y) &&
+                              std::isfinite(odometry_increment->yaw))) {
+    throw std::invalid_argument("SegmentOdometry::process: the odometry increment (" + numberText(odometry_increment->x) +
+                                ", " + numberText(odometry_increment->y) + ", " + numberText(odometry_increment->yaw) +
+                                ") is not finite");
+  }
   const Scan& scan = withBeamTimes(input);
   OdometryStep step;
   step.index = count_;

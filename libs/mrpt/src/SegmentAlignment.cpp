@@ -4,8 +4,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -79,9 +81,20 @@ Scan scanOf(const mrpt::maps::CMetricMap* map, const char* which) {
   std::vector<double> angles(xs.size());
   Scan scan;
   scan.ranges_m.resize(xs.size());
+  // A point with a non-finite coordinate is an invalid beam (no return), at the bearing of
+  // the finite point before it (or after it, at the start): the layout needs an angle.
+  std::optional<double> last_angle;
   for (std::size_t i = 0; i < xs.size(); ++i) {
-    angles[i] = std::atan2(static_cast<double>(ys[i]), static_cast<double>(xs[i]));
-    scan.ranges_m[i] = std::hypot(static_cast<double>(xs[i]), static_cast<double>(ys[i]));
+    const double x = static_cast<double>(xs[i]), y = static_cast<double>(ys[i]);
+    if (std::isfinite(x) && std::isfinite(y)) {
+      angles[i] = std::atan2(y, x);
+      scan.ranges_m[i] = std::hypot(x, y);
+      if (!last_angle) std::fill(angles.begin(), angles.begin() + static_cast<long>(i), angles[i]);
+      last_angle = angles[i];
+    } else {
+      angles[i] = last_angle.value_or(0.0);
+      scan.ranges_m[i] = std::numeric_limits<double>::quiet_NaN();
+    }
   }
   // Bearings may wrap past +-pi (a 360-degree scan): keep them continuous.
   for (std::size_t i = 1; i < angles.size(); ++i) {
@@ -221,6 +234,11 @@ mrpt::poses::CPosePDF::Ptr SegmentAlignment::AlignPDF(
     mrpt::optional_ref<mrpt::slam::TMetricMapAlignmentResult> outInfo) {
   const auto t0 = std::chrono::steady_clock::now();
   options.validate();
+  const auto& guess = initial.mean;
+  if (!(std::isfinite(guess.x()) && std::isfinite(guess.y()) && std::isfinite(guess.phi()))) {
+    throw std::invalid_argument("SegmentAlignment::AlignPDF: the initial estimate (" + numberText(guess.x()) + ", " +
+                                numberText(guess.y()) + ", " + numberText(guess.phi()) + ") is not finite");
+  }
   const Scan s1 = scanOf(m1, "m1"), s2 = scanOf(m2, "m2");
   // The odometry's own step on a pair of scans: m1 is the keyframe, m2 the current scan,
   // the initial estimate the prior. Whatever lidarseg-odometry does to one scan (segment

@@ -200,7 +200,8 @@ class SegmentOdometry {
   /// Processes the next scan.
   /// @param odometry_increment wheel odometry T_prev_curr of the sensor since the
   ///        previous scan, used as the prior instead of constant velocity.
-  /// @throws std::invalid_argument for an inconsistent scan (see Scan::validate()).
+  /// @throws std::invalid_argument for an inconsistent scan (see Scan::validate()) or a
+  ///         non-finite odometry_increment; the odometry's state is then unchanged.
   OdometryStep process(const Scan& scan, const std::optional<Pose2D>& odometry_increment = {});
 
   /// The segmentation of the last scan processed.

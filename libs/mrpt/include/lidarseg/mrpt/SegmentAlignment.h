@@ -192,7 +192,9 @@ class SegmentAlignment : public mrpt::slam::CMetricMapsAlignmentAlgorithm {
   /// `initialEstimationPDF` (its covariance is not used). Never throws on data: a failed
   /// match returns the initial estimate with a large covariance and says so in `outInfo`
   /// (a TReturnInfo, or a plain TMetricMapAlignmentResult for the execution time only).
-  /// @throws std::invalid_argument when a map is not a point map, or for invalid options.
+  /// A map's point with a non-finite coordinate is a beam without return.
+  /// @throws std::invalid_argument when a map is not a point map, for invalid options, or
+  ///         for a non-finite initial estimate.
   mrpt::poses::CPosePDF::Ptr AlignPDF(
       const mrpt::maps::CMetricMap* m1, const mrpt::maps::CMetricMap* m2,
       const mrpt::poses::CPosePDFGaussian& initialEstimationPDF,
