@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "FuzzInput.h"
@@ -121,11 +122,22 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                   "matched indices inside the inputs");
   }
 
+  // The odometry's prior: constant velocity, the fuzzed increment, the same scaled by up to
+  // 2^1000 (a finite but absurd odometry), or a non-finite one (refused).
+  const std::uint8_t prior_kind = in.u8();
+  const int scale = in.u8() * 4;
+  std::optional<Pose2D> increment;
+  if (prior_kind % 4 == 1) increment = prior;
+  if (prior_kind % 4 == 2) increment = Pose2D{std::ldexp(prior.x, scale), std::ldexp(prior.y, scale), std::ldexp(prior.yaw, scale)};
+  if (prior_kind % 4 == 3) increment = Pose2D{prior.x, std::numeric_limits<double>::quiet_NaN(), prior.yaw};
   SegmentOdometry odometry(params);
+  int k = 0;
   for (const Scan* s : {&a, &b, &a}) {
+    const bool first = k++ == 0;  // the first scan has no prior
     try {
-      const OdometryStep step = odometry.process(*s);
+      const OdometryStep step = odometry.process(*s, first ? std::nullopt : increment);
       fuzz::require(finitePose(step.T_odom_sensor) && step.increment_covariance.allFinite(), "odometry is finite");
+      fuzz::require(first || prior_kind % 4 != 3, "a non-finite increment is refused");
     } catch (const std::invalid_argument&) {
     }
   }
