@@ -33,6 +33,20 @@ TEST(CorrelativeSearch, FindsAOneMetreThirtyDegreeJumpFromAZeroPrior) {
   EXPECT_GT(r.score, r.prior_score + 0.2);
 }
 
+// A non-finite prior has no window: nothing found, no undefined grid index (a NaN prior
+// from SegmentAlignment's initial estimate crashed here).
+TEST(CorrelativeSearch, ANonFinitePriorFindsNothing) {
+  const sim::World world = testing::officeScene();
+  const auto key = pointsAt(world, {0.0, 1.0, 0.0}, 1);
+  const auto cur = pointsAt(world, {0.1, 1.0, 0.0}, 2);
+  const double nan = std::nan(""), inf = HUGE_VAL;
+  for (const Pose2D prior : {Pose2D{nan, 0.0, 0.0}, Pose2D{0.0, -inf, 0.0}, Pose2D{0.0, 0.0, nan}}) {
+    const SearchResult r = CorrelativeSearch().search(key, cur, prior);
+    EXPECT_FALSE(r.found);
+  }
+  EXPECT_TRUE(CorrelativeSearch().search(key, cur, Pose2D{}).found);
+}
+
 // The branch and bound returns the best pose of the full grid: check it against scoring
 // every pose of a small window by brute force.
 TEST(CorrelativeSearch, BranchAndBoundEqualsTheFullGridSearch) {

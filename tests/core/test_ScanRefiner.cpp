@@ -40,6 +40,19 @@ TEST(ScanRefiner, OneDoorJambConstrainsTheMotionAlongACorridor) {
   EXPECT_GT(r.covariance(0, 0), r.covariance(1, 1));
 }
 
+// A non-finite start pairs nothing: failed, without reading a bearing bin from a NaN.
+TEST(ScanRefiner, ANonFiniteStartFails) {
+  const sim::World world = testing::corridorWithDoors(2.0, {{3.0, 0.9, 0.3}});
+  const Segmentation key = segmentAt(world, {0.0, 1.0, 0.0}, 1);
+  const Segmentation cur = segmentAt(world, {0.1, 1.05, 0.02}, 2);
+  for (const Pose2D start : {Pose2D{std::nan(""), 0.0, 0.0}, Pose2D{0.0, 0.0, HUGE_VAL}}) {
+    const RefineResult r = ScanRefiner().refine(key, cur, start);
+    EXPECT_EQ(r.status, RefineStatus::kFailed);
+    EXPECT_EQ(r.iterations, 0u);
+    EXPECT_TRUE(r.covariance.allFinite());
+  }
+}
+
 // Two endless parallel walls: nothing tells the motion along them. The refinement says so,
 // keeps the initial value along the corridor and gives it the large variance.
 TEST(ScanRefiner, FeaturelessCorridorIsDegenerateWithTheLargeVarianceAlongIt) {

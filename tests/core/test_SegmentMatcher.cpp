@@ -84,6 +84,16 @@ TEST(SegmentMatcher, NothingToMatchReturnsThePrior) {
   EXPECT_EQ(r.T_prev_curr.yaw, prior.yaw);
 }
 
+// A non-finite prior predicts nothing: no match, no weight computed from it.
+TEST(SegmentMatcher, ANonFinitePriorMatchesNothing) {
+  const Pair s = scansOf(officeScene(), {-3.0, 1.0, 0.2}, {0.1, 0.0, 0.02}, 0.012);
+  const MatchResult r = SegmentMatcher().match(s.previous.levels[3].segments, s.current.levels[3].segments,
+                                               Pose2D{std::nan(""), 0.0, 0.0});
+  EXPECT_EQ(r.status, MatchStatus::kTooFewMatches);
+  EXPECT_TRUE(r.matches.empty());
+  EXPECT_TRUE(r.covariance.allFinite());
+}
+
 TEST(SegmentMatcher, FocusedBandComputesFewerWeightsThanTheFullMatrix) {
   const Pair s = scansOf(officeScene(), {-3.0, 1.0, 0.2}, {0.1, 0.0, 0.02}, 0.012);
   MatcherParams banded, full;

@@ -283,7 +283,10 @@ SearchResult CorrelativeSearch::search(const SearchGrid& g, const std::vector<Ei
   const SearchParams& P = params_;
   SearchResult result;
   result.T_key_curr = prior;
-  if (!g.ready || g.levels.empty()) return result;
+  // A non-finite prior has no window (its grid indices would be undefined): nothing found.
+  if (!g.ready || g.levels.empty() || !(std::isfinite(prior.x) && std::isfinite(prior.y) && std::isfinite(prior.yaw))) {
+    return result;
+  }
   thread_local Workspace ws;
   ws.pts.clear();
   std::size_t valid = 0;

@@ -457,6 +457,8 @@ RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segme
   result.T_key_curr = initial;
   const double u2 = P.unconstrained_sigma_m * P.unconstrained_sigma_m;
   result.covariance = Eigen::Vector3d(u2, u2, 0.1).asDiagonal();
+  // A non-finite start pairs nothing (its bearings would be undefined): failed.
+  if (!(std::isfinite(initial.x) && std::isfinite(initial.y) && std::isfinite(initial.yaw))) return result;
   const bool sweeping = sweep != nullptr && sweep->time_offsets_s != nullptr &&
                         sweep->time_offsets_s->size() == current.points.size() && sweep->prior_sigma_rad_s > 0.0;
   thread_local std::vector<Eigen::Vector2d> points, turned;

@@ -456,6 +456,7 @@ MatchResult SegmentMatcher::match(const std::vector<Segment>& previous,
   result.T_prev_curr = prior;
   result.covariance = uninformedCovariance(P);
   if (previous.empty() || current.empty()) return result;
+  if (!(std::isfinite(prior.x) && std::isfinite(prior.y) && std::isfinite(prior.yaw))) return result;  // no prediction
 
   thread_local Workspace ws;
   prepareLines(previous, current, P, ws);

@@ -99,7 +99,8 @@ class CorrelativeSearch {
   /// Cost O(points * (sigma / resolution)^2 + cells * levels).
   void prepare(const std::vector<Eigen::Vector2d>& keyframe_points, SearchGrid& grid) const;
 
-  /// The search against a keyframe prepared once (same result as the overload above).
+  /// The search against a keyframe prepared once (same result as the overload above). A
+  /// non-finite prior finds nothing (`found` false).
   /// With `min_score` > 0, only poses scoring strictly above it (mean likelihood, as
   /// SearchResult::score with the same current points) are looked for: the branch and bound
   /// starts from that floor, and `found` is false when no pose beats it (a wider search after

@@ -192,7 +192,8 @@ struct RefinementMapScan {
 /// of the final normal equations scaled by the residuals' variance and by the points'
 /// correlation length. A degenerate direction (a featureless corridor) keeps the initial
 /// value and gets RefinerParams::unconstrained_sigma_m.
-/// Never throws on data. O(iterations * points * (log beams + bearing_window)).
+/// Never throws on data (a non-finite initial pose: kFailed). O(iterations * points * (log
+/// beams + bearing_window)).
 /// Thread-safe: the scratch buffers are per thread.
 class ScanRefiner {
  public:

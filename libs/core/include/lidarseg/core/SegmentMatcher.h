@@ -121,7 +121,8 @@ struct MatchResult {
 /// ambiguous, (5) solve the rigid motion from the matched lines: rotation from their
 /// directions, translation by weighted least squares on rho with the segments'
 /// covariances, dropping outlier couples; then re-associate a few times about the estimate.
-/// Never throws on data: a failure is a status. O(n * band) weights per iteration.
+/// Never throws on data: a failure is a status (a non-finite prior: kTooFewMatches). O(n *
+/// band) weights per iteration.
 class SegmentMatcher {
  public:
   /// @throws std::invalid_argument for invalid parameters.
