@@ -55,6 +55,9 @@ cp log.log oz/timing.csv; cp log.log io/index.html; cp log.log oz/lidarseg.tum
 check "odometry input in -o" 2 "usage error: -o 'oz/timing.csv' is the input 'oz/timing.csv'" lidarseg-odometry oz/timing.csv -q -o oz
 check "odometry --gt in -o" 2 "is the input 'oz/lidarseg.tum'" lidarseg-odometry log.log -q -o oz --gt oz/lidarseg.tum
 check "inspect input in -o" 2 "usage error: -o 'io/index.html' is the input" lidarseg-inspect io/index.html -o io
+mkdir -p ob; cp "$worlds/maze.traj" ob/table1.md
+check "batch input in --out" 2 "usage error: --out 'ob/table1.md' is the input 'ob/table1.md'" lidarseg-batch run --world "$worlds/maze.world" --trajectory ob/table1.md --seeds 1 -o ob
+cmp -s "$worlds/maze.traj" ob/table1.md || { echo "FAIL: batch: an input was changed"; fails=$((fails+1)); }
 cmp -s log.log oz/timing.csv && cmp -s log.log io/index.html && cmp -s log.log oz/lidarseg.tum || { echo "FAIL: an input was changed"; fails=$((fails+1)); }
 check "odometry two outputs" 2 "usage error: --write-rawlog 'X' and --features-out 'X'" lidarseg-odometry log.log -o out --features-out X --write-rawlog X
 check "odometry rawlog on summary" 2 "--write-rawlog 'out/summary.json' and -o" lidarseg-odometry log.log -o out --write-rawlog out/summary.json

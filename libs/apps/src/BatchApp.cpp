@@ -222,7 +222,7 @@ std::vector<std::string> runManyClaimed(const BatchJob& given, const std::vector
   // Before any work: a second runner, an aggregation or a job started by hand on this folder
   // is refused at once; the runner's own jobs inherit its lock (and lock their seeds).
   checkJob(given);
-  claimed.claimOutputs({}, {{given.out_dir, "--out"}},
+  claimed.claimOutputs({}, {{given.out_dir, "--out", {"table1.md", "aggregate.csv", "final_errors.png", "experiment.txt"}}},
                        {given.world_path, given.trajectory_path, given.sim_config_path, given.odometry_config_path});
   BatchJob base = given;
   base.folder_lock_fd = claimed.folderLockDescriptor(base.out_dir);
