@@ -159,6 +159,13 @@ void releaseTemporary(const std::string& temporary) {
 void installCleanupOnSignals() {
   std::signal(SIGINT, removeTemporariesAndDie);
   std::signal(SIGTERM, removeTemporariesAndDie);
+  // A closed terminal (SIGHUP) or Ctrl-\ (SIGQUIT) left the temporaries behind. A run
+  // started with SIGHUP or SIGQUIT ignored (nohup) keeps ignoring it.
+  for (const int sig : {SIGHUP, SIGQUIT}) {
+    struct sigaction current {};
+    if (::sigaction(sig, nullptr, &current) == 0 && current.sa_handler == SIG_IGN) continue;
+    std::signal(sig, removeTemporariesAndDie);
+  }
   // A file beyond the size limit (ulimit -f) fails its write with EFBIG, which the writers
   // report naming the file, instead of killing the process with its temporaries left.
   std::signal(SIGXFSZ, SIG_IGN);

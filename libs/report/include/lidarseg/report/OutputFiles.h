@@ -36,7 +36,8 @@ void releaseTemporary(const std::string& temporary);
 /// PREFIX_Images.tmp/, renamed into place when the run succeeds). The caller chooses the name
 /// and creates the folder, after registering it.
 void registerTemporaryFolder(const std::string& folder);
-/// SIGINT and SIGTERM remove every registered temporary file and folder, then end the process
+/// SIGINT, SIGTERM, SIGHUP and SIGQUIT (the last two unless ignored when the process started,
+/// as under nohup) remove every registered temporary file and folder, then end the process
 /// with the signal's default action; SIGXFSZ is ignored (a write beyond `ulimit -f` fails with
 /// EFBIG and is reported naming its file). Idempotent; every tool calls it first thing
 /// (through parseCommandLine()).
