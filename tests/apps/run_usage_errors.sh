@@ -71,6 +71,13 @@ check "people draw on csv" 2 "--out 'out/people.csv' and --draw" lidarseg-people
 # An output folder that is a file, or under one: the reason, not the lock's.
 check "-o a file" 2 "usage error: -o 'log.log': an output folder, but a file of that name exists" lidarseg-odometry oz/timing.csv -o log.log
 check "-o under a file" 1 "cannot create the output folder 'log.log/x': Not a directory" lidarseg-segment oz/timing.csv -o log.log/x
+# Two options naming one output: one of them was silently not written, exit 0 (issue 16).
+check "segment -o with --csv" 2 "usage error: -o/--out and --csv (its old form) both say where segments.csv goes; give one" lidarseg-segment log.log -o out --csv other.csv
+check "inspect -o with --report" 2 "usage error: -o/--out and --report (its old form) both name the report folder; give one" lidarseg-inspect log.log -o out --report other
+check "inspect -o X.png with --draw" 2 "usage error: -o out.png (its old form) and --draw both name the picture; give one" lidarseg-inspect log.log -o out.png --draw other.png
+check "features -o with -r" 2 "usage error: -o/--out DIR and -r/--report (its old form) both name the folder of features.md; give one" lidarseg-features log.log -o out -r other
+check "people -o with -r" 2 "usage error: -o/--out DIR and -r/--report (its old form) both name the folder of people.md; give one" lidarseg-people log.log --roi 0,0,9,9 -o out -r other
+for f in other.csv other other.png; do [ -e "$f" ] && { echo "FAIL: $f was made"; fails=$((fails+1)); }; done
 # Two options choosing the scan (one was silently ignored); a time past the log's end.
 check "inspect --time with -f" 2 "usage error: -f/--frame, --render and --time each choose the scan; give one" lidarseg-inspect log.log --draw out.png --time 1 -f 5
 check "inspect --time with --render" 2 "usage error: -f/--frame, --render and --time" lidarseg-inspect log.log --draw out.png --time 1 --render 2
