@@ -45,6 +45,10 @@ int main(int argc, char** argv) {
     options.max_scans = max_scans.getValue();
     const auto target = lidarseg::apps::outputTarget(out.getValue(), ".csv", "lidarseg-features");
     options.out_csv = target.folder.empty() ? target.legacy_file : target.folder + "/features.csv";
+    // Both name the report's folder: the -o folder silently went without it (issue 16).
+    if (!target.folder.empty() && report.isSet()) {
+      throw lidarseg::apps::UsageError("-o/--out DIR and -r/--report (its old form) both name the folder of features.md; give one");
+    }
     options.report_dir = report.getValue().empty() ? target.folder : report.getValue();
     options.truth_path = truth.getValue();
     options.matches_out = matches.getValue();

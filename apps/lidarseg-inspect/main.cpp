@@ -68,6 +68,13 @@ int main(int argc, char** argv) {
       std::cerr << "lidarseg-inspect: note: --out " << out_value
                 << " draws the frame as before; that is --draw now (docs/cli.md)\n";
     }
+    // Two names for one output: one of them was silently not written (issue 16).
+    if (picture && render.isSet()) {
+      throw lidarseg::apps::UsageError("-o " + out_value + " (its old form) and --draw both name the picture; give one");
+    }
+    if (!picture && out.isSet() && report.isSet()) {
+      throw lidarseg::apps::UsageError("-o/--out and --report (its old form) both name the report folder; give one");
+    }
     o.render_out = picture ? out_value : render.getValue();
     o.screenshot_out = screenshot.getValue();
     o.report_dir = !picture && !out_value.empty() ? out_value : report.getValue();

@@ -46,6 +46,10 @@ int main(int argc, char** argv) {
     options.threads = threads.getValue();
     const auto target = lidarseg::apps::outputTarget(out.getValue(), ".csv", "lidarseg-people");
     options.out_csv = target.folder.empty() ? target.legacy_file : target.folder + "/people.csv";
+    // Both name the report's folder: the -o folder silently went without it (issue 16).
+    if (!target.folder.empty() && report.isSet()) {
+      throw lidarseg::apps::UsageError("-o/--out DIR and -r/--report (its old form) both name the folder of people.md; give one");
+    }
     options.report_dir = report.getValue().empty() ? target.folder : report.getValue();
     options.progress = !quiet.getValue();
     options.draw_dir = draw.getValue();

@@ -32,6 +32,10 @@ int main(int argc, char** argv) {
       return lidarseg::apps::kUsageError;
     }
 
+    // Both name the per-scan table's place: one was silently not written (issue 16).
+    if (out.isSet() && csv.isSet()) {
+      throw lidarseg::apps::UsageError("-o/--out and --csv (its old form) both say where segments.csv goes; give one");
+    }
     lidarseg::apps::SegmentStatsOptions options;
     options.input = input.getValue();
     options.config_path = config.getValue();

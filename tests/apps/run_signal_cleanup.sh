@@ -33,5 +33,29 @@ if [ -n "$left" ]; then echo "FAIL: temporary files left: $left"; fails=1; fi
 for f in summary.json lidarseg.tum back.rawlog; do
   [ -e "$tmp/out/$f" ] && { echo "FAIL: a partial run published $f"; fails=1; }
 done
+# SIGHUP (a closed terminal) and SIGQUIT clean up the same way (they left the temporary
+# rawlog). env --default-signal: the test holds even when ctest runs under nohup.
+for sig in HUP:129 QUIT:131; do
+  name=${sig%%:*}; expected=${sig##*:}
+  rm -rf "$tmp/$name"
+  env --default-signal="$name" "$bin" -q --no-plots -o "$tmp/$name" --write-rawlog "$tmp/$name/w.rawlog" "$log" \
+    >"$tmp/$name.txt" 2>&1 &
+  pid=$!
+  for _ in $(seq 1 6000); do
+    compgen -G "$tmp/$name/w.rawlog.tmp.*" >/dev/null && break
+    kill -0 $pid 2>/dev/null || break
+    sleep 0.05
+  done
+  if ! compgen -G "$tmp/$name/w.rawlog.tmp.*" >/dev/null; then
+    echo "FAIL: SIG$name: the run never wrote its temporary rawlog"; cat "$tmp/$name.txt"; exit 1
+  fi
+  kill -"$name" $pid
+  wait $pid
+  rc=$?
+  if [ "$rc" != "$expected" ]; then echo "FAIL: exit $rc after SIG$name, expected $expected"; fails=1; fi
+  left=$(find "$tmp/$name" -name '*.tmp*')
+  if [ -n "$left" ]; then echo "FAIL: temporary files left after SIG$name: $left"; fails=1; fi
+  [ -e "$tmp/$name/w.rawlog" ] && { echo "FAIL: SIG$name: a partial run published w.rawlog"; fails=1; }
+done
 [ $fails = 0 ] && echo "signal cleanup and folder lock hold"
 exit $fails

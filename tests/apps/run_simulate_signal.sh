@@ -15,7 +15,7 @@ fails=0
 # code, that nothing named *.tmp* is left and that none of PUBLISHED exists.
 interrupt() {
   local name=$1 camera=$2 writing=$3 sig=$4 expected=$5; shift 5
-  "$bin" -q -c "$tmp/fast.ini" --world "$worlds/maze.world" --trajectory "$worlds/maze.traj" \
+  env --default-signal="$sig" "$bin" -q -c "$tmp/fast.ini" --world "$worlds/maze.world" --trajectory "$worlds/maze.traj" \
     --camera-every "$camera" -o "$tmp/$name/" >"$tmp/$name.txt" 2>&1 &
   local pid=$!
   for _ in $(seq 1 6000); do
@@ -44,5 +44,7 @@ interrupt out 0 '*.tmp.*' INT 130 maze.rawlog maze.gt.tum maze.features.csv
 # With a camera, PREFIX_Images.tmp/ and the images in it go too (a registered temporary
 # folder), and no PREFIX_Images/ is published.
 interrupt cam 5 'maze_Images.tmp/img_*.png' TERM 143 maze.rawlog maze_Images
+# SIGHUP (a closed terminal) left the temporaries and PREFIX_Images.tmp/ (issue 16).
+interrupt hup 5 'maze_Images.tmp/img_*.png' HUP 129 maze.rawlog maze_Images
 [ $fails = 0 ] && echo "simulate: interrupted cleanly"
 exit $fails

@@ -55,6 +55,9 @@ cp log.log oz/timing.csv; cp log.log io/index.html; cp log.log oz/lidarseg.tum
 check "odometry input in -o" 2 "usage error: -o 'oz/timing.csv' is the input 'oz/timing.csv'" lidarseg-odometry oz/timing.csv -q -o oz
 check "odometry --gt in -o" 2 "is the input 'oz/lidarseg.tum'" lidarseg-odometry log.log -q -o oz --gt oz/lidarseg.tum
 check "inspect input in -o" 2 "usage error: -o 'io/index.html' is the input" lidarseg-inspect io/index.html -o io
+mkdir -p ob; cp "$worlds/maze.traj" ob/table1.md
+check "batch input in --out" 2 "usage error: --out 'ob/table1.md' is the input 'ob/table1.md'" lidarseg-batch run --world "$worlds/maze.world" --trajectory ob/table1.md --seeds 1 -o ob
+cmp -s "$worlds/maze.traj" ob/table1.md || { echo "FAIL: batch: an input was changed"; fails=$((fails+1)); }
 cmp -s log.log oz/timing.csv && cmp -s log.log io/index.html && cmp -s log.log oz/lidarseg.tum || { echo "FAIL: an input was changed"; fails=$((fails+1)); }
 check "odometry two outputs" 2 "usage error: --write-rawlog 'X' and --features-out 'X'" lidarseg-odometry log.log -o out --features-out X --write-rawlog X
 check "odometry rawlog on summary" 2 "--write-rawlog 'out/summary.json' and -o" lidarseg-odometry log.log -o out --write-rawlog out/summary.json
@@ -68,6 +71,13 @@ check "people draw on csv" 2 "--out 'out/people.csv' and --draw" lidarseg-people
 # An output folder that is a file, or under one: the reason, not the lock's.
 check "-o a file" 2 "usage error: -o 'log.log': an output folder, but a file of that name exists" lidarseg-odometry oz/timing.csv -o log.log
 check "-o under a file" 1 "cannot create the output folder 'log.log/x': Not a directory" lidarseg-segment oz/timing.csv -o log.log/x
+# Two options naming one output: one of them was silently not written, exit 0 (issue 16).
+check "segment -o with --csv" 2 "usage error: -o/--out and --csv (its old form) both say where segments.csv goes; give one" lidarseg-segment log.log -o out --csv other.csv
+check "inspect -o with --report" 2 "usage error: -o/--out and --report (its old form) both name the report folder; give one" lidarseg-inspect log.log -o out --report other
+check "inspect -o X.png with --draw" 2 "usage error: -o out.png (its old form) and --draw both name the picture; give one" lidarseg-inspect log.log -o out.png --draw other.png
+check "features -o with -r" 2 "usage error: -o/--out DIR and -r/--report (its old form) both name the folder of features.md; give one" lidarseg-features log.log -o out -r other
+check "people -o with -r" 2 "usage error: -o/--out DIR and -r/--report (its old form) both name the folder of people.md; give one" lidarseg-people log.log --roi 0,0,9,9 -o out -r other
+for f in other.csv other other.png; do [ -e "$f" ] && { echo "FAIL: $f was made"; fails=$((fails+1)); }; done
 # Two options choosing the scan (one was silently ignored); a time past the log's end.
 check "inspect --time with -f" 2 "usage error: -f/--frame, --render and --time each choose the scan; give one" lidarseg-inspect log.log --draw out.png --time 1 -f 5
 check "inspect --time with --render" 2 "usage error: -f/--frame, --render and --time" lidarseg-inspect log.log --draw out.png --time 1 --render 2

@@ -275,5 +275,69 @@ TEST(BatchApp, AJobStartedByHandIsRefusedBesideARunnerAndSharesTheFolderWithOthe
   EXPECT_FALSE(BatchApp::finished(job.out_dir, 2));
 }
 
+// A run folder made by hand: OUT/run_<folder>/metrics.csv holding `seed` and `values`
+// (batchMetricNames() order; 1 everywhere unless given).
+void writeRun(const std::string& out, const std::string& folder, const std::string& seed,
+              const std::vector<std::pair<std::string, std::string>>& cells = {}) {
+  std::vector<std::string> values(report::batchMetricNames().size(), "1");
+  for (const auto& [name, text] : cells) values[report::metricColumn(name) - 1] = text;
+  fs::create_directories(out + "/" + folder);
+  std::ofstream f(out + "/" + folder + "/metrics.csv");
+  f << report::metricsHeader() << seed;
+  for (const auto& v : values) f << ',' << v;
+  f << '\n';
+}
+
+// Seeds beyond 2^53 were read back through a double: 2^64-2 and 2^64-1 became seed 0 (an
+// out-of-range conversion) and 2^53+1 became 2^53 (issue 16). They are read exactly.
+TEST(BatchApp, AggregationReadsSeedsExactly) {
+  const std::string out = kTmp + "/big-seeds";
+  fs::remove_all(out);
+  for (const char* seed : {"18446744073709551614", "18446744073709551615", "9007199254740993"}) {
+    writeRun(out, std::string("run_") + seed, seed);
+  }
+  const BatchSummary s = BatchApp::aggregate(out, "t");
+  EXPECT_EQ(s.seeds, (std::vector<std::uint64_t>{9007199254740993ull, 18446744073709551614ull, 18446744073709551615ull}));
+  EXPECT_NE(s.table_markdown.find("3 runs (seeds 9007199254740993–18446744073709551615)"), std::string::npos)
+      << s.table_markdown;
+  std::ifstream csv(out + "/aggregate.csv");
+  std::string line;
+  std::vector<std::string> seeds;
+  std::getline(csv, line);
+  while (std::getline(csv, line)) seeds.push_back(line.substr(0, line.find(',')));
+  EXPECT_EQ(seeds, (std::vector<std::string>{"9007199254740993", "18446744073709551614", "18446744073709551615"}));
+}
+
+// A run folder without metrics.csv was dropped silently; a metrics.csv of another seed, a
+// negative final error or one of 1e308 entered the table (issue 16).
+TEST(BatchApp, AggregationNamesRunFoldersItCannotTrust) {
+  const std::string out = kTmp + "/untrusted";
+  fs::remove_all(out);
+  writeRun(out, "run_1", "1");
+  fs::create_directories(out + "/run_2");
+  ::testing::internal::CaptureStderr();
+  const BatchSummary s = BatchApp::aggregate(out, "t");
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_EQ(s.seeds, (std::vector<std::uint64_t>{1}));
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_EQ(s.warnings[0], "'" + out + "/run_2' holds no metrics.csv (a run not finished); left out");
+  EXPECT_NE(err.find("lidarseg-batch: warning: '" + out + "/run_2' holds no metrics.csv"), std::string::npos) << err;
+
+  writeRun(out, "run_2", "7");
+  EXPECT_EQ(errorOf([&] { BatchApp::aggregate(out, "t"); }),
+            out + "/run_2/metrics.csv:2:1: seed '7' is not its folder's (run_2)");
+  writeRun(out, "run_2", "2", {{"lidarseg_final_error_m", "-0.5"}});
+  EXPECT_EQ(errorOf([&] { BatchApp::aggregate(out, "t"); }),
+            out + "/run_2/metrics.csv:2:3: lidarseg_final_error_m = '-0.5' is not a run's figure (finite, from 0 to 1e+06)");
+  writeRun(out, "run_2", "2", {{"icp_ate_rmse_m", "1e308"}});
+  EXPECT_EQ(errorOf([&] { BatchApp::aggregate(out, "t"); }),
+            out + "/run_2/metrics.csv:2:16: icp_ate_rmse_m = '1e308' is not a run's figure (finite, from 0 to 1e+06)");
+  writeRun(out, "run_2", "2", {{"lidarseg_edx_m", "inf"}});
+  EXPECT_NE(errorOf([&] { BatchApp::aggregate(out, "t"); }).find(":2:9: lidarseg_edx_m = 'inf'"), std::string::npos);
+  // A signed mean may be negative.
+  writeRun(out, "run_2", "2", {{"lidarseg_edx_m", "-0.01"}});
+  EXPECT_EQ(BatchApp::aggregate(out, "t").runs, 2u);
+}
+
 }  // namespace
 }  // namespace lidarseg::apps

@@ -1,4 +1,5 @@
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -115,6 +116,77 @@ TEST(FeaturesApp, AFigureThatCannotBeDrawnIsAWarningAndNoFile) {
   EXPECT_EQ(out.str().find("warning"), std::string::npos) << out.str();
   EXPECT_EQ(err.str(), "lidarseg-features: warning: " + r.warnings[0] + "\n");
 
+}
+
+// A figure gnuplot fails to draw was a warning with an empty reason (gnuplot's message starts
+// with a blank line), exit 0 (issue 16). It is now the run's error, with what gnuplot said,
+// raised once the other outputs are written. A stand-in gnuplot fails the way gnuplot does.
+TEST(FeaturesApp, AFigureGnuplotFailsToDrawIsAnErrorWithGnuplotsReason) {
+  const std::string prefix = simulatedPrefix();
+  const std::string dir = testDir() + "/figure-fails";
+  const std::string bin = testDir() + "/failing-gnuplot";
+  fs::remove_all(dir);
+  fs::create_directories(bin);
+  std::ofstream(bin + "/gnuplot") << "#!/bin/sh\necho >&2\necho \"set title 'x\" >&2\necho '          ^' >&2\n"
+                                  << "echo '\"plot.gp\" line 4: invalid character' >&2\nexit 1\n";
+  fs::permissions(bin + "/gnuplot", fs::perms::owner_all);
+  FeaturesOptions o;
+  o.input = prefix + ".rawlog";
+  o.max_scans = 10;
+  o.progress = false;
+  o.figure_scan = 2;
+  o.figure_path = dir + "/scan2.png";
+  o.out_csv = dir + "/features.csv";
+  o.report_dir = dir;
+  const char* old_path = std::getenv("PATH");
+  const std::string saved = old_path != nullptr ? old_path : "";
+  ::setenv("PATH", bin.c_str(), 1);
+  std::string m;
+  try {
+    FeaturesApp(o).run();
+  } catch (const std::runtime_error& e) {
+    m = e.what();
+  }
+  ::setenv("PATH", saved.c_str(), 1);
+  EXPECT_EQ(m, "--figure '" + o.figure_path + "' not written: gnuplot failed to draw a plot: set title 'x / "
+               "\"plot.gp\" line 4: invalid character; the other outputs are");
+  EXPECT_FALSE(fs::exists(o.figure_path));
+  EXPECT_TRUE(fs::exists(dir + "/features.csv"));
+  // A gnuplot that says nothing still gives a reason.
+  std::ofstream(bin + "/gnuplot") << "#!/bin/sh\nexit 3\n";
+  ::setenv("PATH", bin.c_str(), 1);
+  m.clear();
+  try {
+    FeaturesApp(o).run();
+  } catch (const std::runtime_error& e) {
+    m = e.what();
+  }
+  ::setenv("PATH", saved.c_str(), 1);
+  EXPECT_NE(m.find("gnuplot failed to draw a plot: gnuplot exited with status 3 and said nothing"), std::string::npos) << m;
+}
+
+// An input whose name holds a newline broke the figure's gnuplot script (its title): the
+// control character is drawn as a space.
+TEST(FeaturesApp, AFigureOfAnInputNamedWithANewlineIsDrawn) {
+  const std::string prefix = simulatedPrefix();
+  const std::string dir = testDir() + "/figure-newline";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  FeaturesOptions o;
+  o.input = dir + "/two\nlines.rawlog";
+  fs::copy_file(prefix + ".rawlog", o.input);
+  o.max_scans = 5;
+  o.progress = false;
+  o.figure_scan = 2;
+  o.figure_path = dir + "/scan2.png";
+  o.out_csv = dir + "/features.csv";
+  o.report_dir = dir;
+  const FeaturesReport r = FeaturesApp(o).run();
+  for (const std::string& w : r.warnings) {
+    if (w.find("gnuplot is not installed") != std::string::npos) GTEST_SKIP() << w;
+  }
+  for (const std::string& w : r.warnings) EXPECT_EQ(w.find("figure"), std::string::npos) << w;
+  EXPECT_TRUE(fs::exists(o.figure_path));
 }
 
 // A scan the log does not reach is an error, as `lidarseg-inspect -f` past the log is, raised

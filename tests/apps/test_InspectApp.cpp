@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -196,6 +197,21 @@ TEST(InspectApp, ReportHasTheTablePlotsAndWorstFramesFirst) {
   // Worst first: the gallery's order follows the table's.
   EXPECT_LT(html.find("scan_" + std::to_string(r.gallery[0]) + ".png"),
             html.find("scan_" + std::to_string(r.gallery[1]) + ".png"));
+  // A second report of fewer frames into the folder leaves none of the first's (issue 16:
+  // frames/ held both galleries); a file of another name stays.
+  std::ofstream(o.report_dir + "/frames/notes.txt") << "the user's";
+  o.gallery = 2;
+  const InspectReport again = InspectApp(o).writeReport(s);
+  std::vector<std::string> frames;
+  for (const auto& e : fs::directory_iterator(o.report_dir + "/frames")) {
+    const std::string name = e.path().filename().string();
+    if (name[0] != '.') frames.push_back(name);  // not the folder's lock
+  }
+  std::sort(frames.begin(), frames.end());
+  std::vector<std::string> expected = {"notes.txt"};
+  for (std::size_t i : again.gallery) expected.push_back("scan_" + std::to_string(i) + ".png");
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(frames, expected);
 }
 
 // Without gnuplot the report is still written, table and gallery, with a warning on stderr

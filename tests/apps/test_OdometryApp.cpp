@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include <gtest/gtest.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/obs/CRawlog.h>
 #include <nlohmann/json.hpp>
@@ -392,6 +393,43 @@ TEST(OdometryApp, BadLinesGapsJumpsAndEmptyScansAreCountedNotFatal) {
   EXPECT_NEAR(r.lidarseg.trajectory.back().pose.x, 0.78, 0.05);
   EXPECT_NEAR(r.lidarseg.trajectory.back().pose.y, 0.0, 0.05);
   EXPECT_TRUE(fs::exists(o.out_dir + "/summary.json"));
+}
+
+// --use-odometry on a log without wheel odometry silently ran on constant velocity (issue
+// 16): one warning, and the prior actually used in summary.json and results.md.
+TEST(OdometryApp, UseOdometryOnALogWithoutItSaysSoAndRecordsThePriorUsed) {
+  mrpt::obs::CRawlog in, kept;
+  ASSERT_TRUE(in.loadFromRawLogFile(simulatedPrefix() + ".rawlog"));
+  for (std::size_t i = 0; i < in.size() && kept.size() < 60; ++i) {
+    if (in.getType(i) != mrpt::obs::CRawlog::etObservation) continue;
+    const auto obs = in.getAsObservation(i);
+    if (IS_CLASS(*obs, mrpt::obs::CObservation2DRangeScan)) kept.insert(obs);
+  }
+  const std::string path = testDir() + "/no_odometry.rawlog";
+  ASSERT_TRUE(kept.saveToRawLogFile(path));
+  OdometryOptions o = optionsFor(path, "out_no_odometry");
+  o.use_odometry = true;
+  o.plots = false;
+  fs::remove_all(o.out_dir);
+  const OdometryReport r = OdometryApp(o).run();
+  EXPECT_EQ(r.frames, 60u);
+  EXPECT_EQ(r.prior, "constant velocity (the log has no wheel odometry)");
+  EXPECT_EQ(r.odometry_priors, 0u);
+  std::size_t warned = 0;
+  for (const std::string& w : r.warnings) warned += w.find("--use-odometry: the log has no wheel odometry") != std::string::npos;
+  EXPECT_EQ(warned, 1u);
+  const auto json = nlohmann::json::parse(slurp(o.out_dir + "/summary.json"));
+  EXPECT_EQ(json.at("prior"), "constant velocity (the log has no wheel odometry)");
+  EXPECT_NE(slurp(o.out_dir + "/results.md").find("; prior: constant velocity (the log has no wheel odometry)"),
+            std::string::npos);
+  // With the wheel odometry: it is the prior, and no warning.
+  OdometryOptions w = optionsFor(simulatedPrefix() + ".rawlog", "");
+  w.use_odometry = true;
+  w.max_scans = 60;
+  const OdometryReport with = OdometryApp(w).run();
+  EXPECT_EQ(with.prior, "wheel odometry");
+  EXPECT_GE(with.odometry_priors, 50u);
+  for (const std::string& m : with.warnings) EXPECT_EQ(m.find("--use-odometry"), std::string::npos) << m;
 }
 
 TEST(OdometryApp, MissingInputOrBadConfigIsAClearError) {

@@ -1,4 +1,5 @@
 // The lidarseg-segment app run as a class on the real MRPT dataset.
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -73,6 +74,32 @@ TEST(SegmentStatsApp, MaxScansAndErrors) {
   o.sensor_label.clear();
   o.config_path = "/nonexistent/config.ini";
   EXPECT_THROW(SegmentStatsApp(o).run(), std::runtime_error);
+}
+
+// A segment of coincident points (5 beams over 4e-9 rad at 2 m) has an infinite covariance
+// (no direction); its θ sigma made the level's median "-nan" (issue 16). It is left out of
+// the median and counted.
+TEST(SegmentStatsApp, ASegmentOfPointsAtOnePlaceIsCountedNotANaNMedian) {
+  const std::string dir = std::string(LIDARSEG_TEST_TMP_DIR) + "/segment-stats";
+  fs::create_directories(dir);
+  SegmentStatsOptions o;
+  o.input = dir + "/coincident.log";
+  std::ofstream log(o.input);
+  for (int k = 0; k < 3; ++k) {
+    log << "ROBOTLASER1 0 0 0.000000004 0.000000001 30 0.01 0 5 2.0 2.0 2.0 2.0 2.0 0 0 0 0 0 0 0 0 0 0.5 0.5 0 "
+        << 100 + k << ".0 host " << 100 + k << ".0\n";
+  }
+  log.close();
+  const SegmentStatsReport r = SegmentStatsApp(o).run();
+  ASSERT_EQ(r.scans, 3u);
+  EXPECT_EQ(r.levels[0].segments_without_direction, 3u);
+  EXPECT_TRUE(std::isfinite(r.levels[0].median_theta_sigma_rad));
+  std::ostringstream out;
+  SegmentStatsApp::print(r, out);
+  EXPECT_EQ(out.str().find("nan"), std::string::npos) << out.str();
+  EXPECT_NE(out.str().find("segments of points at one place (no direction, left out of sigma theta): level 0: 3, level 1: 3"),
+            std::string::npos)
+      << out.str();
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "FolderEvents.h"
 
 #include "lidarseg/apps/SimulateApp.h"
+#include "lidarseg/report/OutputFiles.h"
 #include "lidarseg/logs/CarmenLogReader.h"
 #include "lidarseg/mrpt/RawlogScanReader.h"
 #include "lidarseg/mrpt/ScanConverter.h"
@@ -222,6 +223,27 @@ TEST(SimulateApp, APathThroughAWallIsRefusedNamingTheLegAndTheWall) {
   }
   EXPECT_FALSE(fs::exists(o.out_prefix + ".rawlog"));
   EXPECT_FALSE(fs::exists(o.out_prefix + ".gt.tum"));
+}
+
+// --building writes PREFIX.world, PREFIX.traj and PREFIX.doors.csv: a configuration file of
+// one of those names was overwritten by the run (issue 16). Refused before anything is read.
+TEST(SimulateApp, ABuildingFileOverAnInputIsAUsageErrorAndLeavesTheInput) {
+  for (const char* ext : {".traj", ".world", ".doors.csv"}) {
+    SimulateOptions o;
+    o.building_seed = 4;
+    o.out_prefix = testDir() + "/own";
+    o.config_path = o.out_prefix + ext;
+    std::ofstream(o.config_path) << "# a simulation configuration\n";
+    try {
+      SimulateApp(o).run();
+      FAIL() << "no error for " << ext;
+    } catch (const report::UsageError& e) {
+      EXPECT_EQ(std::string(e.what()), "--out '" + o.config_path + "' is the input '" + o.config_path +
+                                           "': an output never overwrites its input");
+    }
+    EXPECT_EQ(slurp(o.config_path), "# a simulation configuration\n");
+    EXPECT_FALSE(fs::exists(o.out_prefix + ".rawlog"));
+  }
 }
 
 }  // namespace

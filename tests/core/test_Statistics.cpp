@@ -1,3 +1,5 @@
+#include <limits>
+
 #include <gtest/gtest.h>
 
 #include "lidarseg/core/Statistics.h"
@@ -26,6 +28,15 @@ TEST(Statistics, EmptyAndSingleton) {
   EXPECT_DOUBLE_EQ(one.median, 7.0);
   EXPECT_DOUBLE_EQ(one.p99, 7.0);
   EXPECT_DOUBLE_EQ(one.stddev, 0.0);
+}
+
+// The median of infinite values (a degenerate segment's θ sigma) was NaN: inf + 0 * (inf -
+// inf) (issue 16).
+TEST(Statistics, QuantilesOfInfiniteValuesAreNotNaN) {
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(summarize({inf, inf, inf}).median, inf);
+  EXPECT_EQ(summarize({1, inf, inf}).median, inf);
+  EXPECT_EQ(summarize({1, 2, inf}).median, 2.0);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
 #include <string>
 
@@ -66,6 +67,34 @@ TEST(StampedTrajectory, BadLinesAreNamedWithFileAndLine) {
     EXPECT_NE(std::string(e.what()).find("back in time"), std::string::npos) << e.what();
   }
   EXPECT_THROW(readTum(std::string(LIDARSEG_TEST_TMP_DIR) + "/missing.tum"), std::runtime_error);
+}
+
+// The quaternions were not checked (issue 16): every one multiplied by 2 gave a wrong yaw
+// (atan2 of a non-unit quaternion), all-zero was read as yaw 0. Decision 108.
+TEST(StampedTrajectory, QuaternionsAreNormalisedOrRefusedWithTheirLine) {
+  const double s = std::sin(0.5), c = std::cos(0.5);  // yaw 1 rad
+  std::ostringstream unit, doubled;
+  unit << std::setprecision(17);
+  doubled << std::setprecision(17);
+  unit << "1 0 0 0 0 0 " << s * 1.05 << ' ' << c * 1.05 << "\n";
+  const StampedTrajectory near = readTum(writeTemp("q-near.tum", unit.str()));
+  ASSERT_EQ(near.size(), 1u);
+  EXPECT_NEAR(near[0].pose.yaw, 1.0, 1e-12);
+  doubled << "1 0 0 0 0 0 " << s << ' ' << c << "\n2 0 0 0 0 0 " << 2 * s << ' ' << 2 * c << "\n";
+  const std::string p = writeTemp("q-doubled.tum", doubled.str());
+  try {
+    readTum(p);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), p + ":2: not a unit quaternion (norm 2; qx qy qz qw must have a norm from 0.9 to 1.1)");
+  }
+  const std::string zero = writeTemp("q-zero.tum", "1 0 0 0 0 0 0 0\n");
+  try {
+    readTum(zero);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), zero + ":1: not a unit quaternion (norm 0; qx qy qz qw must have a norm from 0.9 to 1.1)");
+  }
 }
 
 TEST(StampedTrajectory, NearestIndexRespectsTolerance) {

@@ -2,6 +2,7 @@
 // the CARMEN source read with no MRPT linked (this test links lidarseg::logs alone).
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <limits>
 #include <memory>
 #include <string>
@@ -114,6 +115,31 @@ TEST(ScanSource, ACarmenLogIsReadWithNoMrptInBetween) {
   ASSERT_EQ(source.unknownTypes().size(), 1u);
   EXPECT_EQ(source.unknownTypes()[0], path + ": 1 line(s) of unknown type 'NOTATYPE' skipped");
   EXPECT_DOUBLE_EQ(source.fractionRead(), 1.0);
+}
+
+// ROBOTLASER1 gives the mounting only as the difference of the laser's and the robot's
+// poses, each rounded to its printed digits: compared exactly, it "changed" as soon as the
+// robot turned, a false warning on every such log (issue 16). Within 2 mm and 0.1 degree it
+// is the same; a real change (10 cm) is still warned.
+TEST(ScanSource, ARobotlaserMountingRoundedAsTheRobotTurnsIsNoChange) {
+  const std::string path = tmp("robotlaser_turning.log");
+  std::ofstream out(path);
+  out << std::fixed << std::setprecision(3);
+  for (int k = 0; k < 40; ++k) {
+    const double x = 10.0 + 0.3 * k, y = 5.0 - 0.1 * k, yaw = std::remainder(0.37 * k, 2.0 * M_PI);
+    const double ahead = k < 39 ? 0.1 : 0.2;  // the last line: the laser moved 10 cm
+    out << "ROBOTLASER1 0 -1.570796 3.141593 0.785398 30 0.01 0 5 2 2 2 2 2 0 " << x + ahead * std::cos(yaw) << ' '
+        << y + ahead * std::sin(yaw) << ' ' << yaw << ' ' << x << ' ' << y << ' ' << yaw << " 0 0 0.5 0.5 0 "
+        << 100.0 + k << " host " << 100.0 + k << "\n";
+  }
+  out.close();
+  CarmenScanSource source(path, "");
+  std::size_t scans = 0;
+  while (source.next()) ++scans;
+  EXPECT_EQ(scans, 40u);
+  const std::vector<std::string> w = source.warnings();
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0].rfind(path + ":40: the laser 'ROBOTLASER1' changes its beam count, aperture or mounting", 0), 0u) << w[0];
 }
 
 }  // namespace

@@ -192,6 +192,38 @@ TEST(OutputFiles, AFileOfThePreviousSetThatTheNewSetDoesNotWriteIsRemovedAndNoOt
   EXPECT_EQ(left, (std::vector<std::string>{".lidarseg.lock", "lidarseg.tum", "notes.txt", "plots", "summary.json"}));
 }
 
+// A folder of numbered pictures (features --images-out, people --draw, the inspector's
+// gallery) held two runs' files when the second wrote fewer (issue 16): a set replaces the
+// numbered files of its kind, and no other file; a set that is not committed removes none.
+TEST(OutputFiles, AnEarlierRunsNumberedFilesTheNewSetDoesNotWriteAreRemovedAndNoOther) {
+  const std::string dir = freshFolder("numbered");
+  const NumberedName rois{"rois_", ".png"};
+  const auto run = [&](const std::vector<std::string>& names, const std::string& text, bool commit) {
+    OutputSet s;
+    s.claimOutputs({}, {{dir, "--images-out", {}, {rois}}}, {});
+    s.replaceNumbered(dir, {"frames/scan_", ".png"});
+    for (const std::string& n : names) s.add(dir + "/" + n, text);
+    if (commit) s.commit();
+  };
+  fs::create_directories(dir + "/frames");
+  run({"rois_000000.png", "rois_000001.png", "rois_000002.png", "frames/scan_3.png", "frames/scan_40.png"}, "run 1", true);
+  for (const char* other : {"rois_notes.png", "other_000001.png", "rois_000001.png.bak", "frames/scan_x.png"}) {
+    std::ofstream(dir + "/" + other) << "the user's";
+  }
+  run({"rois_000000.png", "frames/scan_40.png", "rois_000007.png"}, "failed run", false);
+  EXPECT_EQ(slurp(dir + "/rois_000002.png"), "run 1");  // nothing removed without a commit
+  run({"rois_000000.png", "frames/scan_40.png"}, "run 2", true);
+  EXPECT_EQ(slurp(dir + "/rois_000000.png"), "run 2");
+  EXPECT_EQ(slurp(dir + "/frames/scan_40.png"), "run 2");
+  EXPECT_FALSE(fs::exists(dir + "/rois_000001.png"));
+  EXPECT_FALSE(fs::exists(dir + "/rois_000002.png"));
+  EXPECT_FALSE(fs::exists(dir + "/frames/scan_3.png"));
+  EXPECT_FALSE(fs::exists(dir + "/rois_000007.png"));
+  for (const char* other : {"rois_notes.png", "other_000001.png", "rois_000001.png.bak", "frames/scan_x.png"}) {
+    EXPECT_EQ(slurp(dir + "/" + other), "the user's") << other;
+  }
+}
+
 TEST(OutputFiles, AManifestNamingFilesOutsideItsFolderRemovesNoneOfThem) {
   const std::string dir = freshFolder("stale-outside");
   const std::string outside = kTmp + "/stale-outside-victim.txt";

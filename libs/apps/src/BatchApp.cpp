@@ -222,7 +222,7 @@ std::vector<std::string> runManyClaimed(const BatchJob& given, const std::vector
   // Before any work: a second runner, an aggregation or a job started by hand on this folder
   // is refused at once; the runner's own jobs inherit its lock (and lock their seeds).
   checkJob(given);
-  claimed.claimOutputs({}, {{given.out_dir, "--out"}},
+  claimed.claimOutputs({}, {{given.out_dir, "--out", {"table1.md", "aggregate.csv", "final_errors.png", "experiment.txt"}}},
                        {given.world_path, given.trajectory_path, given.sim_config_path, given.odometry_config_path});
   BatchJob base = given;
   base.folder_lock_fd = claimed.folderLockDescriptor(base.out_dir);
@@ -259,14 +259,17 @@ BatchOutcome BatchApp::runAndAggregate(const BatchJob& base, const std::vector<s
 BatchSummary BatchApp::aggregate(const std::string& out_dir, const std::string& title) {
   OutputSet outputs;
   outputs.claimFolder(out_dir);  // before reading: no runner may be adding runs meanwhile
-  const report::MetricRows rows = report::readFinishedRuns(out_dir);
+  const report::FinishedRuns runs = report::readFinishedRuns(out_dir);
+  const report::MetricRows& rows = runs.rows;
   const report::MetricStats stats = report::metricStats(rows);
   BatchSummary summary;
   summary.runs = rows.size();
-  for (const auto& r : rows) summary.seeds.push_back(static_cast<std::uint64_t>(r[0]));
+  summary.seeds = runs.seeds;
+  summary.warnings = runs.warnings;
+  for (const std::string& w : runs.warnings) std::cerr << "lidarseg-batch: warning: " << w << "\n";
   summary.table_markdown = report::table1Markdown(title, summary.seeds, stats);
   const fs::path out(out_dir);
-  outputs.add((out / "aggregate.csv").string(), report::aggregateCsv(rows));
+  outputs.add((out / "aggregate.csv").string(), report::aggregateCsv(runs));
   outputs.add((out / "table1.md").string(), summary.table_markdown);
   // Without gnuplot the table is written without its picture, with a warning (decision 55).
   try {

@@ -130,6 +130,8 @@ class LogPass {
   std::string matchesCsv() const { return matches_csv_.str(); }
   // Whether the --figure-scan scan was met in the log (drawn, or warned about).
   bool figureMet() const { return figure_met_; }
+  // Why gnuplot failed to draw the figure (empty: drawn, or not asked for).
+  const std::string& figureError() const { return figure_error_; }
 
  private:
   // Image n: its regions as CSV rows and coverage and, when asked, drawn on its pixels; an
@@ -185,8 +187,8 @@ class LogPass {
     if (!options_.matches_out.empty()) eval::writeMatchesCsvRows(matches_csv_, scan, truth, features_, *report_.evaluation);
   }
 
-  // Paper Fig. 6 of this scan, written at once; without gnuplot a warning and no file
-  // (decision 55), the run goes on.
+  // Paper Fig. 6 of this scan, published with the other outputs; without gnuplot a warning
+  // and no file (decision 55), the run goes on; gnuplot failing is the run's error.
   void drawFigure(std::size_t scan) {
     figure_met_ = true;
     const std::string title =
@@ -194,8 +196,11 @@ class LogPass {
     std::string png;
     try {
       png = scanFeaturesPng(report::scanPictureOf(segmentation_, detector_.params().level, features_), title);
-    } catch (const std::runtime_error& e) {
+    } catch (const report::PlotterMissing& e) {
       report_.warnings.push_back("no figure " + options_.figure_path + ": " + e.what());
+      return;
+    } catch (const std::runtime_error& e) {
+      figure_error_ = e.what();  // an error once the other outputs are written
       return;
     }
     // Published with the run's other outputs, never before (an interrupted run replaces
@@ -222,6 +227,7 @@ class LogPass {
   std::ostringstream csv_, rois_csv_, matches_csv_;
   std::vector<double> detect_us_, segment_us_, errors_, coverage_;
   bool figure_met_ = false;
+  std::string figure_error_;
 };
 
 // The CSV files and the report put in place, together with the images drawn during the pass.
@@ -289,6 +295,10 @@ void readLog(const FeaturesOptions& o, const mrpt_adapter::LidarsegConfig& confi
 // the log is an error (as `lidarseg-inspect -f` beyond the log is), raised once the other
 // outputs are written so that nothing else is lost.
 void requireFigure(const FeaturesOptions& o, const LogPass& pass, const FeaturesReport& report) {
+  if (!pass.figureError().empty()) {
+    throw std::runtime_error("--figure '" + o.figure_path + "' not written: " + pass.figureError() +
+                             "; the other outputs are");
+  }
   if (!o.figure_scan || pass.figureMet()) return;
   throw std::runtime_error("--figure-scan " + std::to_string(*o.figure_scan) + ": no such scan among the " +
                            std::to_string(report.scans) + " scans read from " + o.input + " (scans count from 0); " +

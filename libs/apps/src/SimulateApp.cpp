@@ -71,6 +71,10 @@ SimulateReport SimulateApp::run() {
   for (const char* ext : {".rawlog", ".gt.tum", ".odom.tum", ".features.csv", ".rois.csv", ".carmen.log"}) {
     files.push_back({options_.out_prefix + ext, "--out"});
   }
+  // A generated building is written out too (writeBuildingFiles()): never over an input.
+  if (options_.building_seed) {
+    for (const char* ext : {".world", ".traj", ".doors.csv"}) files.push_back({options_.out_prefix + ext, "--out"});
+  }
   claimed.claimOutputs(files, {}, {options_.world_path, options_.trajectory_path, options_.config_path});
   try {
     SimulateReport report = runOrThrow();

@@ -11,6 +11,8 @@ double quantileSorted(const std::vector<double>& sorted, double q) {
   const auto lo = static_cast<std::size_t>(std::floor(pos));
   const std::size_t hi = std::min(lo + 1, sorted.size() - 1);
   const double frac = pos - static_cast<double>(lo);
+  // On a sample itself or between equal ones: no interpolation (inf + 0 * (inf - inf) is NaN).
+  if (frac == 0.0 || sorted[hi] == sorted[lo]) return sorted[lo];
   return sorted[lo] + frac * (sorted[hi] - sorted[lo]);
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <iomanip>
 #include <ostream>
+#include <sstream>
 
 #include "lidarseg/core/Angles.h"
 
@@ -20,7 +21,19 @@ LevelStats summariseLevel(const Accumulator& a, double valid_beams) {
   out.mean_rms_residual_m =
       a.lengths.empty() ? 0.0 : a.residual_sum / static_cast<double>(a.lengths.size());
   out.median_theta_sigma_rad = summarize(a.theta_sigmas).median;
+  out.segments_without_direction = a.without_direction;
   return out;
+}
+
+// The segments left out of sigma theta, per level, when there are any.
+void printSegmentsWithoutDirection(const SegmentStatsReport& r, std::ostream& os) {
+  std::ostringstream counts;
+  for (std::size_t l = 0; l < kNumCascadeLevels; ++l) {
+    if (r.levels[l].segments_without_direction == 0) continue;
+    counts << (counts.tellp() > 0 ? ", " : "") << "level " << l << ": " << r.levels[l].segments_without_direction;
+  }
+  if (counts.tellp() <= 0) return;
+  os << "  segments of points at one place (no direction, left out of sigma theta): " << counts.str() << "\n";
 }
 
 }  // namespace
@@ -40,7 +53,13 @@ void SegmentationStats::add(const Segmentation& seg, double wall_danielsson_us, 
       a.lengths.push_back(s.length_m);
       a.points += s.num_points;
       a.residual_sum += s.rms_residual_m;
-      a.theta_sigmas.push_back(std::sqrt(s.covariance(1, 1)));
+      // A segment of points at one place has no direction (fitSegment(): infinite
+      // covariance): it has no θ noise to summarise, and is counted instead.
+      if (std::isfinite(s.covariance(1, 1))) {
+        a.theta_sigmas.push_back(std::sqrt(s.covariance(1, 1)));
+      } else {
+        ++a.without_direction;
+      }
     }
   }
 }
@@ -77,8 +96,14 @@ void printSegmentStats(const SegmentStatsReport& r, std::ostream& os) {
        << std::setw(9) << s.segment_length_m.mean << std::setw(8) << s.segment_length_m.median
        << std::setw(7) << s.segment_length_m.max << std::setprecision(1) << std::setw(10)
        << 100.0 * s.point_coverage << " %" << std::setw(9) << 1000.0 * s.mean_rms_residual_m
-       << std::setprecision(3) << std::setw(13) << s.median_theta_sigma_rad * kRadToDeg << "\n";
+       << std::setprecision(3) << std::setw(13);
+    if (s.segments_without_direction > 0 && s.segments_without_direction == s.segment_length_m.count) {
+      os << "n/a\n";  // no segment with a direction: no θ noise at all
+    } else {
+      os << s.median_theta_sigma_rad * kRadToDeg << "\n";
+    }
   }
+  printSegmentsWithoutDirection(r, os);
   os << "\n  time per scan (us, this run)      median     p99      max\n";
   const auto timeRow = [&](const char* name, const Summary& t) {
     os << "    " << std::left << std::setw(30) << name << std::right << std::setprecision(2)

@@ -11,6 +11,12 @@
 
 namespace lidarseg::eval {
 
+namespace {
+// The norms of a TUM line's quaternion taken as a rotation (normalised), decision 108.
+constexpr double kMinQuaternionNorm = 0.9;
+constexpr double kMaxQuaternionNorm = 1.1;
+}  // namespace
+
 StampedTrajectory readTum(const std::string& path) {
   StampedTrajectory out;
   detail::forEachLineOf8Numbers(path, "trajectory", "timestamp x y z qx qy qz qw",
@@ -21,7 +27,16 @@ StampedTrajectory readTum(const std::string& path) {
       throw std::runtime_error(path + ":" + std::to_string(line) + ": timestamp " + stamp.str() +
                                " goes back in time");
     }
-    const double qx = v[4], qy = v[5], qz = v[6], qw = v[7];
+    // Decision 108: a unit quaternion as written (to ~1e-6, or a few digits) is normalised;
+    // one of norm outside [0.9, 1.1] (zero, doubled) is no rotation the file meant.
+    const double norm = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
+    if (!(norm >= kMinQuaternionNorm && norm <= kMaxQuaternionNorm)) {
+      std::ostringstream shown;
+      shown << std::setprecision(6) << norm;  // six digits: 1.10001 is not shown as 1.1
+      throw std::runtime_error(path + ":" + std::to_string(line) + ": not a unit quaternion (norm " + shown.str() +
+                               "; qx qy qz qw must have a norm from 0.9 to 1.1)");
+    }
+    const double qx = v[4] / norm, qy = v[5] / norm, qz = v[6] / norm, qw = v[7] / norm;
     const double yaw = std::atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz));
     out.push_back({v[0], {v[1], v[2], yaw}});
   });

@@ -294,6 +294,8 @@ ReportSummary writeLogReport(Session& session, const ReportSettings& settings) {
   report.gallery = worstFirst(rows, settings.gallery);
 
   report::OutputSet outputs;
+  // The gallery of an earlier report of more frames (or others) goes: frames/ is this one's.
+  outputs.replaceNumbered(dir, {"frames/scan_", ".png"});
   const Layers layers = parseLayers(settings.layers.empty() ? kGalleryLayers : settings.layers);
   for (std::size_t i : report.gallery) {
     outputs.add(dir + "/frames/scan_" + std::to_string(i) + ".png",

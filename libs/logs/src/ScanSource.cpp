@@ -8,6 +8,12 @@ namespace {
 constexpr std::size_t kListed = 100;  // messages kept per list; the counts stay whole
 }  // namespace
 
+bool ScanSource::Geometry::same(const Geometry& o) const {
+  const double dyaw = std::remainder(yaw - o.yaw, 2.0 * 3.14159265358979323846);
+  return beams == o.beams && first_angle == o.first_angle && last_angle == o.last_angle &&
+         std::hypot(x - o.x, y - o.y) <= kMountingToleranceM && std::abs(dyaw) <= kMountingToleranceRad;
+}
+
 std::optional<ScanRecord> ScanSource::next() {
   std::optional<ScanRecord> r = read();
   if (!r) return r;
@@ -26,7 +32,7 @@ void ScanSource::watch(ScanRecord& r) {
                    r.sensor_on_robot.y, r.sensor_on_robot.yaw};
   if (!geometry_) {
     geometry_ = g;
-  } else if (!geometry_changed_ && !(g == *geometry_)) {
+  } else if (!geometry_changed_ && !g.same(*geometry_)) {
     geometry_changed_ = true;
     warn(r.where + ": the laser '" + r.sensor + "' changes its beam count, aperture or mounting (" +
          std::to_string(geometry_->beams) + " -> " + std::to_string(g.beams) + " beams); each scan is taken as it is");

@@ -30,6 +30,7 @@ std::optional<Pose2D> OdometryRun::priorOf(const mrpt_adapter::LaserRecord& reco
     const Pose2D inc = relative(*record.odometry, *last_odometry_);
     if (gate_.stamps().plausible(inc, time)) {
       prior = inc;
+      ++odometry_priors_;
     } else {
       ++odometry_jumps_;
       gate_.warn(record.where + ": wheel odometry jumps by " + std::to_string(std::hypot(inc.x, inc.y)) + " m / " +
@@ -64,8 +65,16 @@ double OdometryRun::medianStep() const { return steps_.empty() ? StampPolicy::kS
 
 report::OdometryReport OdometryRun::finish(double max_lost_ratio) {
   report::OdometryReport r;
+  // Asked for and absent, the wheel odometry was silently replaced by constant velocity.
+  if (settings_.use_odometry && wheel_odometry_.empty()) {
+    gate_.warn("--use-odometry: the log has no wheel odometry; every scan's prior was constant velocity");
+    r.prior = "constant velocity (the log has no wheel odometry)";
+  } else if (settings_.use_odometry) {
+    r.prior = "wheel odometry";
+  }
   static_cast<report::RecordCounts&>(r) = gate_.counts();
   r.odometry_jumps = odometry_jumps_;
+  r.odometry_priors = odometry_priors_;
   lidarseg_->report().time_summary_us = summarize(lidarseg_->report().time_us);
   r.lidarseg = std::move(lidarseg_->report());
   if (static_cast<double>(r.lidarseg.lost) > max_lost_ratio * static_cast<double>(r.frames)) r.lidarseg.tracking = "lost";

@@ -3,6 +3,7 @@
 #include "lidarseg/core/NumberText.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -23,45 +24,82 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The metrics.csv of every finished run in OUT: run_<seed>/, not run_<seed>.partial/.
-std::vector<fs::path> finishedMetricsFiles(const std::string& out_dir) {
+// The seed a run folder's name gives: run_<seed> with the seed in decimal, exactly.
+std::optional<std::uint64_t> folderSeed(const std::string& name) {
+  if (name.rfind("run_", 0) != 0 || name.size() == 4) return std::nullopt;
+  std::uint64_t seed = 0;
+  const char* first = name.data() + 4;
+  const char* last = name.data() + name.size();
+  const auto [end, error] = std::from_chars(first, last, seed);
+  if (error != std::errc() || end != last || (*first == '0' && name.size() > 5)) return std::nullopt;
+  return seed;
+}
+
+// The metrics.csv of every finished run in OUT, with its folder's seed: run_<seed>/, not
+// run_<seed>.partial/. A run folder without one, or named otherwise, is a warning.
+std::vector<std::pair<std::uint64_t, fs::path>> finishedMetricsFiles(const std::string& out_dir,
+                                                                     std::vector<std::string>& warnings) {
   if (!fs::is_directory(out_dir)) throw std::runtime_error("'" + out_dir + "' is not a folder");
-  std::vector<fs::path> files;
+  std::vector<std::pair<std::uint64_t, fs::path>> files;
   for (const auto& entry : fs::directory_iterator(out_dir)) {
     const auto name = entry.path().filename().string();
-    if (entry.is_directory() && name.rfind("run_", 0) == 0 && name.find('.') == std::string::npos &&
-        fs::exists(entry.path() / "metrics.csv")) {
-      files.push_back(entry.path() / "metrics.csv");
+    if (!entry.is_directory() || name.rfind("run_", 0) != 0 || name.find('.') != std::string::npos) continue;
+    const std::optional<std::uint64_t> seed = folderSeed(name);
+    if (!seed) {
+      warnings.push_back("'" + entry.path().string() + "' is not named run_SEED (SEED from 0 to 18446744073709551615); left out");
+    } else if (!fs::exists(entry.path() / "metrics.csv")) {
+      warnings.push_back("'" + entry.path().string() + "' holds no metrics.csv (a run not finished); left out");
+    } else {
+      files.emplace_back(*seed, entry.path() / "metrics.csv");
     }
   }
   return files;
 }
 
-// The data line of one metrics.csv: the seed, then one value per metric.
-std::vector<double> readMetricsRow(const fs::path& f) {
+// Whether a metric may be negative: the means of signed motion errors.
+bool signedMetric(const std::string& name) {
+  return name.find("_edx_m") != std::string::npos || name.find("_edy_m") != std::string::npos ||
+         name.find("_edtheta_rad") != std::string::npos;
+}
+
+// A metric's value, checked: finite, within kMaxMetric (kMaxFrames for frames), not negative
+// unless signed. Throws naming FILE:LINE:COLUMN.
+double checkedMetric(const std::string& cell, const std::string& name, const std::string& where) {
+  const ParsedNumber parsed = parseNumber(cell);
+  if (parsed.status == ParsedNumber::Status::not_a_number) throw std::runtime_error(where + ": '" + cell + "' is not a number");
+  const double cap = name == "frames" ? kMaxBatchFrames : kMaxBatchMetric;
+  const double v = parsed.value;
+  if (!parsed.ok() || !std::isfinite(v) || std::abs(v) > cap || (v < 0 && !signedMetric(name))) {
+    throw std::runtime_error(where + ": " + name + " = '" + cell + "' is not a run's figure (finite, " +
+                             (signedMetric(name) ? "within +-" : "from 0 to ") + numberText(cap) + ")");
+  }
+  return v;
+}
+
+// The data line of one metrics.csv of the folder of `seed`: the seed, then one value per
+// metric; the seed read exactly (a double rounds seeds beyond 2^53).
+std::vector<double> readMetricsRow(std::uint64_t seed, const fs::path& f) {
   std::ifstream in(f);
   eval::CsvReader reader(in, f.string());
   std::vector<std::string> cells;
   if (!reader.next(cells) || !reader.next(cells)) {
     throw std::runtime_error(f.string() + ":2: missing the data line");
   }
-  std::vector<double> row;
-  for (const std::string& cell : cells) {
-    if (cell.empty()) {  // not measured
-      row.push_back(std::nan(""));
-      continue;
-    }
-    const ParsedNumber parsed = parseNumber(cell);
-    const double v = parsed.value;
-    if (parsed.status == ParsedNumber::Status::not_a_number) {
-      throw std::runtime_error(reader.where() + ": '" + cell + "' is not a number");
-    }
-    row.push_back(v);
-  }
   const std::size_t columns = batchMetricNames().size() + 1;
-  if (row.size() != columns) {
-    throw std::runtime_error(reader.where() + ": " + std::to_string(row.size()) + " values, expected " +
+  if (cells.size() != columns) {
+    throw std::runtime_error(reader.where() + ": " + std::to_string(cells.size()) + " values, expected " +
                              std::to_string(columns));
+  }
+  std::uint64_t own = 0;
+  const auto [end, error] = std::from_chars(cells[0].data(), cells[0].data() + cells[0].size(), own);
+  if (error != std::errc() || end != cells[0].data() + cells[0].size() || own != seed) {
+    throw std::runtime_error(reader.where() + ":1: seed '" + cells[0] + "' is not its folder's (run_" +
+                             std::to_string(seed) + ")");
+  }
+  std::vector<double> row = {static_cast<double>(seed)};
+  for (std::size_t c = 1; c < cells.size(); ++c) {
+    const std::string where = reader.where() + ":" + std::to_string(c + 1);
+    row.push_back(cells[c].empty() ? std::nan("") : checkedMetric(cells[c], batchMetricNames()[c - 1], where));
   }
   return row;
 }
@@ -132,14 +170,18 @@ std::string metricsLine(std::uint64_t seed, const std::vector<double>& values) {
   return line.str();
 }
 
-// Every finished run's row, in seed order.
-MetricRows readFinishedRuns(const std::string& out_dir) {
-  MetricRows rows;
-  for (const auto& f : finishedMetricsFiles(out_dir)) rows.push_back(readMetricsRow(f));
-  if (rows.empty())
+// Every finished run's row, in seed order, with its exact seed.
+FinishedRuns readFinishedRuns(const std::string& out_dir) {
+  FinishedRuns runs;
+  auto files = finishedMetricsFiles(out_dir, runs.warnings);
+  std::sort(files.begin(), files.end());
+  for (const auto& [seed, f] : files) {
+    runs.rows.push_back(readMetricsRow(seed, f));
+    runs.seeds.push_back(seed);
+  }
+  if (runs.rows.empty())
     throw std::runtime_error("no finished run (run_*/metrics.csv) in '" + out_dir + "'");
-  std::sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return a[0] < b[0]; });
-  return rows;
+  return runs;
 }
 
 // Mean (and spread) of each metric over the runs; NaN values are left out.
@@ -192,10 +234,11 @@ std::string table1Markdown(const std::string& title, const std::vector<std::uint
 }
 
 // aggregate.csv: every run's metrics.csv line under one header.
-std::string aggregateCsv(const MetricRows& rows) {
+std::string aggregateCsv(const FinishedRuns& runs) {
   std::string csv = metricsHeader();
-  for (const auto& r : rows) {
-    csv += metricsLine(static_cast<std::uint64_t>(r[0]), {r.begin() + 1, r.end()});
+  for (std::size_t i = 0; i < runs.rows.size(); ++i) {
+    const auto& r = runs.rows[i];
+    csv += metricsLine(runs.seeds[i], {r.begin() + 1, r.end()});
   }
   return csv;
 }

@@ -159,6 +159,13 @@ void releaseTemporary(const std::string& temporary) {
 void installCleanupOnSignals() {
   std::signal(SIGINT, removeTemporariesAndDie);
   std::signal(SIGTERM, removeTemporariesAndDie);
+  // A closed terminal (SIGHUP) or Ctrl-\ (SIGQUIT) left the temporaries behind. A run
+  // started with SIGHUP or SIGQUIT ignored (nohup) keeps ignoring it.
+  for (const int sig : {SIGHUP, SIGQUIT}) {
+    struct sigaction current {};
+    if (::sigaction(sig, nullptr, &current) == 0 && current.sa_handler == SIG_IGN) continue;
+    std::signal(sig, removeTemporariesAndDie);
+  }
   // A file beyond the size limit (ulimit -f) fails its write with EFBIG, which the writers
   // report naming the file, instead of killing the process with its temporaries left.
   std::signal(SIGXFSZ, SIG_IGN);
@@ -398,8 +405,14 @@ void OutputSet::claimOutputs(const std::vector<NamedOutput>& files, const std::v
     if (!o.path.empty()) claim(o.path);
   }
   for (const NamedOutput& o : folders) {
-    if (!o.path.empty()) claimFolder(o.path);
+    if (o.path.empty()) continue;
+    claimFolder(o.path);
+    for (const NumberedName& numbered : o.numbered) replaceNumbered(o.path, numbered);
   }
+}
+
+void OutputSet::replaceNumbered(const std::string& folder, const NumberedName& numbered) {
+  numbered_.emplace_back(folder, numbered);
 }
 
 void OutputSet::add(const std::string& path, std::string content) {
@@ -498,6 +511,25 @@ bool OutputSet::isInput(const fs::path& path) const {
   return false;
 }
 
+// An earlier run's numbered files that this set does not write: a folder of images held two
+// runs' pictures when the second wrote fewer.
+void OutputSet::removeStaleNumbered() const {
+  const auto key = [](const fs::path& p) {
+    std::error_code ec;
+    return fs::absolute(p, ec).lexically_normal();
+  };
+  std::vector<fs::path> mine;
+  for (const Pending& p : pending_) mine.push_back(key(p.path));
+  for (const auto& [folder, numbered] : numbered_) {
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(fs::path(folder) / fs::path(numbered.prefix).parent_path(), ec)) {
+      if (!entry.is_regular_file(ec) || !isNumberedFile(entry.path().string(), folder, numbered)) continue;
+      if (std::find(mine.begin(), mine.end(), key(entry.path())) != mine.end() || isInput(entry.path())) continue;
+      removeStaleFile(entry.path());
+    }
+  }
+}
+
 // The names of the set's files in the folder of `manifest`, in the order added.
 std::vector<std::string> OutputSet::namesBeside(const std::string& manifest) const {
   const std::string key = folderKey(folderOf(manifest));
@@ -553,6 +585,7 @@ void OutputSet::commit() {
   for (const auto& p : pending_) {
     if (isManifest(p.path)) retirePreviousSet(p.path);
   }
+  removeStaleNumbered();
   for (const auto& p : pending_) {
     if (std::rename(p.temporary.c_str(), p.path.c_str()) != 0) {
       throw std::runtime_error("cannot put '" + p.path + "' in place: " + std::strerror(errno) + " (from '" +

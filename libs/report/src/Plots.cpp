@@ -63,10 +63,17 @@ class ScratchFolder {
   std::string path_;
 };
 
-// gnuplot's quoting of a text: single quotes, a quote doubled.
+// gnuplot's quoting of a text: single quotes, a quote doubled; a control character (a
+// newline in a file name) a space, since it would end the script's line.
 std::string quoted(const std::string& text) {
   std::string out = "'";
-  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
+  for (char c : text) {
+    if (c == '\'') {
+      out += "''";
+    } else {
+      out += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? ' ' : c;
+    }
+  }
   return out + "'";
 }
 
@@ -78,6 +85,25 @@ std::string hex(const Rgb& c) {
 }
 
 std::string rgb(const PlotSeries& s) { return hex(s.colour); }
+
+// Why gnuplot drew nothing: what it said (its non-blank lines, trimmed, in one line: its
+// messages start with a blank line and the script's line), else how it ended.
+std::string gnuplotReason(const std::string& log_path, int status) {
+  std::ifstream log(log_path);
+  std::string said, line;
+  while (std::getline(log, line) && said.size() < 400) {
+    const auto first = line.find_first_not_of(" \t\r^");
+    if (first == std::string::npos) continue;
+    const auto last = line.find_last_not_of(" \t\r");
+    said += (said.empty() ? "" : " / ") + line.substr(first, last - first + 1);
+  }
+  if (!said.empty()) return said;
+  if (WIFSIGNALED(status)) return "gnuplot was killed by signal " + std::to_string(WTERMSIG(status)) + " and said nothing";
+  if (WIFEXITED(status) && WEXITSTATUS(status) != 0) {
+    return "gnuplot exited with status " + std::to_string(WEXITSTATUS(status)) + " and said nothing";
+  }
+  return "gnuplot ended well but wrote no picture";
+}
 
 // Runs gnuplot on `script` (which writes `png`) and returns the PNG's bytes.
 std::string runGnuplot(const ScratchFolder& dir, const std::string& script) {
@@ -99,15 +125,12 @@ std::string runGnuplot(const ScratchFolder& dir, const std::string& script) {
     }
   }
   if (spawned != 0 || (WIFEXITED(status) && WEXITSTATUS(status) == 127)) {
-    throw std::runtime_error("gnuplot is not installed (Debian package gnuplot-nox; ./run.sh deps)");
+    throw PlotterMissing("gnuplot is not installed (Debian package gnuplot-nox; ./run.sh deps)");
   }
   std::ifstream png(dir.file("plot.png"), std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(png)), std::istreambuf_iterator<char>());
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || bytes.empty()) {
-    std::ifstream log(log_path);
-    std::string first;
-    std::getline(log, first);
-    throw std::runtime_error("gnuplot failed to draw a plot: " + first);
+    throw std::runtime_error("gnuplot failed to draw a plot: " + gnuplotReason(log_path, status));
   }
   return bytes;
 }

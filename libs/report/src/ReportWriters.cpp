@@ -147,7 +147,9 @@ Json summaryObject(const OdometryReport& r) {
          {"non_increasing_stamps", r.non_increasing_stamps},
          {"time_gaps", r.time_gaps},
          {"clock_jumps", r.clock_jumps},
-         {"odometry_jumps", r.odometry_jumps}};
+         {"odometry_jumps", r.odometry_jumps},
+         {"prior", r.prior},
+         {"odometry_priors", r.odometry_priors}};
   if (!r.log_error.empty()) j["log_error"] = r.log_error;
   j["warnings"] = r.warnings;
   j["warning_kinds"] = warningKindsJson(r.warning_kinds);
@@ -240,6 +242,8 @@ std::string markdownTable(const OdometryReport& r) {
   os << std::fixed;
   os << "Input: `" << r.input << "` (" << r.format << ", sensor " << r.sensor << "), " << r.frames << " scans";
   if (!r.gt_path.empty()) os << ", ground truth `" << r.gt_path << "`";
+  os << "; prior: " << r.prior;
+  if (r.odometry_priors > 0) os << " (" << r.odometry_priors << " scans)";
   os << "\n\n";
   tableOne(r, os);
   lidarsegCounts(r, os);

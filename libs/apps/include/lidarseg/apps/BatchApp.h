@@ -41,6 +41,7 @@ struct BatchSummary {
   std::size_t runs = 0;              ///< finished runs found
   std::vector<std::uint64_t> seeds;  ///< their seeds, ascending
   std::vector<std::string> failed;   ///< "seed N: message" of runs that failed
+  std::vector<std::string> warnings; ///< run folders left out (no metrics.csv), each named
   /// OUT/table1.md: paper Table I (times in ms, errors in mm, mrad and m).
   std::string table_markdown;
 };

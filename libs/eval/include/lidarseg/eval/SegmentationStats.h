@@ -25,8 +25,12 @@ struct LevelStats {
   double point_coverage = 0.0;
   /// Mean RMS orthogonal residual of the segments (m).
   double mean_rms_residual_m = 0.0;
-  /// Median standard deviation of theta from the noise model (rad).
+  /// Median standard deviation of theta from the noise model (rad), over the segments with
+  /// a direction (0 when none has one).
   double median_theta_sigma_rad = 0.0;
+  /// Segments whose points lie at one place (fitSegment()'s infinite covariance): no
+  /// direction, left out of median_theta_sigma_rad.
+  std::size_t segments_without_direction = 0;
 };
 
 /// Everything `lidarseg-segment` measured.
@@ -76,6 +80,7 @@ class SegmentationStats {
     std::vector<double> theta_sigmas;
     double points = 0.0;
     double residual_sum = 0.0;
+    std::size_t without_direction = 0;
   };
   std::array<LevelAccumulator, kNumCascadeLevels> acc_;
   std::vector<double> t_wd_, t_cascade_, t_total_, valid_beams_;

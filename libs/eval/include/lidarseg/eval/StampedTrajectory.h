@@ -24,7 +24,8 @@ using StampedTrajectory = std::vector<StampedPose>;
 /// Reads a TUM trajectory file: `timestamp x y z qx qy qz qw` per line, `#` comments;
 /// the yaw is taken from the quaternion (rotation about z), z is ignored.
 /// @throws std::runtime_error naming the file and line for an unreadable file, a line
-/// without 8 numbers, a non-finite value or a time going backwards.
+/// without 8 numbers, a non-finite value, a time going backwards or a quaternion whose norm
+/// is outside [0.9, 1.1] (one within is normalised; decision 108).
 StampedTrajectory readTum(const std::string& path);
 
 /// Writes one TUM line per pose (nanosecond-resolution stamps, z = 0).

@@ -65,6 +65,7 @@ class OdometryRun {
   RunSettings settings_;
   report::RecordGate gate_;
   std::size_t odometry_jumps_ = 0;
+  std::size_t odometry_priors_ = 0;  // scans whose prior was the wheel odometry's
   std::unique_ptr<LidarsegMethod> lidarseg_;
   std::vector<std::unique_ptr<OdometryMethod>> baselines_;
   eval::StampedTrajectory log_poses_, wheel_odometry_;

@@ -39,10 +39,24 @@ std::string metricsHeader();
 /// A line of metrics.csv and aggregate.csv: the seed, then the figures (10 significant digits).
 std::string metricsLine(std::uint64_t seed, const std::vector<double>& values);
 
+/// The largest figure a metrics.csv may hold (m, ms, rad, a ratio), in magnitude: beyond it
+/// a value is no run's (a final error of 1e308 m entered the mean).
+constexpr double kMaxBatchMetric = 1e6;
+/// The largest frame count a metrics.csv may hold.
+constexpr double kMaxBatchFrames = 1e9;
+/// The finished runs of a results folder.
+struct FinishedRuns {
+  std::vector<std::uint64_t> seeds;   ///< ascending, exact (not through a double)
+  MetricRows rows;                    ///< one per seed; column 0 the seed as a double (plots)
+  std::vector<std::string> warnings;  ///< run folders left out, each named with why
+};
 /// Every finished run's row (OUT/run_<seed>/metrics.csv, not run_<seed>.partial/), in seed
-/// order. @throws std::runtime_error when OUT is no folder, holds no finished run, or a
-/// metrics file is bad (naming the file and line).
-MetricRows readFinishedRuns(const std::string& out_dir);
+/// order. A folder run_* without metrics.csv, or not named run_SEED, is left out with a
+/// warning. @throws std::runtime_error when OUT is no folder, holds no finished run, or a
+/// metrics file is bad, naming FILE:LINE:COLUMN: a seed other than its folder's, a figure
+/// not finite, beyond kMaxBatchMetric (kMaxBatchFrames) or negative (the signed means
+/// edx, edy, edθ may be negative).
+FinishedRuns readFinishedRuns(const std::string& out_dir);
 
 /// Mean (and spread) of each metric over the runs; NaN values are left out.
 MetricStats metricStats(const MetricRows& rows);
@@ -58,7 +72,7 @@ std::string table1Markdown(const std::string& title, const std::vector<std::uint
 std::string finalErrorsPng(const MetricRows& rows, bool with_icp, const std::string& title);
 
 /// aggregate.csv: every run's metrics.csv line under one header.
-std::string aggregateCsv(const MetricRows& rows);
+std::string aggregateCsv(const FinishedRuns& runs);
 
 /// Parses seeds as "1-50", "3", "1,4,9-12" (sorted, without repeats; at most 100000).
 /// @throws std::invalid_argument naming the bad part.

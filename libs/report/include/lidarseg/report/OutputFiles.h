@@ -36,7 +36,8 @@ void releaseTemporary(const std::string& temporary);
 /// PREFIX_Images.tmp/, renamed into place when the run succeeds). The caller chooses the name
 /// and creates the folder, after registering it.
 void registerTemporaryFolder(const std::string& folder);
-/// SIGINT and SIGTERM remove every registered temporary file and folder, then end the process
+/// SIGINT, SIGTERM, SIGHUP and SIGQUIT (the last two unless ignored when the process started,
+/// as under nohup) remove every registered temporary file and folder, then end the process
 /// with the signal's default action; SIGXFSZ is ignored (a write beyond `ulimit -f` fails with
 /// EFBIG and is reported naming its file). Idempotent; every tool calls it first thing
 /// (through parseCommandLine()).
@@ -159,12 +160,17 @@ class OutputSet {
   /// - an output file that is an existing folder, and an output folder that is an existing
   ///   file, are refused;
   /// then each output's folder is claimed; empty paths are skipped. The inputs are
-  /// remembered: commit() never removes one as an older set's file. `folders` are output
+  /// remembered: commit() never removes one as an older set's file. A folder's `numbered`
+  /// files are replaced by this set's (replaceNumbered()). `folders` are output
   /// folders (claimed themselves), `files` output files.
   /// @throws UsageError for a refused command line; std::runtime_error when a folder cannot
   ///         be created (with the reason) or another run holds its lock.
   void claimOutputs(const std::vector<NamedOutput>& files, const std::vector<NamedOutput>& folders,
                     const std::vector<std::string>& inputs);
+  /// The files of `folder` named like `numbered` are this set's kind: commit() removes those
+  /// it does not write (an earlier run's, which wrote more) before it renames its own into
+  /// place, never an input. Files of other names are not touched.
+  void replaceNumbered(const std::string& folder, const NumberedName& numbered);
   /// Adds a text output.
   void add(const std::string& path, std::string content);
   /// Registers an output someone else writes: returns the temporary name to write it under.
@@ -195,10 +201,12 @@ class OutputSet {
   void writeManifests();
   void retirePreviousSet(const std::string& manifest);
   bool isInput(const std::filesystem::path& path) const;
+  void removeStaleNumbered() const;
   std::vector<Pending> pending_;
   std::vector<std::pair<std::string, ManifestText>> manifests_;  // written by commit()
   std::vector<std::string> own_names_;  // what an older set's manifest may have removed
   std::vector<std::string> inputs_;     // by claimOutputs(): never removed
+  std::vector<std::pair<std::string, NumberedName>> numbered_;  // by replaceNumbered()
   std::vector<std::string> locked_folders_;  // canonical; the locks are shared within the process
   std::vector<std::string> created_folders_;  // by claim(): removed again when nothing was published
   bool committed_ = false;

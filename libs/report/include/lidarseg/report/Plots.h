@@ -3,9 +3,11 @@
 /// lidarseg::report: the charts of every tool's report - the pictures of a run
 /// (trajectories, timing histograms, per-run errors) and a scan's features (the paper's
 /// Fig. 6) as PNG images drawn by gnuplot (pngcairo), one colour per method from Palette.h.
-/// The drawing functions throw std::runtime_error when gnuplot is missing or fails.
+/// The drawing functions throw std::runtime_error when gnuplot is missing (PlotterMissing)
+/// or fails (with what gnuplot said, or how it ended: never an empty reason).
 
 #include <array>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,6 +17,12 @@
 #include "lidarseg/report/Palette.h"
 
 namespace lidarseg::report {
+
+/// gnuplot is not installed: a tool writes no picture and warns (decision 55).
+class PlotterMissing : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 /// How a series is drawn.
 enum class PlotStyle {

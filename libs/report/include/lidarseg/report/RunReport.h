@@ -77,6 +77,12 @@ struct OdometryReport : RecordCounts {
   std::string sensor;
   /// Wheel-odometry increments rejected as implausible (a jump).
   std::size_t odometry_jumps = 0;
+  /// The prior every method started each match from: "constant velocity", or "wheel
+  /// odometry" when asked for (--use-odometry) and the log has it. Asked for on a log
+  /// without wheel odometry it is "constant velocity (the log has no wheel odometry)".
+  std::string prior = "constant velocity";
+  /// Scans whose prior was the wheel odometry's increment.
+  std::size_t odometry_priors = 0;
   /// With allow_truncated: why the log could not be read to its end ("file, entry N: ...");
   /// the results cover the scans before it. Empty when the log was read to its end.
   std::string log_error;
