@@ -74,10 +74,10 @@ TEST(SegmentAlignment, RecoversTheMotionBetweenTwoScansWithItsCovariance) {
 }
 
 // Maps and estimates an MRPT program may pass: an empty map, one point, points with a NaN
-// coordinate (beams without return), points a million metres away, an estimate of 1e30 m.
-// Never an exception on data, never a non-finite pose or covariance; only a non-finite
-// estimate is refused. (A NaN estimate reached the recovery search's grid indices:
-// SIGSEGV.)
+// coordinate (beams without return), points a million metres away, an estimate 100 km
+// off. Never an exception on data, never a non-finite pose or covariance; only an estimate
+// not finite or beyond +-1e6 is refused. (A NaN estimate reached the recovery search's grid
+// indices: SIGSEGV.)
 TEST(SegmentAlignment, OddMapsAndEstimatesGiveFiniteResultsAndANonFiniteEstimateIsRefused) {
   const auto good = mapAt({1.0, 1.0, 0.0}, 1);
   mrpt::maps::CSimplePointsMap empty, one, with_nan = good, far;
@@ -97,7 +97,7 @@ TEST(SegmentAlignment, OddMapsAndEstimatesGiveFiniteResultsAndANonFiniteEstimate
   const std::vector<const mrpt::maps::CSimplePointsMap*> all = {&empty, &one, &with_nan, &far, &good};
   for (const auto* a : all) {
     for (const auto* b : all) {
-      for (const double x0 : {0.0, 1e30, -1e15}) {
+      for (const double x0 : {0.0, 1e5, -1e5}) {
         SegmentAlignment::TReturnInfo info;
         const mrpt::poses::CPose2D guess(x0, x0 == 0.0 ? 0.0 : 3.0, 0.0);
         const auto pdf = align.AlignPDF(a, b, mrpt::poses::CPosePDFGaussian(guess), info);
@@ -117,7 +117,7 @@ TEST(SegmentAlignment, OddMapsAndEstimatesGiveFiniteResultsAndANonFiniteEstimate
       }
     }
   }
-  for (const double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+  for (const double bad : {std::nan(""), std::numeric_limits<double>::infinity(), 1e30}) {
     try {
       align.AlignPDF(&good, &good, mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D(0.0, bad, 0.0)));
       FAIL() << "a non-finite initial estimate was accepted";
@@ -547,6 +547,66 @@ TEST(SegmentAlignment, TrackingOptionsLoadFromAToolsOdometrySection) {
   const std::string misspelt = loadError(r, cfg, "track");
   EXPECT_NE(misspelt.find("keyframe_distanse_m"), std::string::npos) << "misspelt key: '" << misspelt << "'";
   EXPECT_EQ(r.keyframe_distance_m, 0.5);
+}
+
+// Tracking through the MRPT-facing class with a scan or a mounting a program may pass by
+// mistake: a NaN or infinite stamp (every later pose became NaN), a sensor pose on the robot
+// not finite or 1e300 m away (NaN and absurd poses, status ok), a wheel increment not
+// finite or beyond +-1e6. Each is refused with std::invalid_argument, and the tracking goes
+// on from the scans before as if the call had not been made. A backwards or huge stamp and
+// a scan of NaN ranges are data: a finite result.
+TEST(SegmentAlignment, TrackingRefusesWhatIsNoScanOrMountingAndGoesOn) {
+  const auto sensor = lidarseg::testing::makeSensor(541, 270.0, 0.01);
+  const double nan = std::nan(""), inf = HUGE_VAL;
+  Scan a = lidarseg::testing::simulate(lidarseg::testing::officeScene(), sensor, {1.0, 1.0, 0.0}, 1);
+  Scan b = lidarseg::testing::simulate(lidarseg::testing::officeScene(), sensor, {1.1, 1.0, 0.0}, 2);
+  a.stamp_s = 0.0;
+  b.stamp_s = 0.1;
+  SegmentAlignment reference;
+  reference.track(a, {});
+  const auto expected = reference.track(b, {}).robot_pose.mean;
+  struct Refused {
+    double stamp;
+    Pose2D mount;
+    std::optional<Pose2D> increment;
+    std::string says;
+  };
+  for (const Refused& c : std::vector<Refused>{{nan, {}, {}, "stamp nan is not finite"},
+                                               {inf, {}, {}, "stamp inf is not finite"},
+                                               {0.1, {nan, 0, 0}, {}, "sensor's pose on the robot (nan, 0, 0)"},
+                                               {0.1, {1e300, 0, 0}, {}, "sensor's pose on the robot (1e+300, 0, 0)"},
+                                               {0.1, {}, Pose2D{nan, 0, 0}, "odometry increment"},
+                                               {0.1, {}, Pose2D{1e300, 0, 0}, "odometry increment"}}) {
+    SegmentAlignment align;
+    align.track(a, {});
+    Scan bad = b;
+    bad.stamp_s = c.stamp;
+    try {
+      align.track(bad, c.mount, c.increment);
+      FAIL() << "accepted: " << c.says;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(c.says), std::string::npos) << e.what();
+    }
+    const auto next = align.track(b, {}).robot_pose;  // as if the bad call had not been made
+    EXPECT_EQ(next.mean.x(), expected.x()) << c.says;
+    EXPECT_EQ(next.mean.y(), expected.y()) << c.says;
+    EXPECT_TRUE(next.cov.array().isFinite().all()) << c.says;
+  }
+  for (const double stamp : {-5.0, 1e300}) {  // a clock gone backwards, or far ahead: data
+    SegmentAlignment align;
+    align.track(a, {});
+    Scan late = b;
+    late.stamp_s = stamp;
+    const auto step = align.track(late, {});
+    EXPECT_TRUE(std::isfinite(step.robot_pose.mean.x()) && step.robot_pose.cov.array().isFinite().all()) << stamp;
+  }
+  SegmentAlignment align;
+  align.track(a, {});
+  Scan blind = b;
+  for (double& r : blind.ranges_m) r = nan;
+  const auto step = align.track(blind, {});
+  EXPECT_EQ(step.core.status, TrackStatus::kLost);
+  EXPECT_TRUE(step.robot_pose.cov.array().isFinite().all());
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 #include "lidarseg/core/SegmentOdometry.h"
 
-#include "lidarseg/core/NumberText.h"
 #include "lidarseg/core/Angles.h"
+#include "lidarseg/core/NumberText.h"
+#include "lidarseg/core/ScanRecord.h"
 
 #include <algorithm>
 #include <chrono>
@@ -376,12 +377,18 @@ const Scan& SegmentOdometry::withBeamTimes(const Scan& scan) {
 }
 
 OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pose2D>& odometry_increment) {
-  // Before any state changes: a non-finite prior would reach the search's grid indices.
-  if (odometry_increment && !(std::isfinite(odometry_increment->x) && std::isfinite(odometry_increment->y) &&
-                              std::isfinite(odometry_increment->yaw))) {
+  // Before any state changes: a non-finite prior would reach the search's grid indices, a
+  // non-finite stamp every later velocity, and a motion beyond the logs' coordinate bound
+  // (1000 km) is no robot's.
+  const auto usable = [](double v) { return std::isfinite(v) && std::abs(v) <= kMaxLogCoordinate; };
+  if (odometry_increment && !(usable(odometry_increment->x) && usable(odometry_increment->y) &&
+                              usable(odometry_increment->yaw))) {
     throw std::invalid_argument("SegmentOdometry::process: the odometry increment (" + numberText(odometry_increment->x) +
                                 ", " + numberText(odometry_increment->y) + ", " + numberText(odometry_increment->yaw) +
-                                ") is not finite");
+                                ") is not finite or beyond +-1e6 (m, rad)");
+  }
+  if (!std::isfinite(input.stamp_s)) {
+    throw std::invalid_argument("SegmentOdometry::process: the scan's stamp " + numberText(input.stamp_s) + " is not finite");
   }
   const Scan& scan = withBeamTimes(input);
   OdometryStep step;

@@ -3,6 +3,10 @@
 #include "lidarseg/mrpt/PoseConversion.h"
 
 #include <cmath>
+#include <stdexcept>
+
+#include "lidarseg/core/NumberText.h"
+#include "lidarseg/core/ScanRecord.h"
 
 #include <mrpt/math/CMatrixFixed.h>
 
@@ -48,6 +52,11 @@ LaserOdometryStep LaserOdometry::process(const mrpt::obs::CObservation2DRangeSca
 
 LaserOdometryStep LaserOdometry::process(const Scan& scan, const Pose2D& S,
                                          const std::optional<Pose2D>& robot_odometry_increment) {
+  const auto usable = [](double v) { return std::isfinite(v) && std::abs(v) <= kMaxLogCoordinate; };
+  if (!(usable(S.x) && usable(S.y) && usable(S.yaw))) {
+    throw std::invalid_argument("LaserOdometry: the sensor's pose on the robot (" + numberText(S.x) + ", " +
+                                numberText(S.y) + ", " + numberText(S.yaw) + ") is not finite or beyond +-1e6 (m, rad)");
+  }
   LaserOdometryStep out;
   std::optional<Pose2D> prior;
   if (robot_odometry_increment) prior = compose(compose(inverse(S), *robot_odometry_increment), S);

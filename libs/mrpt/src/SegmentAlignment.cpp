@@ -1,5 +1,4 @@
 #include "lidarseg/mrpt/SegmentAlignment.h"
-#include "lidarseg/core/NumberText.h"
 
 #include <algorithm>
 #include <chrono>
@@ -17,6 +16,8 @@
 
 #include "ConfigKeys.h"
 #include "lidarseg/core/Angles.h"
+#include "lidarseg/core/NumberText.h"
+#include "lidarseg/core/ScanRecord.h"
 #include "lidarseg/core/SegmentOdometry.h"
 #include "lidarseg/mrpt/PoseConversion.h"
 #include "KeyTables.h"
@@ -235,9 +236,11 @@ mrpt::poses::CPosePDF::Ptr SegmentAlignment::AlignPDF(
   const auto t0 = std::chrono::steady_clock::now();
   options.validate();
   const auto& guess = initial.mean;
-  if (!(std::isfinite(guess.x()) && std::isfinite(guess.y()) && std::isfinite(guess.phi()))) {
+  const auto usable = [](double v) { return std::isfinite(v) && std::abs(v) <= kMaxLogCoordinate; };
+  if (!(usable(guess.x()) && usable(guess.y()) && usable(guess.phi()))) {
     throw std::invalid_argument("SegmentAlignment::AlignPDF: the initial estimate (" + numberText(guess.x()) + ", " +
-                                numberText(guess.y()) + ", " + numberText(guess.phi()) + ") is not finite");
+                                numberText(guess.y()) + ", " + numberText(guess.phi()) +
+                                ") is not finite or beyond +-1e6 (m, rad)");
   }
   const Scan s1 = scanOf(m1, "m1"), s2 = scanOf(m2, "m2");
   // The odometry's own step on a pair of scans: m1 is the keyframe, m2 the current scan,
