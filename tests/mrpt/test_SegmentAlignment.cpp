@@ -76,7 +76,7 @@ TEST(SegmentAlignment, RecoversTheMotionBetweenTwoScansWithItsCovariance) {
 // Maps and estimates an MRPT program may pass: an empty map, one point, points with a NaN
 // coordinate (beams without return), points a million metres away, an estimate 100 km
 // off. Never an exception on data, never a non-finite pose or covariance; only an estimate
-// not finite or beyond +-1e6 is refused. (A NaN estimate reached the recovery search's grid
+// not finite or beyond +-1e7 is refused. (A NaN estimate reached the recovery search's grid
 // indices: SIGSEGV.)
 TEST(SegmentAlignment, OddMapsAndEstimatesGiveFiniteResultsAndANonFiniteEstimateIsRefused) {
   const auto good = mapAt({1.0, 1.0, 0.0}, 1);
@@ -552,7 +552,7 @@ TEST(SegmentAlignment, TrackingOptionsLoadFromAToolsOdometrySection) {
 // Tracking through the MRPT-facing class with a scan or a mounting a program may pass by
 // mistake: a NaN or infinite stamp (every later pose became NaN), a sensor pose on the robot
 // not finite or 1e300 m away (NaN and absurd poses, status ok), a wheel increment not
-// finite or beyond +-1e6. Each is refused with std::invalid_argument, and the tracking goes
+// finite or beyond +-1e7. Each is refused with std::invalid_argument, and the tracking goes
 // on from the scans before as if the call had not been made. A backwards or huge stamp and
 // a scan of NaN ranges are data: a finite result.
 TEST(SegmentAlignment, TrackingRefusesWhatIsNoScanOrMountingAndGoesOn) {

@@ -61,6 +61,8 @@ struct ScanSpec {
   double pitch = 0.0;
   std::size_t beams = 181;
   double yaw = 0.0;
+  /// The laser's x on the robot (m).
+  double mount_x = 0.0;
   /// The scan's stamp (s) in place of the log's 0.1 s steps from 100 s; `invalid_stamp`:
   /// MRPT's INVALID_TIMESTAMP (a log without stamps).
   std::optional<double> stamp_s;
@@ -82,7 +84,7 @@ mrpt::obs::CObservation2DRangeScan::Ptr scanAt(const ScanSpec& sp, double t) {
     obs->setScanRange(i, r);
     obs->setScanRangeValidity(i, true);
   }
-  obs->sensorPose = mrpt::poses::CPose3D(0, 0, 0.3, 0.0, sp.pitch, sp.upside_down ? kPi : 0.0);
+  obs->sensorPose = mrpt::poses::CPose3D(sp.mount_x, 0, 0.3, 0.0, sp.pitch, sp.upside_down ? kPi : 0.0);
   return obs;
 }
 
@@ -192,6 +194,22 @@ TEST(RecordValidation, ATiltedScanPlaneIsRefusedWithItsEntryNotFlattened) {
   ASSERT_FALSE(reader.issues().empty());
   EXPECT_NE(reader.issues()[0].find("entry 4"), std::string::npos) << reader.issues()[0];
   EXPECT_NE(reader.issues()[0].find("tilted"), std::string::npos) << reader.issues()[0];
+}
+
+// A laser mounted 1e300 m from the robot: the scan is skipped with its entry (the odometry
+// refuses such a mounting, and a whole run failed on it without naming the file).
+TEST(RecordValidation, ALaserMountedBeyondAThousandKilometresIsSkippedWithItsEntry) {
+  std::vector<ScanSpec> specs;
+  for (int k = 0; k < 10; ++k) specs.push_back({0.05 * k, 0.05 * k});
+  specs[6].mount_x = 1e300;
+  mrpt_adapter::LaserLogReader reader(writeRawlog("far_mount", specs));
+  std::size_t n = 0;
+  while (reader.next()) ++n;
+  EXPECT_EQ(n, 9u);
+  ASSERT_FALSE(reader.issues().empty());
+  EXPECT_NE(reader.issues()[0].find("entry 6"), std::string::npos) << reader.issues()[0];
+  EXPECT_NE(reader.issues()[0].find("sensor pose (1e+300, 0, 0.3) is beyond +-1e6 m"), std::string::npos)
+      << reader.issues()[0];
 }
 
 // The rawlog side of the stamp bound (the CARMEN side: CarmenLogReader's

@@ -379,13 +379,13 @@ const Scan& SegmentOdometry::withBeamTimes(const Scan& scan) {
 OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pose2D>& odometry_increment) {
   // Before any state changes: a non-finite prior would reach the search's grid indices, a
   // non-finite stamp every later velocity, and a motion beyond the logs' coordinate bound
-  // (1000 km) is no robot's.
-  const auto usable = [](double v) { return std::isfinite(v) && std::abs(v) <= kMaxLogCoordinate; };
+  // (kMaxRelativeCoordinate) is no robot's.
+  const auto usable = [](double v) { return std::isfinite(v) && std::abs(v) <= kMaxRelativeCoordinate; };
   if (odometry_increment && !(usable(odometry_increment->x) && usable(odometry_increment->y) &&
                               usable(odometry_increment->yaw))) {
     throw std::invalid_argument("SegmentOdometry::process: the odometry increment (" + numberText(odometry_increment->x) +
                                 ", " + numberText(odometry_increment->y) + ", " + numberText(odometry_increment->yaw) +
-                                ") is not finite or beyond +-1e6 (m, rad)");
+                                ") is not finite or beyond +-1e7 (m, rad)");
   }
   if (!std::isfinite(input.stamp_s)) {
     throw std::invalid_argument("SegmentOdometry::process: the scan's stamp " + numberText(input.stamp_s) + " is not finite");

@@ -52,10 +52,10 @@ LaserOdometryStep LaserOdometry::process(const mrpt::obs::CObservation2DRangeSca
 
 LaserOdometryStep LaserOdometry::process(const Scan& scan, const Pose2D& S,
                                          const std::optional<Pose2D>& robot_odometry_increment) {
-  const auto usable = [](double v) { return std::isfinite(v) && std::abs(v) <= kMaxLogCoordinate; };
+  const auto usable = [](double v) { return std::isfinite(v) && std::abs(v) <= kMaxRelativeCoordinate; };
   if (!(usable(S.x) && usable(S.y) && usable(S.yaw))) {
     throw std::invalid_argument("LaserOdometry: the sensor's pose on the robot (" + numberText(S.x) + ", " +
-                                numberText(S.y) + ", " + numberText(S.yaw) + ") is not finite or beyond +-1e6 (m, rad)");
+                                numberText(S.y) + ", " + numberText(S.yaw) + ") is not finite or beyond +-1e7 (m, rad)");
   }
   LaserOdometryStep out;
   std::optional<Pose2D> prior;

@@ -1,5 +1,6 @@
 #include "lidarseg/mrpt/RawlogScanSource.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -9,6 +10,7 @@
 
 #include "lidarseg/core/Angles.h"
 #include "lidarseg/core/NumberText.h"
+#include "lidarseg/core/ScanRecord.h"
 #include "lidarseg/core/StampPolicy.h"
 #include "lidarseg/mrpt/LaserOdometry.h"
 #include "lidarseg/mrpt/PoseConversion.h"
@@ -44,6 +46,10 @@ std::string checkRawlogScan(mrpt::obs::CObservation2DRangeScan& obs) {
   }
   if (!std::isfinite(obs.maxRange) || !(obs.maxRange > 0.0f)) return "maximum range is not finite and > 0";
   if (!finitePose(obs.sensorPose)) return "sensor pose is not finite";
+  if (std::max({std::abs(obs.sensorPose.x()), std::abs(obs.sensorPose.y()), std::abs(obs.sensorPose.z())}) > kMaxLogCoordinate) {
+    return "sensor pose (" + numberText(obs.sensorPose.x()) + ", " + numberText(obs.sensorPose.y()) + ", " +
+           numberText(obs.sensorPose.z()) + ") is beyond +-1e6 m: not a mounting";
+  }
   const auto R = obs.sensorPose.getRotationMatrix();
   const double up = R(2, 2);  // the sensor's z axis, in the robot's z
   if (std::abs(up) < std::cos(kMaxTiltRad)) {

@@ -236,11 +236,11 @@ mrpt::poses::CPosePDF::Ptr SegmentAlignment::AlignPDF(
   const auto t0 = std::chrono::steady_clock::now();
   options.validate();
   const auto& guess = initial.mean;
-  const auto usable = [](double v) { return std::isfinite(v) && std::abs(v) <= kMaxLogCoordinate; };
+  const auto usable = [](double v) { return std::isfinite(v) && std::abs(v) <= kMaxRelativeCoordinate; };
   if (!(usable(guess.x()) && usable(guess.y()) && usable(guess.phi()))) {
     throw std::invalid_argument("SegmentAlignment::AlignPDF: the initial estimate (" + numberText(guess.x()) + ", " +
                                 numberText(guess.y()) + ", " + numberText(guess.phi()) +
-                                ") is not finite or beyond +-1e6 (m, rad)");
+                                ") is not finite or beyond +-1e7 (m, rad)");
   }
   const Scan s1 = scanOf(m1, "m1"), s2 = scanOf(m2, "m2");
   // The odometry's own step on a pair of scans: m1 is the keyframe, m2 the current scan,

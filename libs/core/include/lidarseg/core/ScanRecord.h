@@ -17,6 +17,11 @@ namespace lidarseg {
 /// reader refuses larger values as corrupt, as it refuses a non-finite one (1e308 would
 /// overflow every later difference of poses).
 constexpr double kMaxLogCoordinate = 1e6;
+/// The largest magnitude of a relative pose the odometry takes (an odometry increment, a
+/// sensor's pose on the robot, an initial estimate; m, rad): 10 000 km, above any
+/// difference of two poses within kMaxLogCoordinate, so that what a reader accepts is never
+/// refused later.
+constexpr double kMaxRelativeCoordinate = 1e7;
 
 /// One scan of a log (built by a log reader, e.g. mrpt_adapter::LaserLogReader).
 struct ScanRecord {

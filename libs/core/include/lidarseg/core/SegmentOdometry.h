@@ -201,8 +201,8 @@ class SegmentOdometry {
   /// @param odometry_increment wheel odometry T_prev_curr of the sensor since the
   ///        previous scan, used as the prior instead of constant velocity.
   /// @throws std::invalid_argument for an inconsistent scan (see Scan::validate()), a
-  ///         non-finite stamp, or an odometry_increment not finite or beyond +-1e6
-  ///         (kMaxLogCoordinate); the odometry's state is then unchanged.
+  ///         non-finite stamp, or an odometry_increment not finite or beyond +-1e7
+  ///         (kMaxRelativeCoordinate); the odometry's state is then unchanged.
   OdometryStep process(const Scan& scan, const std::optional<Pose2D>& odometry_increment = {});
 
   /// The segmentation of the last scan processed.
