@@ -390,8 +390,9 @@ TEST(CarmenScan, ALineBecomesTheCoreScanAndItsMounting) {
 }
 
 // A negative field of view (or resolution) would turn the beams the other way and mirror
-// every pose: the line is skipped with the PARAM named, never read mirrored.
-TEST(CarmenLogReader, ANegativeFieldOfViewOrResolutionSkipsTheLinesWithTheParamNamed) {
+// every pose; a laser offset of 1e300 m is no mounting: the line is skipped with the PARAM
+// named.
+TEST(CarmenLogReader, ANegativeFieldOfViewOrResolutionOrAFarMountingSkipsTheLinesWithTheParamNamed) {
   for (const std::string param : {"laser_front_laser_fov -180", "laser_front_laser_resolution -1"}) {
     CarmenLogReader reader(writeText("fov.log", "PARAM " + param + " host 0\n" + flaser(181, 2.5, 1.0, 10.0)));
     EXPECT_FALSE(reader.next()) << param;
@@ -400,6 +401,11 @@ TEST(CarmenLogReader, ANegativeFieldOfViewOrResolutionSkipsTheLinesWithTheParamN
     EXPECT_NE(reader.issues()[0].find("fov.log:2: FLASER: PARAM " + key + " = -"), std::string::npos)
         << reader.issues()[0];
   }
+  CarmenLogReader far(writeText("fov.log", "PARAM robot_frontlaser_offset 1e300 host 0\n" + flaser(181, 2.5, 1.0, 10.0)));
+  EXPECT_FALSE(far.next());
+  ASSERT_EQ(far.issues().size(), 1u);
+  EXPECT_NE(far.issues()[0].find("PARAM robot_frontlaser_offset = 1e+300 is beyond +-1e6 m"), std::string::npos)
+      << far.issues()[0];
   CarmenLogReader fine(writeText("fov.log", "PARAM laser_front_laser_fov 100 host 0\n" + flaser(101, 2.5, 1.0, 10.0)));
   const auto scan = fine.next();
   ASSERT_TRUE(scan);

@@ -191,6 +191,10 @@ bool CarmenLogReader::parseLaser(const std::string& type, const std::vector<std:
     if (!(max_range > 0.0)) max_range = options_.default_max_range_m;
     out.max_range_m = max_range;
     const double offset = paramDouble("robot_" + side + "laser_offset", 0.0);
+    if (std::abs(offset) > kMaxLogCoordinate) {
+      throw std::invalid_argument("PARAM robot_" + side + "laser_offset = " + numberText(offset) +
+                                  " is beyond +-1e6 m: not a mounting");
+    }
     out.laser_on_robot = front ? Pose2D{offset, 0.0, 0.0} : Pose2D{-offset, 0.0, kPi};
   }
   // A line no scan can be made of is malformed too: it must not decide the laser type.
