@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
     options.truth_path = truth.getValue();
     options.matches_out = matches.getValue();
     options.gate_m = gate.getValue();
+    options.gate_given = gate.isSet();
     options.progress = !quiet.getValue();
     if (!figure.getValue().empty()) {
       options.figure_scan = figure_scan.getValue();

@@ -28,6 +28,8 @@ check "features -n -1" 2 "usage error: -n/--max-scans" lidarseg-features log.log
 check "segment -n -1" 2 "usage error: -n/--max-scans" lidarseg-segment log.log -n -1 -o out
 check "odometry '-n -1' in one argument" 2 "usage error: -n/--max-scans: '-1' is not a whole number" lidarseg-odometry log.log '-n -1' -o out
 check "people --every -1" 2 "usage error: --every: '-1'" lidarseg-people log.log --roi 0,0,9,9 --every -1 -o out
+# An option that only means something with another, given without it (it was ignored).
+check "features --gate without --gt" 2 "usage error: --gate needs --gt" lidarseg-features log.log --gate 0.3 -o out
 check "people --draw-every -1" 2 "usage error: --draw-every" lidarseg-people log.log --roi 0,0,9,9 --draw-every -1 -o out
 check "people -n -1" 2 "usage error: -n/--max-frames" lidarseg-people log.log --roi 0,0,9,9 -n -1 -o out
 check "inspect -f -1" 2 "usage error: -f/--frame: '-1'" lidarseg-inspect log.log -f -1 --draw out.png

@@ -252,6 +252,7 @@ FeaturesApp::FeaturesApp(FeaturesOptions options) : options_(std::move(options))
     throw UsageError("--figure-scan needs --figure FILE.png");
   }
   if (!options_.matches_out.empty() && options_.truth_path.empty()) throw UsageError("--matches-out needs --gt");
+  if (options_.gate_given && options_.truth_path.empty()) throw UsageError("--gate needs --gt (it gates the match against the truth)");
   if (!(options_.gate_m > 0.0 && options_.gate_m <= 1e6)) {
     throw UsageError("--gate must be a distance > 0 m (got " + numberText(options_.gate_m) + ")");
   }

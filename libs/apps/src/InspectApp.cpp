@@ -83,7 +83,12 @@ std::unique_ptr<Session> InspectApp::open() {
   auto session = std::make_unique<Session>(options_.input, options_.sensor_label, params);
   // Found as lidarseg-odometry finds it: beside a rawlog or a CARMEN log.
   truth_path_ = options_.truth_path.empty() ? report::groundTruthBeside(options_.input) : options_.truth_path;
-  if (!truth_path_.empty()) session->addReference({"ground truth", eval::readTum(truth_path_)});
+  if (!truth_path_.empty()) {
+    eval::StampedTrajectory truth = eval::readTum(truth_path_);
+    // An empty file draws nothing and pairs with no scan: said once, whatever is asked.
+    if (truth.empty()) std::cerr << "lidarseg-inspect: warning: ground truth '" << truth_path_ << "' holds no pose\n";
+    session->addReference({"ground truth", std::move(truth)});
+  }
   for (const std::string& r : options_.references) {
     const auto eq = r.find('=');
     session->addReference({r.substr(0, eq), eval::readTum(r.substr(eq + 1))});

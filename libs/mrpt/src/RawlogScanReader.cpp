@@ -76,7 +76,7 @@ namespace {
 // or zipped grey image: the buffer is allocated first) is refused above the tools' cap
 // (8192 x 8192, decision 52) while an entry is deserialised on this thread: OpenCV's default
 // Mat allocator is wrapped once per process, and passes every other allocation through
-// (decision 104).
+// (decision 105).
 constexpr const char* kImageOversizePrefix = "an oversized image: ";
 
 class CappedImageAllocator final : public cv::MatAllocator {

@@ -34,6 +34,8 @@ struct FeaturesOptions {
   std::string matches_out;
   /// Match gate for the score (m).
   double gate_m = 0.2;
+  /// Whether --gate was given (it needs --gt: the gate scores against the truth).
+  bool gate_given = false;
   /// Directory for features.md and features.json (the report).
   std::string report_dir;
   /// Picture of one scan (paper Fig. 6): raw points beside segments, doors (red) and
