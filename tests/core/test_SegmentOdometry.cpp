@@ -118,6 +118,32 @@ TEST(SegmentOdometry, ANonFiniteOdometryIncrementIsRefusedAndChangesNothing) {
   EXPECT_NEAR(s1.T_odom_sensor.x, 0.1, 0.01);
 }
 
+// A malformed scan (its ranges not matching its layout) is refused before anything changes:
+// the rate of the last sweep was forgotten first, so a turning 360-degree scanner's next
+// scan was deskewed differently after the refused call (issue 16).
+TEST(SegmentOdometry, AMalformedScanIsRefusedAndChangesNothing) {
+  const sim::World world = testing::officeScene();
+  const auto sensor = testing::makeFullTurnSensor(720, 0.01);
+  OdometryParams params;
+  params.scanner_rotation_hz = 10.0;  // beam times: the sweep rate is estimated at each scan
+  SegmentOdometry with_bad(params), without(params);
+  for (int k = 0; k < 4; ++k) {
+    Scan scan = testing::simulate(world, sensor, Pose2D{1.0 + 0.05 * k, 1.0, 0.2 * k}, 10 + k);
+    scan.stamp_s = 0.1 * k;
+    if (k == 3) {
+      Scan bad = scan;
+      bad.ranges_m.pop_back();
+      EXPECT_THROW(with_bad.process(bad), std::invalid_argument);
+    }
+    const OdometryStep s1 = with_bad.process(scan);
+    const OdometryStep s2 = without.process(scan);
+    EXPECT_EQ(s1.index, s2.index) << k;
+    EXPECT_EQ(s1.T_odom_sensor.x, s2.T_odom_sensor.x) << k;
+    EXPECT_EQ(s1.T_odom_sensor.y, s2.T_odom_sensor.y) << k;
+    EXPECT_EQ(s1.T_odom_sensor.yaw, s2.T_odom_sensor.yaw) << k;
+  }
+}
+
 TEST(SegmentOdometry, PilasterCorridorIsConstrainedByTheRefinement) {
   std::size_t degenerate_without = 0, degenerate_with = 0;
   const double without = corridorErrorAlongX(false, &degenerate_without);

@@ -224,6 +224,39 @@ TEST(OutputFiles, AnEarlierRunsNumberedFilesTheNewSetDoesNotWriteAreRemovedAndNo
   }
 }
 
+// A folder named for pictures may be the user's own (`lidarseg-people --draw ~/Pictures`):
+// a file named like the tool's pictures that no run wrote is the user's, and stays; only
+// what a run recorded as written (OutputSet::kNumberedRecord) is ever removed (issue 16).
+TEST(OutputFiles, ANumberedFileNoRunWroteIsTheUsersAndStays) {
+  const std::string dir = freshFolder("numbered-users");
+  const NumberedName people{"people_", ".png"};
+  std::ofstream(dir + "/people_2019.png") << "the user's";
+  std::ofstream(dir + "/people_000003.png") << "the user's too";
+  const auto run = [&](const std::vector<std::string>& names, const std::string& text) {
+    OutputSet s;
+    s.claimOutputs({}, {{dir, "--draw", {}, {people}}}, {});
+    for (const std::string& n : names) s.add(dir + "/" + n, text);
+    s.commit();
+  };
+  run({"people_000000.png", "people_000001.png"}, "run 1");
+  EXPECT_EQ(slurp(dir + "/people_2019.png"), "the user's");
+  EXPECT_EQ(slurp(dir + "/people_000003.png"), "the user's too");
+  run({"people_000000.png"}, "run 2");
+  EXPECT_EQ(slurp(dir + "/people_000000.png"), "run 2");
+  EXPECT_FALSE(fs::exists(dir + "/people_000001.png")) << "run 1's, recorded: removed";
+  EXPECT_EQ(slurp(dir + "/people_2019.png"), "the user's");
+  EXPECT_EQ(slurp(dir + "/people_000003.png"), "the user's too");
+  // The record names this set's pictures only.
+  EXPECT_EQ(slurp(dir + "/" + OutputSet::kNumberedRecord), "people_000000.png\n");
+  // A record edited by hand cannot reach outside the folder.
+  const std::string outside = kTmp + "/numbered-users-victim.png";
+  std::ofstream(outside) << "keep";
+  std::ofstream(dir + "/" + OutputSet::kNumberedRecord) << "../numbered-users-victim.png\n" << outside << "\n";
+  run({}, "run 3");
+  EXPECT_EQ(slurp(outside), "keep");
+  EXPECT_EQ(slurp(dir + "/people_2019.png"), "the user's");
+}
+
 TEST(OutputFiles, AManifestNamingFilesOutsideItsFolderRemovesNoneOfThem) {
   const std::string dir = freshFolder("stale-outside");
   const std::string outside = kTmp + "/stale-outside-victim.txt";

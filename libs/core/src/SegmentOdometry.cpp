@@ -390,6 +390,7 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   if (!std::isfinite(input.stamp_s)) {
     throw std::invalid_argument("SegmentOdometry::process: the scan's stamp " + numberText(input.stamp_s) + " is not finite");
   }
+  input.validate();  // a malformed scan throws here, not half-way through the state's update
   const Scan& scan = withBeamTimes(input);
   OdometryStep step;
   step.index = count_;

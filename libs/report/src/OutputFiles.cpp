@@ -327,19 +327,23 @@ std::string quoted(const PlannedOutput& o) {
   return o.option + " '" + o.path + "'";
 }
 
-// True when `input` is a file of `folder` named like `numbered` (PREFIX digits SUFFIX).
-bool isNumberedFile(const std::string& input, const std::string& folder, const NumberedName& numbered) {
-  const fs::path prefix(numbered.prefix);
-  const std::string stem = prefix.filename().string();
-  const fs::path input_path(input);
-  const std::string name = input_path.filename().string();
+// True when the file name `name` is named like `numbered`'s files (the last part of PREFIX,
+// digits, SUFFIX).
+bool hasNumberedName(const std::string& name, const NumberedName& numbered) {
+  const std::string stem = fs::path(numbered.prefix).filename().string();
   if (name.size() <= stem.size() + numbered.suffix.size()) return false;
   if (name.compare(0, stem.size(), stem) != 0) return false;
   if (name.compare(name.size() - numbered.suffix.size(), numbered.suffix.size(), numbered.suffix) != 0) return false;
   const std::string digits = name.substr(stem.size(), name.size() - stem.size() - numbered.suffix.size());
-  if (digits.find_first_not_of("0123456789") != std::string::npos) return false;
+  return digits.find_first_not_of("0123456789") == std::string::npos;
+}
+
+// True when `input` is a file of `folder` named like `numbered` (PREFIX digits SUFFIX).
+bool isNumberedFile(const std::string& input, const std::string& folder, const NumberedName& numbered) {
+  const fs::path input_path(input);
+  if (!hasNumberedName(input_path.filename().string(), numbered)) return false;
   const fs::path input_folder = input_path.has_parent_path() ? input_path.parent_path() : fs::path(".");
-  return samePath(input_folder.string(), (fs::path(folder) / prefix.parent_path()).string());
+  return samePath(input_folder.string(), (fs::path(folder) / fs::path(numbered.prefix).parent_path()).string());
 }
 
 }  // namespace
@@ -437,7 +441,8 @@ bool isManifest(const std::string& path) { return fs::path(path).filename() == O
 // path elsewhere, the folder's lock or the publishing record.
 bool isSetFileName(const std::string& name) {
   return !name.empty() && name != "." && name != ".." && name.find('/') == std::string::npos &&
-         name.find('\0') == std::string::npos && name != ".lidarseg.lock" && name != OutputSet::kPublishing;
+         name.find('\0') == std::string::npos && name != ".lidarseg.lock" && name != OutputSet::kPublishing &&
+         name != OutputSet::kNumberedRecord;
 }
 
 // A manifest or publishing record larger than this is not one lidarseg wrote: nothing is read
@@ -512,20 +517,51 @@ bool OutputSet::isInput(const fs::path& path) const {
 }
 
 // An earlier run's numbered files that this set does not write: a folder of images held two
-// runs' pictures when the second wrote fewer.
-void OutputSet::removeStaleNumbered() const {
+// runs' pictures when the second wrote fewer. Only files a lidarseg run recorded as written
+// (kNumberedRecord, beside them) are removed: a folder named for pictures may be the user's
+// own (`--draw ~/Pictures`), whose `people_2019.png` is not an earlier run's.
+void OutputSet::retireNumbered() const {
   const auto key = [](const fs::path& p) {
     std::error_code ec;
     return fs::absolute(p, ec).lexically_normal();
   };
-  std::vector<fs::path> mine;
-  for (const Pending& p : pending_) mine.push_back(key(p.path));
+  // The patterns by the folder their files are written in.
+  std::map<fs::path, std::vector<NumberedName>> by_folder;
   for (const auto& [folder, numbered] : numbered_) {
+    // The prefix itself is a file's name there: its parent is the folder, with no trailing '/'.
+    by_folder[key(fs::path(folder) / numbered.prefix).parent_path()].push_back(numbered);
+  }
+  for (const auto& [dir, patterns] : by_folder) {
+    const auto numberedName = [&patterns = patterns](const std::string& name) {
+      return std::any_of(patterns.begin(), patterns.end(),
+                         [&](const NumberedName& n) { return hasNumberedName(name, n); });
+    };
+    std::vector<std::string> mine;
+    for (const Pending& p : pending_) {
+      const fs::path path = key(p.path);
+      const std::string name = path.filename().string();
+      if (path.parent_path() == dir && numberedName(name) && !contains(mine, name)) mine.push_back(name);
+    }
+    const std::string record = (dir / kNumberedRecord).string();
+    std::string kept;  // the record's names of other patterns (another tool's pictures there)
+    for (const std::string& name : namesInRecord(record)) {
+      if (!isSetFileName(name) || contains(mine, name)) continue;
+      if (!numberedName(name)) {
+        std::error_code ec;
+        if (fs::exists(dir / name, ec)) kept += name + "\n";
+      } else if (!isInput(dir / name)) {
+        removeStaleFile(dir / name);
+      }
+    }
+    // Written before the renames: a run stopped half-way leaves a record naming files that
+    // may be absent (harmless), never one missing a file it wrote.
+    std::string text = kept;
+    for (const std::string& name : mine) text += name + "\n";
     std::error_code ec;
-    for (const auto& entry : fs::directory_iterator(fs::path(folder) / fs::path(numbered.prefix).parent_path(), ec)) {
-      if (!entry.is_regular_file(ec) || !isNumberedFile(entry.path().string(), folder, numbered)) continue;
-      if (std::find(mine.begin(), mine.end(), key(entry.path())) != mine.end() || isInput(entry.path())) continue;
-      removeStaleFile(entry.path());
+    if (text.empty()) {
+      fs::remove(record, ec);
+    } else {
+      writeFileAtomically(record, text);
     }
   }
 }
@@ -585,7 +621,7 @@ void OutputSet::commit() {
   for (const auto& p : pending_) {
     if (isManifest(p.path)) retirePreviousSet(p.path);
   }
-  removeStaleNumbered();
+  retireNumbered();
   for (const auto& p : pending_) {
     if (std::rename(p.temporary.c_str(), p.path.c_str()) != 0) {
       throw std::runtime_error("cannot put '" + p.path + "' in place: " + std::strerror(errno) + " (from '" +

@@ -24,11 +24,12 @@ class ScanSource {
   explicit ScanSource(std::string path) : path_(std::move(path)) {}
   virtual ~ScanSource() = default;
   /// How far a laser's mounting may move on the robot between scans and count as unchanged:
-  /// 2 mm and 0.1 degree: above the rounding of the difference of two poses printed with 3
-  /// decimals (up to 1.4 mm and 0.06 degree; CARMEN's own logger prints 6) and below any real
-  /// change of mounting.
-  static constexpr double kMountingToleranceM = 2e-3;
-  static constexpr double kMountingToleranceRad = 0.1 * 3.14159265358979323846 / 180.0;
+  /// 5 mm and 0.25 degree: above the difference of two mountings each obtained as the
+  /// difference of two poses printed with 3 decimals (each off by up to 1.4 mm and 0.001 rad,
+  /// so two by up to about 3 mm and 0.11 degree; CARMEN's own logger prints 6) and below any
+  /// real change of mounting (centimetres, degrees).
+  static constexpr double kMountingToleranceM = 5e-3;
+  static constexpr double kMountingToleranceRad = 0.25 * 3.14159265358979323846 / 180.0;
   ScanSource(const ScanSource&) = delete;
   ScanSource& operator=(const ScanSource&) = delete;
 

@@ -119,6 +119,9 @@ class OutputSet {
   /// While a set is published: the names of both the set replaced and the new one, one per
   /// line, so that a run stopped between two renames is cleaned up by the next.
   static constexpr const char* kPublishing = ".lidarseg.publishing";
+  /// Beside numbered files (NumberedName): the names of those a run wrote, one per line, so
+  /// that the next run removes only these, never a file of the user's named alike.
+  static constexpr const char* kNumberedRecord = ".lidarseg.numbered";
   /// The text of a manifest, given the names of the files of its set in its folder (itself
   /// included), in the order they were added.
   using ManifestText = std::function<std::string(const std::vector<std::string>& files)>;
@@ -168,8 +171,9 @@ class OutputSet {
   void claimOutputs(const std::vector<NamedOutput>& files, const std::vector<NamedOutput>& folders,
                     const std::vector<std::string>& inputs);
   /// The files of `folder` named like `numbered` are this set's kind: commit() removes those
-  /// it does not write (an earlier run's, which wrote more) before it renames its own into
-  /// place, never an input. Files of other names are not touched.
+  /// an earlier run recorded as written (kNumberedRecord) that this set does not write,
+  /// before it renames its own into place, never an input, never a file no run recorded
+  /// (a user's picture named alike). Files of other names are not touched.
   void replaceNumbered(const std::string& folder, const NumberedName& numbered);
   /// Adds a text output.
   void add(const std::string& path, std::string content);
@@ -201,7 +205,7 @@ class OutputSet {
   void writeManifests();
   void retirePreviousSet(const std::string& manifest);
   bool isInput(const std::filesystem::path& path) const;
-  void removeStaleNumbered() const;
+  void retireNumbered() const;
   std::vector<Pending> pending_;
   std::vector<std::pair<std::string, ManifestText>> manifests_;  // written by commit()
   std::vector<std::string> own_names_;  // what an older set's manifest may have removed
