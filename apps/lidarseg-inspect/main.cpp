@@ -5,6 +5,7 @@
 
 #include "lidarseg/apps/CommandLine.h"
 #include "lidarseg/apps/InspectApp.h"
+#include "lidarseg/report/OutputFiles.h"
 
 int main(int argc, char** argv) {
   try {
@@ -72,7 +73,8 @@ int main(int argc, char** argv) {
     if (picture && render.isSet()) {
       throw lidarseg::apps::UsageError("-o " + out_value + " (its old form) and --draw both name the picture; give one");
     }
-    if (!picture && out.isSet() && report.isSet()) {
+    // The same folder twice (`-o X --report X/`) names one output: accepted.
+    if (!picture && out.isSet() && report.isSet() && !lidarseg::report::samePath(out_value, report.getValue())) {
       throw lidarseg::apps::UsageError("-o/--out and --report (its old form) both name the report folder; give one");
     }
     o.render_out = picture ? out_value : render.getValue();

@@ -5,6 +5,7 @@
 
 #include "lidarseg/apps/CommandLine.h"
 #include "lidarseg/apps/PeopleApp.h"
+#include "lidarseg/report/OutputFiles.h"
 
 int main(int argc, char** argv) {
   try {
@@ -47,7 +48,8 @@ int main(int argc, char** argv) {
     const auto target = lidarseg::apps::outputTarget(out.getValue(), ".csv", "lidarseg-people");
     options.out_csv = target.folder.empty() ? target.legacy_file : target.folder + "/people.csv";
     // Both name the report's folder: the -o folder silently went without it (issue 16).
-    if (!target.folder.empty() && report.isSet()) {
+    // The same folder twice (`-o X -r X/`) names one output: accepted.
+    if (!target.folder.empty() && report.isSet() && !lidarseg::report::samePath(target.folder, report.getValue())) {
       throw lidarseg::apps::UsageError("-o/--out DIR and -r/--report (its old form) both name the folder of people.md; give one");
     }
     options.report_dir = report.getValue().empty() ? target.folder : report.getValue();

@@ -37,6 +37,14 @@ TEST(Statistics, QuantilesOfInfiniteValuesAreNotNaN) {
   EXPECT_EQ(summarize({inf, inf, inf}).median, inf);
   EXPECT_EQ(summarize({1, inf, inf}).median, inf);
   EXPECT_EQ(summarize({1, 2, inf}).median, 2.0);
+  // Between an infinite sample and another: the nearer one, never NaN (-inf + f * (x + inf)).
+  EXPECT_EQ(summarize({-inf, 1}).median, 1.0);
+  EXPECT_EQ(summarize({-inf, -inf, 1, 2}).median, 1.0);  // half-way: the upper one
+  EXPECT_EQ(quantileSorted({-inf, inf}, 0.25), -inf);
+  EXPECT_EQ(quantileSorted({-inf, inf}, 0.75), inf);
+  EXPECT_EQ(quantileSorted({1, inf}, 0.99), inf);
+  EXPECT_EQ(quantileSorted({-inf, 3}, 0.2), -inf);
+  EXPECT_EQ(summarize({-inf, 0, inf}).p99, inf);
 }
 
 }  // namespace

@@ -99,7 +99,9 @@ TEST(OdometryRun, RunsTheBaselinesNamedInTheRegistrysOrder) {
     ASSERT_TRUE(step.processed) << record.where;
     ASSERT_EQ(step.steps.size(), 3u);
     EXPECT_EQ(step.steps[1].stamp_s, step.steps[0].stamp_s);
-    if (&record == &log.front()) EXPECT_EQ(step.steps[1].status, "first");
+    if (&record == &log.front()) {
+      EXPECT_EQ(step.steps[1].status, "first");
+    }
   }
   const report::OdometryReport report = run.finish(0.01);
   ASSERT_EQ(report.baselines.size(), 2u);
@@ -124,6 +126,35 @@ TEST(OdometryRun, RunsTheBaselinesNamedInTheRegistrysOrder) {
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()), "unknown report::baseline 'csm' (known: 'icp', 'icp-s2s')");
   }
+}
+
+// A scan the odometry refuses (its ranges not matching its layout) is skipped with its
+// place, and its wheel-odometry prior is not counted as used: the summary's count of scans
+// whose prior was the wheel odometry's counted it (issue 16).
+TEST(OdometryRun, ARefusedScansPriorIsNotCounted) {
+  auto log = corridorLog();
+  Pose2D odometry{5.0, -2.0, 0.3};
+  for (auto& record : log) {
+    record.odometry = odometry;
+    odometry = compose(odometry, Pose2D{0.04, 0.0, 0.5 * kDeg});
+  }
+  log[6].scan.ranges_m.pop_back();
+  RunSettings settings;
+  settings.use_odometry = true;
+  OdometryRun run(settings);
+  std::size_t processed = 0;
+  for (const auto& record : log) {
+    const RunStep step = run.process(record);
+    if (&record == &log[6]) {
+      EXPECT_FALSE(step.processed);
+      EXPECT_NE(step.error.find("corridor, entry 6"), std::string::npos) << step.error;
+    }
+    if (step.processed) ++processed;
+  }
+  EXPECT_EQ(processed, log.size() - 1);
+  const report::OdometryReport report = run.finish(0.01);
+  EXPECT_EQ(report.odometry_priors, processed - 1) << "every used scan but the first, and not the refused one";
+  EXPECT_EQ(report.odometry_jumps, 0u);
 }
 
 }  // namespace

@@ -132,8 +132,10 @@ std::size_t InspectApp::scanAtTime(inspect::Session& session, double t_s) {
 }
 
 int InspectApp::run() {
-  OutputSet claimed;
-  claimOutputs(options_, claimed);
+  // Held in an optional: the window leaves the process without unwinding (see
+  // InspectorWindow::leave) and releases it first.
+  std::optional<OutputSet> claimed(std::in_place);
+  claimOutputs(options_, *claimed);
   auto session = open();
   if (options_.time_s) options_.frame = scanAtTime(*session, *options_.time_s);
   if (!options_.report_dir.empty()) {
@@ -146,7 +148,7 @@ int InspectApp::run() {
     render(*session);
     if (options_.screenshot_out.empty()) return 0;
   }
-  return window(*session);
+  return window(*session, [&claimed] { claimed.reset(); });
 }
 
 void InspectApp::render(Session& session) {
@@ -159,21 +161,12 @@ void InspectApp::render(Session& session) {
 
 namespace {
 
-// MRPT's window lives on a GUI thread that can still be drawing when the window object is
-// destroyed at exit (a rare crash in its teardown under Xvfb). Everything the inspector
-// writes is already on disk by then, so the process leaves without running the teardown.
-[[noreturn]] void leave(int code) {
-  std::cout.flush();
-  std::cerr.flush();
-  std::fflush(nullptr);
-  std::_Exit(code);
-}
-
 // The interactive window on one session: the scan it shows and the keys of keyHelp().
 class InspectorWindow {
  public:
-  // Opens the window at options.frame.
-  InspectorWindow(Session& session, const InspectOptions& options);
+  // Opens the window at options.frame; `release` gives up the run's claims on its outputs
+  // (called before the process leaves).
+  InspectorWindow(Session& session, const InspectOptions& options, std::function<void()> release);
   // Shows the scan, writes what the window shows to options.screenshot_out, leaves.
   [[noreturn]] void screenshot();
   // Follows the keys until q, Esc or the window is closed, then leaves.
@@ -200,6 +193,11 @@ class InspectorWindow {
   void tune(const std::function<void(inspect::InspectorParams&)>& change, const std::string& what);
   // Writes the parameters as INI to options.save_path.
   void saveParams();
+  // MRPT's window lives on a GUI thread that can still be drawing when the window object is
+  // destroyed at exit (a rare crash in its teardown under Xvfb). Everything the inspector
+  // writes is on disk by then: the claims are released (a folder created for an output and
+  // left empty is removed) and the process leaves without the window's teardown.
+  [[noreturn]] void leave(int code);
 
   Session& session_;
   const InspectOptions& options_;
@@ -210,23 +208,41 @@ class InspectorWindow {
   bool playing_ = false, help_ = false, dirty_ = true;
   std::string number_, message_;
   cv::Mat shown_;
+  std::function<void()> release_;
 };
 
-InspectorWindow::InspectorWindow(Session& session, const InspectOptions& options)
+InspectorWindow::InspectorWindow(Session& session, const InspectOptions& options, std::function<void()> release)
     : session_(session),
       options_(options),
       layers_(inspect::parseLayers(options.layers)),
       win_("lidarseg-inspect: " + fs::path(options.input).filename().string(), static_cast<unsigned>(options.width),
            static_cast<unsigned>(options.height)),
-      index_(options.frame) {
+      index_(options.frame),
+      release_(std::move(release)) {
   // A display that cannot be reached (a stale DISPLAY, a closed X server): MRPT's GUI thread
   // gives up without a window, and the loop would end at once as if the user had closed it.
-  if (!win_.wait_for_GL_context(5.0) || !win_.isOpen()) {
+  // A slow display (Xvfb on a loaded machine) gets its time: the wait ends when the context
+  // is ready or the window is gone, at most kWaitForDisplayS.
+  constexpr double kWaitForDisplayS = 60.0;
+  const auto start = std::chrono::steady_clock::now();
+  bool ready = false;
+  while (!(ready = win_.wait_for_GL_context(0.5)) && win_.isOpen() &&
+         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < kWaitForDisplayS) {
+  }
+  if (!ready || !win_.isOpen()) {
     const char* display = std::getenv("DISPLAY");
     std::cerr << "lidarseg-inspect: error: cannot open a window on display '" << (display != nullptr ? display : "")
               << "': use --render FRAME --out FILE.png or --report DIR, or run under xvfb-run\n";
     leave(1);
   }
+}
+
+void InspectorWindow::leave(int code) {
+  if (release_) release_();
+  std::cout.flush();
+  std::cerr.flush();
+  std::fflush(nullptr);
+  std::_Exit(code);
 }
 
 void InspectorWindow::screenshot() {
@@ -409,11 +425,11 @@ void InspectorWindow::saveParams() {
 
 }  // namespace
 
-int InspectApp::window(Session& session) {
+int InspectApp::window(Session& session, const std::function<void()>& release) {
   if (std::getenv("DISPLAY") == nullptr) {
     throw std::runtime_error("no display (DISPLAY unset): use --render FRAME --out FILE.png, or run under xvfb-run");
   }
-  InspectorWindow win(session, options_);
+  InspectorWindow win(session, options_, release);
   if (!options_.screenshot_out.empty()) win.screenshot();
   win.loop();
 }

@@ -13,6 +13,8 @@ double quantileSorted(const std::vector<double>& sorted, double q) {
   const double frac = pos - static_cast<double>(lo);
   // On a sample itself or between equal ones: no interpolation (inf + 0 * (inf - inf) is NaN).
   if (frac == 0.0 || sorted[hi] == sorted[lo]) return sorted[lo];
+  // Beside an infinite sample the nearer one (-inf + f * (x + inf) is NaN).
+  if (!std::isfinite(sorted[lo]) || !std::isfinite(sorted[hi])) return frac < 0.5 ? sorted[lo] : sorted[hi];
   return sorted[lo] + frac * (sorted[hi] - sorted[lo]);
 }
 

@@ -180,7 +180,7 @@ bool CarmenLogReader::parseLaser(const std::string& type, const std::vector<std:
     }
     if (res_deg < 0.0) {
       throw std::invalid_argument("PARAM laser_" + side + "_laser_resolution = " + numberText(res_deg) +
-                                  ": a resolution > 0 degrees is needed");
+                                  ": a resolution > 0 degrees (or 0: fov / beams) is needed");
     }
     if (!(res_deg > 0.0) && n > 1) res_deg = (n % 2 == 1) ? fov_deg / static_cast<double>(n - 1)
                                                           : fov_deg / static_cast<double>(n);

@@ -23,33 +23,38 @@ OdometryRun::OdometryRun(const RunSettings& settings) : settings_(settings), gat
 }
 
 // The wheel-odometry increment when asked for and plausible; no motion after a time gap;
-// otherwise nothing (constant velocity).
-std::optional<Pose2D> OdometryRun::priorOf(const mrpt_adapter::LaserRecord& record, const StampStep& time) {
-  std::optional<Pose2D> prior;
+// otherwise nothing (constant velocity). Counted by the caller once the scan is used.
+OdometryRun::PriorChoice OdometryRun::priorOf(const mrpt_adapter::LaserRecord& record, const StampStep& time) const {
+  PriorChoice choice;
   if (settings_.use_odometry && record.odometry && last_odometry_) {
     const Pose2D inc = relative(*record.odometry, *last_odometry_);
     if (gate_.stamps().plausible(inc, time)) {
-      prior = inc;
-      ++odometry_priors_;
+      choice.prior = inc;
+      choice.from_odometry = true;
     } else {
-      ++odometry_jumps_;
-      gate_.warn(record.where + ": wheel odometry jumps by " + std::to_string(std::hypot(inc.x, inc.y)) + " m / " +
-                 std::to_string(inc.yaw) + " rad; ignored as a prior");
+      choice.jump = record.where + ": wheel odometry jumps by " + std::to_string(std::hypot(inc.x, inc.y)) + " m / " +
+                    std::to_string(inc.yaw) + " rad; ignored as a prior";
     }
   }
-  if (!prior && time.gap) prior = Pose2D{};
-  return prior;
+  if (!choice.prior && time.gap) choice.prior = Pose2D{};
+  return choice;
 }
 
 RunStep OdometryRun::process(const mrpt_adapter::LaserRecord& record) {
   RunStep out;
   out.time = gate_.time(record);
-  const ScanInput input{record, out.time, priorOf(record, out.time)};
+  const PriorChoice choice = priorOf(record, out.time);
+  const ScanInput input{record, out.time, choice.prior};
   try {
     out.steps.push_back(lidarseg_->process(input));
   } catch (const std::invalid_argument& e) {
     out.error = gate_.skip(record, e.what());
-    return out;
+    return out;  // a refused scan counts no prior
+  }
+  if (choice.from_odometry) ++odometry_priors_;
+  if (!choice.jump.empty()) {
+    ++odometry_jumps_;
+    gate_.warn(choice.jump);
   }
   for (const auto& m : baselines_) out.steps.push_back(m->process(input));
   if (settings_.use_odometry && record.odometry) last_odometry_ = record.odometry;

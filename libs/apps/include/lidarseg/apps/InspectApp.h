@@ -6,6 +6,7 @@
 /// an MRPT window, a headless renderer (PNG/SVG) and a static HTML report.
 
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -79,7 +80,9 @@ class InspectApp {
   std::size_t scanAtTime(inspect::Session& session, double t_s);
   // Draws options_.frame headless to options_.render_out (PNG or SVG).
   void render(inspect::Session& session);
-  int window(inspect::Session& session);
+  // The interactive window (or its screenshot); never returns: the process leaves from it
+  // after calling `release` (the run's claims on its outputs).
+  int window(inspect::Session& session, const std::function<void()>& release);
 
   InspectOptions options_;
   std::string truth_path_;  ///< the ground truth read (given, or found beside the log); empty without one

@@ -24,7 +24,8 @@ struct Summary {
 Summary summarize(std::vector<double> values);
 
 /// The q-quantile (0 <= q <= 1) of an already sorted, non-empty sample, with linear
-/// interpolation between order statistics.
+/// interpolation between order statistics (between an infinite one and another: the nearer
+/// of the two, never NaN).
 double quantileSorted(const std::vector<double>& sorted, double q);
 
 }  // namespace lidarseg

@@ -7,6 +7,7 @@
 
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "lidarseg/pipeline/OdometryMethods.h"
@@ -61,7 +62,13 @@ class OdometryRun {
   report::OdometryReport finish(double max_lost_ratio);
 
  private:
-  std::optional<Pose2D> priorOf(const mrpt_adapter::LaserRecord& record, const StampStep& time);
+  // A record's prior and where it came from, counted once the scan is used.
+  struct PriorChoice {
+    std::optional<Pose2D> prior;
+    bool from_odometry = false;
+    std::string jump;  // the warning when the wheel odometry jumped
+  };
+  PriorChoice priorOf(const mrpt_adapter::LaserRecord& record, const StampStep& time) const;
   RunSettings settings_;
   report::RecordGate gate_;
   std::size_t odometry_jumps_ = 0;
