@@ -124,6 +124,13 @@ void BatchApp::runOne(const BatchJob& job) {
   if (finished(job.out_dir, job.seed)) return;  // finished by the job that held the lock
   const fs::path final_dir = runDir(job.out_dir, job.seed);
   const fs::path work = final_dir.string() + ".partial";
+  // A run folder that is not a finished run was never this runner's (a run is renamed into
+  // place with its metrics.csv): it is the user's, and is refused, not removed.
+  const std::string foreign = report::foreignEntry(final_dir.string(), [](const fs::directory_entry&) { return false; });
+  if (!foreign.empty()) {
+    throw std::runtime_error("'" + final_dir.string() + "' is not a finished run (no metrics.csv) and holds '" + foreign +
+                             "', which lidarseg-batch did not write: move it, or choose another --out");
+  }
   std::error_code ec;
   fs::remove_all(work, ec);
   fs::create_directories(work);
@@ -133,7 +140,7 @@ void BatchApp::runOne(const BatchJob& job) {
   writeFileAtomically((work / "metrics.csv").string(),
                       report::metricsHeader() + report::metricsLine(job.seed, report::runMetrics(report)));
   if (!job.keep_data) removeSimulatedData(work);
-  fs::remove_all(final_dir, ec);
+  fs::remove(final_dir, ec);  // an empty folder only (checked above)
   fs::rename(work, final_dir);
 }
 

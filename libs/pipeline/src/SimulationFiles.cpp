@@ -82,7 +82,31 @@ void writeCarmenLines(std::ostream& c, const sim::SimulatedFrame& f) {
 
 }  // namespace
 
+namespace {
+
+// An image a run writes in PREFIX_Images/: img_NNNNNN.png, a plain file.
+bool isSimulatedImage(const fs::directory_entry& entry) {
+  std::error_code ec;
+  const std::string name = entry.path().filename().string();
+  if (!entry.is_regular_file(ec) || entry.is_symlink(ec)) return false;
+  if (name.size() <= 8 || name.compare(0, 4, "img_") != 0 || name.compare(name.size() - 4, 4, ".png") != 0) return false;
+  return name.find_first_not_of("0123456789", 4) == name.size() - 4;
+}
+
+// An earlier run's PREFIX_Images/ is replaced; one holding anything else (the user's files,
+// an input) is refused, never removed.
+void checkImagesFolder(const std::string& images) {
+  const std::string foreign = report::foreignEntry(images, isSimulatedImage);
+  if (!foreign.empty()) {
+    throw std::runtime_error("'" + images + "' would be replaced by this run's camera images, but it holds '" + foreign +
+                             "', which is no image lidarseg-simulate writes: move it, or choose another --out");
+  }
+}
+
+}  // namespace
+
 void prepareSimulationFolders(const std::string& prefix, bool camera) {
+  if (camera) checkImagesFolder(prefix + "_Images");
   const fs::path parent = fs::path(prefix).parent_path();
   if (!parent.empty()) fs::create_directories(parent);
   std::error_code ec;
@@ -180,9 +204,15 @@ void SimulationFiles::commit(const std::vector<report::PendingFile*>& companions
 // PREFIX_Images.tmp/ becomes PREFIX_Images/, replacing an earlier run's folder.
 void SimulationFiles::publishImages() {
   const std::string images = prefix_ + "_Images";
+  checkImagesFolder(images);  // again: the folder may have changed while the run simulated
   std::error_code ec;
-  fs::remove_all(images, ec);
-  if (ec) throw std::runtime_error("cannot remove the previous '" + images + "': " + ec.message());
+  if (fs::is_directory(images, ec)) {
+    for (const auto& entry : fs::directory_iterator(images, ec)) fs::remove(entry.path(), ec);
+    if (!fs::remove(images, ec) || ec) {
+      throw std::runtime_error("cannot remove the previous '" + images + "': " +
+                               (ec ? ec.message() : std::string("not empty")));
+    }
+  }
   fs::rename(images + ".tmp", images);
   report::releaseTemporary(images + ".tmp");
 }

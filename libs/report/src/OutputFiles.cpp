@@ -208,6 +208,16 @@ bool samePath(const std::string& a, const std::string& b) {
   return normalPath(a) == normalPath(b);
 }
 
+std::string foreignEntry(const std::string& folder, const std::function<bool(const fs::directory_entry&)>& ours) {
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec)) return {};
+  for (const auto& entry : fs::directory_iterator(folder, ec)) {
+    if (!ours(entry)) return entry.path().string();
+  }
+  if (ec) return folder + " (unreadable: " + ec.message() + ")";
+  return {};
+}
+
 void refuseOverwritingInput(const std::string& output, const std::string& input, const std::string& option) {
   if (output.empty() || input.empty()) return;
   if (samePath(output, input)) {

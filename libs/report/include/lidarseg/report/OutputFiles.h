@@ -26,6 +26,13 @@ class UsageError : public std::invalid_argument {
 /// trailing `/` dropped).
 bool samePath(const std::string& a, const std::string& b);
 
+/// The first entry of `folder` (its own, not its subfolders') that `ours` does not accept,
+/// as "FOLDER/NAME"; empty when there is none or no such folder. A tool replacing a folder
+/// it wrote earlier checks it first: one holding anything else is the user's (or holds an
+/// input), and is refused rather than removed.
+std::string foreignEntry(const std::string& folder,
+                         const std::function<bool(const std::filesystem::directory_entry&)>& ours);
+
 /// A temporary name for `path`, unique to this process and call ("path.tmp.PID.N"), and
 /// removed by the SIGINT/SIGTERM handler until released (see installCleanupOnSignals()).
 std::string uniqueTemporary(const std::string& path);
