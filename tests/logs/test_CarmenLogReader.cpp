@@ -4,6 +4,9 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <utility>
+#include <vector>
+
 #include <zlib.h>
 
 #include "lidarseg/logs/CarmenLogReader.h"
@@ -235,6 +238,49 @@ TEST(CarmenLogReader, CorruptGzipIsAnErrorNamingTheFile) {
     EXPECT_NE(std::string(e.what()).find("f_trunc.log.gz:"), std::string::npos) << e.what();
   }
   EXPECT_THROW(CarmenLogReader(tmp("missing.log")), std::runtime_error);
+}
+
+// A gzip file of several members is read whole; a damaged or cut later member, or garbage
+// after the last, is an error naming the file and line: zlib's gzread() ended the log there
+// without a word (half of it lost, exit 0). Zero padding after the last member is allowed
+// (as gzip allows it). Issue 16.
+TEST(CarmenLogReader, EveryGzipMemberIsReadAndNothingAfterTheLastIsIgnored) {
+  std::string first, second;
+  for (int k = 0; k < 300; ++k) first += flaser(50, 1.0 + k * 1e-3, k, k);
+  for (int k = 300; k < 600; ++k) second += flaser(50, 1.0 + k * 1e-3, k, k);
+  const auto bytesOf = [](const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string a = bytesOf(writeGz("m1.log.gz", first)), b = bytesOf(writeGz("m2.log.gz", second));
+  const auto count = [](const std::string& path) {
+    CarmenLogReader reader(path);
+    std::size_t n = 0;
+    while (reader.next()) ++n;
+    return n;
+  };
+  const auto write = [](const std::string& name, const std::string& bytes) {
+    std::ofstream(tmp(name), std::ios::binary) << bytes;
+    return tmp(name);
+  };
+  EXPECT_EQ(count(write("two.log.gz", a + b)), 600u);
+  EXPECT_EQ(count(write("padded.log.gz", a + b + std::string(100, '\0'))), 600u);
+  std::string flipped = a + b;
+  flipped[a.size()] = static_cast<char>(flipped[a.size()] ^ 0xff);
+  for (const auto& [name, bytes] : std::vector<std::pair<std::string, std::string>>{
+           {"cut_member.log.gz", a + b.substr(0, 1)},
+           {"cut_header.log.gz", a + b.substr(0, 5)},
+           {"cut_data.log.gz", a + b.substr(0, b.size() / 2)},
+           {"flipped_member.log.gz", flipped},
+           {"garbage.log.gz", a + b + "garbage"}}) {
+    try {
+      const std::size_t n = count(write(name, bytes));
+      ADD_FAILURE() << name << ": read to the end without error (" << n << " scans)";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(name + ":"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("corrupt or truncated compressed data"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(CarmenLogReader, ReadsEveryRadishLogToTheEnd) {

@@ -387,6 +387,38 @@ TEST(BadInputs, AGzipTrailerThatDoesNotMatchItsDataIsAnErrorNamingTheFile) {
   EXPECT_FALSE(fs::exists(o.out_dir + "/summary.json"));
 }
 
+// --- Row: a gzip log of several members, the last damaged ----------------------------------
+// Bytes after a gzip member that are no whole member (a second member cut in its header,
+// garbage appended) ended zlib's stream without an error: the rest of the log was dropped
+// and the run exited 0. Now an error naming the file, for a rawlog and a CARMEN log alike;
+// two whole members are read whole (issue 16).
+TEST(BadInputs, BytesAfterAGzipMemberThatAreNoWholeMemberAreAnError) {
+  const std::string rawlog = slurp(smallRun() + ".rawlog");
+  const std::string carmen = gzip(slurp(smallRun() + ".carmen.log"));
+  for (const auto& [bytes, name] : {std::pair{rawlog, std::string("members.rawlog")}, {carmen, std::string("members.log.gz")}}) {
+    const bool is_rawlog = name == "members.rawlog";
+    const std::size_t one = readAll(put(name, bytes)).first;
+    const auto [two, whole_error] = readAll(put(name, bytes + bytes));
+    EXPECT_EQ(whole_error, "") << name;
+    EXPECT_EQ(two, 2 * one) << name << ": both members read";
+    struct Damage {
+      std::string what, bytes, reason;
+    };
+    for (const Damage& d : {Damage{"a second member cut after 1 byte", bytes + bytes.substr(0, 1), "no gzip member"},
+                            Damage{"a second member cut after 9 bytes", bytes + bytes.substr(0, 9), "unexpected end of file"},
+                            Damage{"garbage appended", bytes + "garbage", "no gzip member"}}) {
+      const std::string& what = d.what;
+      const std::string& damaged = d.bytes;
+      const std::string path = put(name, damaged);
+      const auto [n, error] = readAll(path);
+      EXPECT_NE(error.find(is_rawlog ? "rawlog '" + path + "', entry " : path + ":"), std::string::npos)
+          << name << ", " << what << ": " << (error.empty() ? "read as a whole log" : error);
+      EXPECT_NE(error.find(d.reason), std::string::npos) << name << ", " << what << ": " << error;
+      EXPECT_LE(n, one) << what;
+    }
+  }
+}
+
 // --- Rows: field counts, NaN/inf/negative/huge ranges, 0 / 1 / 100000 beams ------------
 // A log whose every laser line is malformed: the error says so and why, with the places.
 TEST(BadInputs, ALogWithNoUsableScanSaysWhichLinesWereSkipped) {

@@ -7,19 +7,10 @@
 #include <stdexcept>
 #include <string>
 
-#include <zlib.h>
 
 namespace lidarseg::logs {
 
-LineReader::LineReader(const std::string& path) : path_(path) {
-  errno = 0;
-  gzFile f = gzopen(path.c_str(), "rb");
-  if (f == nullptr) {
-    // The system's reason (no such file, permission denied); zlib's own failures set none.
-    const int err = errno;
-    throw std::runtime_error("cannot open '" + path + "'" + (err != 0 ? ": " + std::string(std::strerror(err)) : std::string()));
-  }
-  file_ = f;
+LineReader::LineReader(const std::string& path) : path_(path), input_(std::make_unique<CompressedInput>(path)) {
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
   file_bytes_ = ec ? 0.0 : static_cast<double>(size);
@@ -27,13 +18,10 @@ LineReader::LineReader(const std::string& path) : path_(path) {
 
 double LineReader::fractionRead() const {
   if (file_bytes_ <= 0) return 0.0;
-  const z_off_t at = gzoffset(static_cast<gzFile>(file_));
-  return at < 0 ? 0.0 : std::clamp(static_cast<double>(at) / file_bytes_, 0.0, 1.0);
+  return std::clamp(static_cast<double>(input_->fileBytesRead()) / file_bytes_, 0.0, 1.0);
 }
 
-LineReader::~LineReader() {
-  if (file_ != nullptr) gzclose(static_cast<gzFile>(file_));
-}
+LineReader::~LineReader() = default;
 
 bool LineReader::fill() {
   if (eof_) return false;
@@ -42,24 +30,20 @@ bool LineReader::fill() {
     begin_ = 0;
   }
   char chunk[1 << 16];
-  const int n = gzread(static_cast<gzFile>(file_), chunk, sizeof chunk);
-  int code = Z_OK;
-  const char* message = gzerror(static_cast<gzFile>(file_), &code);
-  const bool failed = n < 0 || (code != Z_OK && code != Z_STREAM_END);
-  if (failed && n > 0) {
-    // The bytes before the damage are lines too: return them, fail at the next read.
-    buffer_.append(chunk, static_cast<std::size_t>(n));
-    return true;
-  }
-  if (failed) {
+  std::size_t n = 0;
+  try {
+    n = input_->read(chunk, sizeof chunk);
+  } catch (const std::runtime_error& e) {
+    // Every whole line before the damage has been returned (read() gives the bytes it made
+    // before it fails); what is left is the damaged line.
     throw std::runtime_error(path_ + ":" + std::to_string(line_ + 1) + ": corrupt or truncated compressed data (" +
-                             (message ? message : "zlib error") + ")");
+                             e.what() + ")");
   }
   if (n == 0) {
     eof_ = true;
     return false;
   }
-  buffer_.append(chunk, static_cast<std::size_t>(n));
+  buffer_.append(chunk, n);
   return true;
 }
 

@@ -1,5 +1,6 @@
 #include "lidarseg/mrpt/RawlogScanReader.h"
 #include "lidarseg/core/ScanRecord.h"
+#include "lidarseg/logs/CompressedInput.h"
 #include "lidarseg/vision/ImageFile.h"
 
 #include <algorithm>
@@ -368,19 +369,7 @@ double RawlogScanReader::fractionRead() const {
   return std::clamp(static_cast<double>(counter_->bytes()) / expected_bytes_, 0.0, 1.0);
 }
 
-std::string RawlogScanReader::compressedStreamError() const {
-  gzFile g = gzopen(path_.c_str(), "rb");
-  if (g == nullptr) return "cannot open the file again";
-  std::array<char, 1 << 16> buffer{};
-  int n = 0;
-  while ((n = gzread(g, buffer.data(), static_cast<unsigned>(buffer.size()))) > 0) {
-  }
-  int code = Z_OK;
-  const std::string message = gzerror(g, &code);
-  gzclose(g);
-  if (n < 0 || (code != Z_OK && code != Z_STREAM_END)) return message.empty() ? "zlib error" : message;
-  return {};
-}
+std::string RawlogScanReader::compressedStreamError() const { return logs::CompressedInput::problemOf(path_); }
 
 void RawlogScanReader::checkCompressedEnd() const {
   if (!gzip_) return;
@@ -399,8 +388,9 @@ void RawlogScanReader::checkCompressedEnd() const {
     if (raw && word(4) == static_cast<std::uint32_t>(counter_->bytes()) && word(0) == counter_->crc()) return;
   }
   // Otherwise (a cut stream, a trailer that does not match its data, or a file of several
-  // gzip members) zlib decides, reading the whole stream once more: MRPT's stream reports a
-  // cut stream as a normal end.
+  // gzip members) the whole stream is read once more, member by member: MRPT's stream (and
+  // zlib's gzread()) report a cut stream, a damaged later member or garbage after the last
+  // as a normal end.
   const std::string error = compressedStreamError();
   if (!error.empty()) {
     throw std::runtime_error("rawlog '" + path_ + "', entry " + std::to_string(entries_read_) +

@@ -3,7 +3,10 @@
 /// Reads a text file line by line, gzip-compressed or not.
 
 #include <cstddef>
+#include <memory>
 #include <string>
+
+#include "lidarseg/logs/CompressedInput.h"
 
 namespace lidarseg::logs {
 
@@ -24,11 +27,12 @@ class LineReader {
   /// Reads the next line (without its end-of-line characters) into `line`.
   /// @return false at the end of the file.
   /// @throws std::runtime_error naming the file and line for a corrupt or truncated gzip
-  /// stream, a read error or a line longer than kMaxLineBytes.
+  /// stream (any member of it, or bytes after its last member: CompressedInput), a read
+  /// error or a line longer than kMaxLineBytes.
   bool next(std::string& line);
 
   /// Share of the file's bytes (compressed bytes for a gzip file) read so far, 0 to 1: for
-  /// a progress's time left. Read ahead by up to 64 KiB (plus zlib's buffer).
+  /// a progress's time left. Read ahead by up to 64 KiB.
   double fractionRead() const;
 
   /// 1-based number of the last line returned.
@@ -37,7 +41,7 @@ class LineReader {
 
  private:
   std::string path_;
-  void* file_ = nullptr;  // gzFile
+  std::unique_ptr<CompressedInput> input_;
   std::size_t line_ = 0;
   double file_bytes_ = 0;   // the file's size on disk
   std::string buffer_;      // bytes read but not yet returned
