@@ -1,5 +1,6 @@
 #include "NumberLines.h"
 #include "lidarseg/core/NumberText.h"
+#include "lidarseg/core/ScanRecord.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -10,6 +11,7 @@
 namespace lidarseg::eval::detail {
 
 void forEachLineOf8Numbers(const std::string& path, const std::string& kind, const std::string& format,
+                           std::size_t stamps,
                            const std::function<void(std::size_t, const std::array<double, 8>&)>& visit) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot open " + kind + " '" + path + "'");
@@ -31,6 +33,12 @@ void forEachLineOf8Numbers(const std::string& path, const std::string& kind, con
       if (parsed.status == ParsedNumber::Status::not_a_number || !std::isfinite(v[count])) {
         throw std::runtime_error(where + "field " + std::to_string(count + 1) + " '" + token +
                                  "' is not a finite number");
+      }
+      // Poses, motions and quaternions past the logs' own bound (kMaxLogCoordinate): no
+      // building's, and their squares overflow every error and deviation to inf.
+      if (count >= stamps && std::abs(v[count]) > kMaxLogCoordinate) {
+        throw std::runtime_error(where + "field " + std::to_string(count + 1) + " '" + token +
+                                 "' is beyond +-1e6 (m, rad): not a pose of a building");
       }
       ++count;
     }

@@ -13,9 +13,11 @@ namespace lidarseg::eval::detail {
 /// comments skipped).
 /// @param kind what the file is, for messages ("trajectory", "relations")
 /// @param format the expected fields, for messages ("timestamp x y z qx qy qz qw")
+/// @param stamps how many leading fields are stamps (s; finite, not bounded)
 /// @throws std::runtime_error naming the file and line for an unreadable file or a line
-/// without exactly 8 finite numbers (and whatever `visit` throws).
+/// without exactly 8 finite numbers, or with a field after the stamps beyond
+/// +-kMaxLogCoordinate (and whatever `visit` throws).
 void forEachLineOf8Numbers(const std::string& path, const std::string& kind, const std::string& format,
-                           const std::function<void(std::size_t, const std::array<double, 8>&)>& visit);
+                           std::size_t stamps, const std::function<void(std::size_t, const std::array<double, 8>&)>& visit);
 
 }  // namespace lidarseg::eval::detail

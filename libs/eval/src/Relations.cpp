@@ -13,7 +13,7 @@ namespace lidarseg::eval {
 
 std::vector<Relation> readRelations(const std::string& path) {
   std::vector<Relation> out;
-  detail::forEachLineOf8Numbers(path, "relations", "t1 t2 x y z roll pitch yaw",
+  detail::forEachLineOf8Numbers(path, "relations", "t1 t2 x y z roll pitch yaw", 2,
                                 [&](std::size_t line, const std::array<double, 8>& v) {
                                   // A motion between a time and itself measures nothing (its
                                   // error would be the relation's own displacement).

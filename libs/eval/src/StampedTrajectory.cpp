@@ -19,7 +19,7 @@ constexpr double kMaxQuaternionNorm = 1.1;
 
 StampedTrajectory readTum(const std::string& path) {
   StampedTrajectory out;
-  detail::forEachLineOf8Numbers(path, "trajectory", "timestamp x y z qx qy qz qw",
+  detail::forEachLineOf8Numbers(path, "trajectory", "timestamp x y z qx qy qz qw", 1,
                                 [&](std::size_t line, const std::array<double, 8>& v) {
     if (!out.empty() && v[0] < out.back().stamp_s) {
       std::ostringstream stamp;
