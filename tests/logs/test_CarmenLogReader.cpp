@@ -459,6 +459,22 @@ TEST(CarmenLogReader, ANegativeFieldOfViewOrResolutionOrAFarMountingSkipsTheLine
   EXPECT_GT(scan->angular_resolution_rad, 0.0);
 }
 
+// A PARAM that is there but holds no number ("90deg", "nan", "0.5abc") was read as absent:
+// the scans then had the default field of view or mounting, exit 0, without a word (issue 16).
+TEST(CarmenLogReader, AParamThatIsNoNumberSkipsTheLinesWithTheParamAndItsValueNamed) {
+  for (const std::string param : {"laser_front_laser_fov 90deg", "laser_front_laser_fov nan",
+                                  "laser_front_laser_resolution 0.5abc", "laser_front_laser_resolution inf",
+                                  "robot_frontlaser_offset 0.5m", "robot_front_laser_max abc"}) {
+    CarmenLogReader reader(writeText("param.log", "PARAM " + param + " host 0\n" + flaser(181, 2.5, 1.0, 10.0)));
+    EXPECT_FALSE(reader.next()) << param;
+    ASSERT_EQ(reader.issues().size(), 1u) << param;
+    const std::string key = param.substr(0, param.find(' ')), value = param.substr(param.find(' ') + 1);
+    EXPECT_NE(reader.issues()[0].find("param.log:2: FLASER: PARAM " + key + " = '" + value + "' is not a finite number"),
+              std::string::npos)
+        << reader.issues()[0];
+  }
+}
+
 // A log of laser lines this reader does not read: they are counted by type, so that the
 // "no usable laser scan" error can say what the log holds.
 TEST(CarmenLogReader, LaserLinesOfTypesNotReadAreCounted) {

@@ -123,7 +123,12 @@ double CarmenLogReader::paramDouble(const std::string& key, double fallback) con
   const auto it = params_.find(key);
   if (it == params_.end()) return fallback;
   const ParsedNumber v = parseNumber(it->second);
-  return (v.ok() && std::isfinite(v.value)) ? v.value : fallback;
+  // A value that is there but no number ("90deg", "nan") is not the default: the scans would
+  // be read with another field of view or mounting than the log says, without a word.
+  if (!v.ok() || !std::isfinite(v.value)) {
+    throw std::invalid_argument("PARAM " + key + " = '" + it->second + "' is not a finite number");
+  }
+  return v.value;
 }
 
 bool CarmenLogReader::parseLaser(const std::string& type, const std::vector<std::string>& f,
