@@ -89,6 +89,8 @@ TEST(StampedTrajectory, APoseOrRelationBeyondTheLogsBoundIsRefusedWithItsPlace) 
         << e.what();
   }
   EXPECT_EQ(readTum(writeTemp("ns.tum", "1700000000000000000 1000000 -1000000 0 0 0 0 1\n")).size(), 1u);
+  // An editor's byte-order mark before the first line is no part of it.
+  EXPECT_EQ(readTum(writeTemp("bom.tum", "\xEF\xBB\xBF" "1 2 3 0 0 0 0 1\n")).front().pose.x, 2.0);
 }
 
 // The quaternions were not checked (issue 16): every one multiplied by 2 gave a wrong yaw

@@ -128,6 +128,21 @@ TEST(LidarsegConfig, DuplicatesAndStrayKeysAreErrorsNamingFileLineAndKey) {
       << errorOf(ini_twice);
   const std::string stray = writeTemp("stray.ini", "; comment\niterations = 3\n[matcher]\nmax_segments = 64\n");
   EXPECT_EQ(errorOf(stray), stray + ":2: key 'iterations' before any [section] (every key belongs to a section)");
+  // A nameless section's keys, a value without a key and text after a section's ']' were
+  // dropped or read as another section without a word (issue 16).
+  const std::string nameless = writeTemp("nameless.ini", "[]\niterations = 1000000000\n");
+  EXPECT_EQ(errorOf(nameless), nameless + ":1: '[]' names no section (its keys would be dropped)");
+  const std::string blank_name = writeTemp("blankname.ini", "[matcher]\niterations = 3\n[ ]\niterations = 4\n");
+  EXPECT_EQ(errorOf(blank_name), blank_name + ":3: '[ ]' names no section (its keys would be dropped)");
+  const std::string no_key = writeTemp("nokey.ini", "[matcher]\n= 1000000000\n");
+  EXPECT_EQ(errorOf(no_key), no_key + ":2: '= 1000000000' gives a value to no key (the line would be dropped)");
+  const std::string trailing = writeTemp("trailing.ini", "[matcher]x\niterations = 3\n");
+  EXPECT_EQ(errorOf(trailing), trailing + ":1: '[matcher]x': text after the section's ']' (only a comment may follow)");
+  const std::string commented = writeTemp("commented.ini", "[matcher] ; the matcher\niterations = 3\n");
+  EXPECT_EQ(LidarsegConfig::loadFile(commented).odometry.matcher.iterations, 3u);
+  // An editor's byte-order mark before the first section is no part of it.
+  const std::string bom = writeTemp("bom.ini", "\xEF\xBB\xBF[matcher]\niterations = 5\n");
+  EXPECT_EQ(LidarsegConfig::loadFile(bom).odometry.matcher.iterations, 5u);
   // The same checks hold for a tool reading one section (lidarseg-segment --section).
   EXPECT_THROW(loadSegmentationParamsFile(stray, "matcher"), std::invalid_argument);
   // An INI section given twice with different keys is merged, as before.

@@ -41,6 +41,13 @@ TEST(WorldFile, ParsesEveryItem) {
   EXPECT_NEAR(w.castRay({3, 2.5}, {1, 0}), 1.8, 1e-9);
 }
 
+// An editor's UTF-8 byte-order mark before the first line was read as part of its first
+// word: "unknown item" with an invisible character (issue 16).
+TEST(WorldFile, AByteOrderMarkBeforeTheFirstLineIsNoPartOfIt) {
+  const World w = parse("\xEF\xBB\xBFwall 0 0 10 0\n");
+  EXPECT_EQ(w.walls().size(), 1u);
+}
+
 TEST(WorldFile, DoorsCutTheirWallAndAddTheirGeometry) {
   // Wall y = 0 from x = 0 to 10, declared after the doors (doors apply at the end).
   const World w = parse(

@@ -19,6 +19,8 @@ void forEachLineOf8Numbers(const std::string& path, const std::string& kind, con
   std::size_t line_no = 0;
   while (std::getline(in, line)) {
     ++line_no;
+    // An editor's UTF-8 byte-order mark is no part of the first line.
+    if (line_no == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
     const auto first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;
     const std::string where = path + ":" + std::to_string(line_no) + ": ";

@@ -363,7 +363,18 @@ void checkIniStructure(const std::string& path, const std::string& text) {
         throw std::invalid_argument(path + ":" + std::to_string(number) + ": '" + t +
                                     "' opens a section without closing it ('[name]')");
       }
-      section = trim(t.substr(1, t.find(']') - 1));
+      const std::size_t close = t.find(']');
+      section = trim(t.substr(1, close - 1));
+      // MRPT drops the keys of a nameless section, and reads '[matcher]x' as [matcher].
+      if (section.empty()) {
+        throw std::invalid_argument(path + ":" + std::to_string(number) + ": '" + t.substr(0, 80) +
+                                    "' names no section (its keys would be dropped)");
+      }
+      const std::string after = trim(t.substr(close + 1));
+      if (!after.empty() && after[0] != ';' && after[0] != '#') {
+        throw std::invalid_argument(path + ":" + std::to_string(number) + ": '" + t.substr(0, 80) +
+                                    "': text after the section's ']' (only a comment may follow)");
+      }
       in_section = true;
       continue;
     }
@@ -375,6 +386,10 @@ void checkIniStructure(const std::string& path, const std::string& text) {
                                   "' is not a 'key = value' line (nor a [section], a comment or blank)");
     }
     const std::string key = trim(t.substr(0, sep));
+    if (key.empty()) {
+      throw std::invalid_argument(path + ":" + std::to_string(number) + ": '" + t.substr(0, 80) +
+                                  "' gives a value to no key (the line would be dropped)");
+    }
     if (!in_section) {
       throw std::invalid_argument(path + ":" + std::to_string(number) + ": key '" + key +
                                   "' before any [section] (every key belongs to a section)");
@@ -404,6 +419,8 @@ LoadedConfig readConfigFile(const std::string& path) {
     throw std::runtime_error("configuration file '" + path + "' is larger than " +
                              std::to_string(kMaxConfigBytes >> 10) + " KiB");
   }
+  // A UTF-8 byte-order mark (an editor's) is no part of the first line.
+  if (text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
   LoadedConfig out;
   out.text = std::move(text);
   out.yaml = endsWith(path, ".yaml") || endsWith(path, ".yml");

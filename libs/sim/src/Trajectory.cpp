@@ -137,6 +137,8 @@ Trajectory loadTrajectoryFile(const std::string& path) {
   std::string text;
   int speed_line = 0, radius_line = 0;
   for (int line = 1; std::getline(in, text); ++line) {
+    // An editor's UTF-8 byte-order mark is no part of the first line.
+    if (line == 1 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
     const auto fail = [&](const std::string& m) {
       throw std::runtime_error(path + ":" + std::to_string(line) + ": " + m);
     };

@@ -164,6 +164,8 @@ World parseWorld(std::istream& in, const std::string& source) {
   bool has_wall = false;
   std::string text;
   for (int number = 1; std::getline(in, text); ++number) {
+    // An editor's UTF-8 byte-order mark is no part of the first line.
+    if (number == 1 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
     const auto hash = text.find('#');
     if (hash != std::string::npos) text.erase(hash);
     std::istringstream words(text);
