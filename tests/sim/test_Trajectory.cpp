@@ -14,6 +14,22 @@ namespace {
 using lidarseg::kPi;
 const std::string kWorlds = std::string(LIDARSEG_CONFIG_DIR) + "/worlds/";
 
+// A path wholly inside a pillar or a box crosses no outline: the point inside clutter is
+// found by parity (it was simulated from inside a solid pillar, issue 16); a point outside
+// all clutter, or inside a room's walls, is free.
+TEST(Trajectory, ThePointInsideClutterIsFound) {
+  World w;
+  w.addPolygon({{0, 0}, {4, 0}, {4, 4}, {0, 4}}, SurfaceKind::kWall);  // a room
+  w.addPolygon({{1, 1}, {2, 1}, {2, 2}, {1, 2}}, SurfaceKind::kClutter);  // a pillar in it
+  const auto inside = clutterHolding(w, {1.5, 1.5});
+  ASSERT_TRUE(inside.has_value());
+  EXPECT_EQ(w.walls()[*inside].kind, SurfaceKind::kClutter);
+  EXPECT_NEAR(w.walls()[*inside].a.x(), 2.0, 1e-12);  // the nearest side along +x
+  EXPECT_FALSE(clutterHolding(w, {3.0, 3.0}).has_value()) << "in the room, beside the pillar";
+  EXPECT_FALSE(clutterHolding(w, {0.5, 1.0}).has_value()) << "level with a corner, outside";
+  EXPECT_FALSE(clutterHolding(w, {3.0, 1.5}).has_value()) << "right of the pillar";
+}
+
 // The first wall a path goes through: on a straight leg, on a rounded corner's arc, a door
 // leaf; none through an opening or beside a wall; and the project's own worlds are clear.
 TEST(Trajectory, TheFirstWallCrossedIsFoundOnLegsAndArcs) {

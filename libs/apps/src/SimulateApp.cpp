@@ -102,8 +102,18 @@ struct Scene {
 // would give scans no robot can take: refused, naming the leg, the place and the wall.
 void refusePathThroughWalls(const SimulateOptions& o, const sim::World& world, const sim::Trajectory& trajectory) {
   const auto crossing = sim::firstWallCrossing(world, trajectory);
-  if (!crossing) return;
   const auto point = [](const Eigen::Vector2d& p) { return "(" + numberText(p.x()) + ", " + numberText(p.y()) + ")"; };
+  if (!crossing) {
+    // Crossing no outline, a path that starts inside clutter stays inside it.
+    const Eigen::Vector2d start = trajectory.waypoints().front();
+    const auto holding = sim::clutterHolding(world, start);
+    if (!holding) return;
+    const sim::Wall& side = world.walls()[*holding];
+    const std::string path = o.building_seed ? "building " + std::to_string(*o.building_seed) : "'" + o.trajectory_path + "'";
+    const std::string in = o.building_seed ? std::string() : " of '" + o.world_path + "'";
+    throw std::runtime_error(path + ": the path runs inside clutter" + in + " from its start " + point(start) +
+                             " (the piece with the side from " + point(side.a) + " to " + point(side.b) + ")");
+  }
   const sim::Wall& wall = world.walls()[crossing->wall];
   const std::size_t leg = trajectory.legAtDistance(crossing->s_m);
   const auto& wp = trajectory.waypoints();

@@ -129,6 +129,30 @@ std::optional<WallCrossing> firstWallCrossing(const World& world, const Trajecto
   return std::nullopt;
 }
 
+std::optional<std::size_t> clutterHolding(const World& world, const Eigen::Vector2d& point) {
+  // Sides of clutter crossed by the ray from `point` along +x (half-open in y: a corner on
+  // the ray counts once); odd: inside.
+  std::size_t crossings = 0;
+  std::optional<std::size_t> nearest;
+  double nearest_x = 0.0;
+  const auto& walls = world.walls();
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    if (walls[w].kind != SurfaceKind::kClutter) continue;
+    const Eigen::Vector2d& a = walls[w].a;
+    const Eigen::Vector2d& b = walls[w].b;
+    if ((a.y() <= point.y()) == (b.y() <= point.y())) continue;
+    const double x = a.x() + (point.y() - a.y()) / (b.y() - a.y()) * (b.x() - a.x());
+    if (x <= point.x()) continue;
+    ++crossings;
+    if (!nearest || x < nearest_x) {
+      nearest = w;
+      nearest_x = x;
+    }
+  }
+  if (crossings % 2 == 1) return nearest;
+  return std::nullopt;
+}
+
 Trajectory loadTrajectoryFile(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot open trajectory file '" + path + "'");

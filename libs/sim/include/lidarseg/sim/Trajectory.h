@@ -68,6 +68,13 @@ struct WallCrossing {
 /// arcs are checked on chords within 1 mm of them. O(path pieces x walls).
 std::optional<WallCrossing> firstWallCrossing(const World& world, const Trajectory& trajectory);
 
+/// The clutter (pillar, box: closed outlines) holding `point` (world frame, m): the index in
+/// World::walls() of one side of its outline, or none when the point is outside all clutter.
+/// A path that starts inside clutter and never crosses its outline (firstWallCrossing())
+/// runs wholly inside it. By parity along a ray: a point inside two overlapping pieces
+/// counts as outside.
+std::optional<std::size_t> clutterHolding(const World& world, const Eigen::Vector2d& point);
+
 /// Reads a trajectory file: `speed V` (m/s), `turn_radius R` (m) and one `waypoint X Y`
 /// per line, `#` comments.
 /// @throws std::runtime_error "file:line: message" for a bad line, or naming the file.
