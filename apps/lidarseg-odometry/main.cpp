@@ -8,6 +8,7 @@
 
 #include "lidarseg/apps/CommandLine.h"
 #include "lidarseg/apps/OdometryApp.h"
+#include "lidarseg/core/NumberText.h"
 #include "lidarseg/eval/Csv.h"
 #include "lidarseg/report/ReportWriters.h"
 
@@ -66,9 +67,8 @@ bool setBaselines(const std::string& list, OdometryOptions& o) {
     } else if (name == "icp-s2s") {
       o.baseline_icp_s2s = true;
     } else {
-      std::cerr << "lidarseg-odometry: error: --baseline '" << name
-                << "' (known: 'icp' keyframed like lidarseg, 'icp-s2s' scan to scan, or both: 'icp,icp-s2s')\n";
-      return false;
+      throw lidarseg::apps::UsageError("--baseline '" + name +
+                                       "' (known: 'icp' keyframed like lidarseg, 'icp-s2s' scan to scan, or both: 'icp,icp-s2s')");
     }
   }
   return true;
@@ -96,8 +96,7 @@ std::optional<OdometryOptions> optionsOf(CommandLine& c) {
   o.scan_stamp = c.scan_stamp.getValue();
   o.max_lost_ratio = c.max_lost.getValue();
   if (!(o.max_lost_ratio >= 0.0 && o.max_lost_ratio <= 1.0)) {
-    std::cerr << "lidarseg-odometry: error: --max-lost-ratio must be in [0, 1] (got " << o.max_lost_ratio << ")\n";
-    return std::nullopt;
+    throw lidarseg::apps::UsageError("--max-lost-ratio must be in [0, 1] (got " + lidarseg::numberText(o.max_lost_ratio) + ")");
   }
   o.progress = !c.quiet.getValue();
   o.plots = !c.no_plots.getValue();

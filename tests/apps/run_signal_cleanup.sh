@@ -28,11 +28,13 @@ if [ "$rc2" = 0 ] || ! grep -q "another run is writing into" "$tmp/second.txt"; 
   echo "FAIL: a second writer was not refused (exit $rc2)"; cat "$tmp/second.txt"; fails=1
 fi
 if [ "$rc" != 143 ]; then echo "FAIL: exit $rc after SIGTERM, expected 143"; fails=1; fi
-left=$(find "$tmp/out" -name '*.tmp*')
+left=$(find "$tmp/out" -name '*.tmp*' 2>/dev/null)
 if [ -n "$left" ]; then echo "FAIL: temporary files left: $left"; fails=1; fi
 for f in summary.json lidarseg.tum back.rawlog; do
   [ -e "$tmp/out/$f" ] && { echo "FAIL: a partial run published $f"; fails=1; }
 done
+# The folder the run made for its outputs goes too (it was left with its lock file).
+[ -e "$tmp/out" ] && { echo "FAIL: the output folder the run made was left: $(ls -A "$tmp/out")"; fails=1; }
 # SIGHUP (a closed terminal) and SIGQUIT clean up the same way (they left the temporary
 # rawlog). env --default-signal: the test holds even when ctest runs under nohup.
 for sig in HUP:129 QUIT:131; do
@@ -53,9 +55,10 @@ for sig in HUP:129 QUIT:131; do
   wait $pid
   rc=$?
   if [ "$rc" != "$expected" ]; then echo "FAIL: exit $rc after SIG$name, expected $expected"; fails=1; fi
-  left=$(find "$tmp/$name" -name '*.tmp*')
+  left=$(find "$tmp/$name" -name '*.tmp*' 2>/dev/null)
   if [ -n "$left" ]; then echo "FAIL: temporary files left after SIG$name: $left"; fails=1; fi
   [ -e "$tmp/$name/w.rawlog" ] && { echo "FAIL: SIG$name: a partial run published w.rawlog"; fails=1; }
+  [ -e "$tmp/$name" ] && { echo "FAIL: SIG$name: the output folder the run made was left: $(ls -A "$tmp/$name")"; fails=1; }
 done
 [ $fails = 0 ] && echo "signal cleanup and folder lock hold"
 exit $fails

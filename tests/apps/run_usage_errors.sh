@@ -36,6 +36,9 @@ check "inspect -f -1" 2 "usage error: -f/--frame: '-1'" lidarseg-inspect log.log
 check "inspect --gallery -1" 2 "usage error: --gallery: '-1'" lidarseg-inspect log.log --gallery -1 -o out
 check "simulate --camera-every -1" 2 "usage error: --camera-every" lidarseg-simulate -w "$worlds/maze.world" -t "$worlds/maze.traj" --camera-every -1 -o out/
 check "simulate --seed -1" 2 "usage error: --seed" lidarseg-simulate -w "$worlds/maze.world" -t "$worlds/maze.traj" --seed -1 -o out/
+# Values checked after parsing are usage errors too (they printed "error:").
+check "odometry --max-lost-ratio 2" 2 "usage error: --max-lost-ratio must be in \[0, 1\] (got 2)" lidarseg-odometry log.log --max-lost-ratio 2 -o out
+check "odometry --baseline csm" 2 "usage error: --baseline 'csm' (known:" lidarseg-odometry log.log --baseline csm -o out
 # The value as typed (it read "(got -2.000000)" for -1, "(got 0.000000)" for 1e-300).
 check "odometry --scanner-hz -5" 2 "usage error: --scanner-hz must be 0 (no correction) or from 0.1 to 1000 Hz (got -5)" lidarseg-odometry log.log --scanner-hz -5 -o out
 check "odometry --scanner-hz 1e-300" 2 "usage error: --scanner-hz must be 0 (no correction) or from 0.1 to 1000 Hz (got 1e-300)" lidarseg-odometry log.log --scanner-hz 1e-300 -o out

@@ -36,24 +36,48 @@ namespace {
 constexpr std::size_t kSlots = 256;
 constexpr std::size_t kPathBytes = 4096;
 enum SlotState : int { kFree = 0, kWriting = 1, kReady = 2 };
+// What a slot names: a temporary file, a temporary folder (removed with its files), or an
+// output folder this run created (removed only when nothing but its lock and empty
+// subfolders is left, after the temporaries).
+enum SlotKind : int { kFile = 0, kFolder = 1, kCreatedFolder = 2 };
 struct Slot {
   std::atomic<int> state{kFree};
-  bool folder = false;
+  int kind = kFile;
   char path[kPathBytes];
 };
 std::array<Slot, kSlots> g_slots;
 
-void registerTemporary(const std::string& temporary, bool folder) {
+void registerTemporary(const std::string& temporary, int kind) {
   if (temporary.size() >= kPathBytes) return;  // not removable on a signal; still removed otherwise
   for (Slot& s : g_slots) {
     int expected = kFree;
     if (s.state.compare_exchange_strong(expected, kWriting, std::memory_order_acquire)) {
       std::memcpy(s.path, temporary.c_str(), temporary.size() + 1);
-      s.folder = folder;
+      s.kind = kind;
       s.state.store(kReady, std::memory_order_release);
       return;
     }
   }
+}
+
+// An output folder this run made, from a signal handler once its temporaries are gone: its
+// empty subfolders, its lock file, then itself; anything else in it keeps it (rmdir fails).
+void removeCreatedFolderOnSignal(const char* folder) {
+  const int fd = ::open(folder, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  alignas(struct dirent64) char entries[4096];
+  ssize_t n = 0;
+  while ((n = ::getdents64(fd, entries, sizeof entries)) > 0) {
+    for (ssize_t at = 0; at < n;) {
+      const auto* e = reinterpret_cast<const struct dirent64*>(entries + at);
+      at += e->d_reclen;
+      const bool dots = e->d_name[0] == '.' && (e->d_name[1] == '\0' || (e->d_name[1] == '.' && e->d_name[2] == '\0'));
+      if (!dots && e->d_type == DT_DIR) ::unlinkat(fd, e->d_name, AT_REMOVEDIR);  // only when empty
+    }
+  }
+  ::unlinkat(fd, ".lidarseg.lock", 0);
+  ::close(fd);
+  ::rmdir(folder);
 }
 
 // The files of `folder`, then the folder, from a signal handler (no opendir(): it allocates).
@@ -82,11 +106,14 @@ void removeFolderOnSignal(const char* folder) {
 extern "C" void removeTemporariesAndDie(int sig) {
   for (Slot& s : g_slots) {
     if (s.state.load(std::memory_order_acquire) != kReady) continue;
-    if (s.folder) {
+    if (s.kind == kFolder) {
       removeFolderOnSignal(s.path);
-    } else {
+    } else if (s.kind == kFile) {
       ::unlink(s.path);
     }
+  }
+  for (Slot& s : g_slots) {  // the folders made for the outputs, now without temporaries
+    if (s.state.load(std::memory_order_acquire) == kReady && s.kind == kCreatedFolder) removeCreatedFolderOnSignal(s.path);
   }
   std::signal(sig, SIG_DFL);
   std::raise(sig);
@@ -136,11 +163,11 @@ std::string uniqueTemporary(const std::string& path) {
   std::string name = p.filename().string();
   if (name.size() + suffix.size() > kMaxNameBytes) name.resize(kMaxNameBytes - suffix.size());
   const std::string tmp = (p.parent_path() / (name + suffix)).string();
-  registerTemporary(tmp, false);
+  registerTemporary(tmp, kFile);
   return tmp;
 }
 
-void registerTemporaryFolder(const std::string& folder) { registerTemporary(folder, true); }
+void registerTemporaryFolder(const std::string& folder) { registerTemporary(folder, kFolder); }
 
 void releaseTemporary(const std::string& temporary) {
   for (Slot& s : g_slots) {
@@ -285,7 +312,10 @@ void OutputSet::lockFolder(const std::string& folder, bool shared) {
   g_locks[key] = HeldLock{fd, 1};
   locked_folders_.push_back(key);
   // A shared holder never removes the folder or its lock: the other holders' locks are on it.
-  if (created && !shared) created_folders_.push_back(folder);
+  if (created && !shared) {
+    created_folders_.push_back(folder);
+    registerTemporary(folder, kCreatedFolder);  // removed on a signal when nothing was published
+  }
 }
 
 int OutputSet::folderLockDescriptor(const std::string& folder) const {
@@ -643,6 +673,7 @@ void OutputSet::commit() {
     if (isManifest(p.path)) std::remove((fs::path(folderOf(p.path)) / kPublishing).c_str());
   }
   committed_ = true;
+  for (const auto& folder : created_folders_) releaseTemporary(folder);  // published: kept on a signal
 }
 
 OutputSet::~OutputSet() {
@@ -657,6 +688,7 @@ OutputSet::~OutputSet() {
     if (held == g_locks.end() || --held->second.holders > 0) continue;
     released.push_back(key);
   }
+  for (const auto& folder : created_folders_) releaseTemporary(folder);
   // A run that published nothing leaves no folder of its own behind (its lock file removed
   // while still held, see claim()).
   if (!committed_) {
