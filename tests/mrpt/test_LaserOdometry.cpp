@@ -6,6 +6,7 @@
 #include <limits>
 
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include "SyntheticScenes.h"
 #include "lidarseg/mrpt/LaserLogReader.h"
@@ -190,6 +191,31 @@ TEST(LaserLogReader, ACarmenLogWithLeadingWhitespaceIsSniffedAsCarmen) {
     const std::string renamed = std::string(LIDARSEG_TEST_TMP_DIR) + "/rawlog-without-extension";
     fs::copy_file(rawlog, renamed, fs::copy_options::overwrite_existing);
     EXPECT_EQ(detectLogFormat(renamed), LogFormat::kRawlog) << name;
+  }
+}
+
+// A gzip file may hold either format: its content decides, not its first bytes (a gzip CARMEN
+// log named .txt was read as a rawlog, "entry 0: truncated or corrupt"); an editor's
+// byte-order mark before a CARMEN log's first line is skipped (issue 16).
+TEST(LaserLogReader, AGzipOrMarkedCarmenLogUnderAnyNameIsSniffedAsCarmen) {
+  const std::string flaser = "FLASER 3 2.0 2.0 2.0 0 0 0 0 0 0 7.5 h 7.5\n";
+  const std::string gz = std::string(LIDARSEG_TEST_TMP_DIR) + "/carmen-gzip.txt";
+  {
+    gzFile f = gzopen(gz.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    const std::string text = flaser + flaser;
+    gzwrite(f, text.data(), static_cast<unsigned>(text.size()));
+    gzclose(f);
+  }
+  EXPECT_EQ(detectLogFormat(gz), LogFormat::kCarmen);
+  const std::string marked = std::string(LIDARSEG_TEST_TMP_DIR) + "/carmen-bom.txt";
+  std::ofstream(marked, std::ios::binary) << "\xEF\xBB\xBF" << flaser;
+  EXPECT_EQ(detectLogFormat(marked), LogFormat::kCarmen);
+  for (const std::string& path : {gz, marked}) {
+    LaserLogReader reader(path);
+    std::size_t scans = 0;
+    while (reader.next()) ++scans;
+    EXPECT_GE(scans, 1u) << path;
   }
 }
 

@@ -143,6 +143,10 @@ TEST(LidarsegConfig, DuplicatesAndStrayKeysAreErrorsNamingFileLineAndKey) {
   // An editor's byte-order mark before the first section is no part of it.
   const std::string bom = writeTemp("bom.ini", "\xEF\xBB\xBF[matcher]\niterations = 5\n");
   EXPECT_EQ(LidarsegConfig::loadFile(bom).odometry.matcher.iterations, 5u);
+  // A tab in a YAML indentation: one line naming the file and line (the parser printed three
+  // lines naming "<memory-@0x...>").
+  const std::string tab = writeTemp("tab.yaml", "matcher:\n\titerations: 3\n");
+  EXPECT_EQ(errorOf(tab), tab + ":2: a tab in the indentation (YAML indents with spaces only)");
   // The same checks hold for a tool reading one section (lidarseg-segment --section).
   EXPECT_THROW(loadSegmentationParamsFile(stray, "matcher"), std::invalid_argument);
   // An INI section given twice with different keys is merged, as before.

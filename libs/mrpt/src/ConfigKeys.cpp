@@ -206,6 +206,10 @@ void checkYamlStructure(const std::string& path, const std::string& text) {
     const std::string t = trim(content);
     if (t.empty() || t == "---" || t == "...") continue;
     const int indent = static_cast<int>(content.find_first_not_of(" \t"));
+    // YAML indents with spaces only; the parser's own message for a tab names no file.
+    if (content.find('\t') < static_cast<std::size_t>(indent)) {
+      throw std::invalid_argument(at(number) + ": a tab in the indentation (YAML indents with spaces only)");
+    }
     if (!pending.key.empty()) {
       if (indent <= pending.indent) failEmpty();
       pending = Pending{};

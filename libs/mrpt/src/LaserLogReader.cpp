@@ -1,4 +1,5 @@
 #include "lidarseg/mrpt/LaserLogReader.h"
+#include "lidarseg/logs/CompressedInput.h"
 #include "lidarseg/mrpt/LaserOdometry.h"
 
 #include <cerrno>
@@ -91,14 +92,23 @@ LogFormat detectLogFormat(const std::string& path) {
     const int error = errno;  // the reason (no such file, a symbolic link loop, permission)
     throw std::runtime_error("cannot open log '" + path + "'" + (error != 0 ? ": " + std::string(std::strerror(error)) : ""));
   }
-  unsigned char head[2] = {0, 0};
-  in.read(reinterpret_cast<char*>(head), 2);
-  if (in.gcount() == 2 && head[0] == 0x1f && head[1] == 0x8b) return LogFormat::kRawlog;  // gz rawlog
-  in.clear();
-  in.seekg(0);
-  for (std::streamsize n = 0; n < kSniffBytes; ++n) {
-    const int c = in.get();
-    if (c == std::char_traits<char>::eof()) break;
+  // The first bytes of the content (decompressed: a gzip file may hold either format).
+  std::string head(static_cast<std::size_t>(kSniffBytes), '\0');
+  std::size_t got = 0;
+  try {
+    logs::CompressedInput content(path);
+    while (got < head.size()) {
+      const std::size_t n = content.read(head.data() + got, head.size() - got);
+      if (n == 0) break;
+      got += n;
+    }
+  } catch (const std::runtime_error&) {
+    // A damaged gzip file: read as a rawlog, whose reader names the damage.
+  }
+  // An editor's UTF-8 byte-order mark before a text log's first line.
+  const std::size_t start = head.compare(0, 3, "\xEF\xBB\xBF") == 0 && got >= 3 ? 3 : 0;
+  for (std::size_t n = start; n < got; ++n) {
+    const unsigned char c = static_cast<unsigned char>(head[n]);
     if (c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f') continue;
     return c == '#' || (c >= 'A' && c <= 'Z') ? LogFormat::kCarmen : LogFormat::kRawlog;
   }

@@ -1,6 +1,7 @@
 #include "lidarseg/pipeline/ReadRecords.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <optional>
 #include <stdexcept>
 
@@ -21,6 +22,12 @@ std::runtime_error noUsableScan(const mrpt_adapter::LaserLogReader& reader, cons
   for (std::size_t k = 0; k < std::min(issues.size(), kNamedSkips); ++k) why += "; " + issues[k];
   if (issues.size() > kNamedSkips) why += "; ... (" + std::to_string(issues.size()) + " skipped in all)";
   if (const std::string unread = reader.unreadScans(); !unread.empty()) why += "; " + unread;
+  // A pipe or device is read as CARMEN text (it cannot be sniffed and read again).
+  std::error_code ec;
+  if (reader.format() == mrpt_adapter::LogFormat::kCarmen && std::filesystem::exists(reader.path(), ec) &&
+      !std::filesystem::is_regular_file(reader.path(), ec)) {
+    why += "; read as a CARMEN text log, as every pipe or device is (a rawlog is read from a file)";
+  }
   return std::runtime_error("'" + reader.path() + "' holds no usable laser scan" +
                             (sensor.empty() ? std::string() : " with sensor '" + sensor + "'") + why);
 }
