@@ -32,6 +32,9 @@ int main(int argc, char** argv) {
       return lidarseg::apps::kUsageError;
     }
 
+    if (section.isSet() && section.getValue().find_first_not_of(" \t") == std::string::npos) {
+      throw lidarseg::apps::UsageError("--section: an empty name names no section");
+    }
     // Both name the per-scan table's place: one was silently not written (issue 16).
     if (out.isSet() && csv.isSet()) {
       throw lidarseg::apps::UsageError("-o/--out and --csv (its old form) both say where segments.csv goes; give one");

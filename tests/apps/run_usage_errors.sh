@@ -37,6 +37,8 @@ check "inspect --gallery -1" 2 "usage error: --gallery: '-1'" lidarseg-inspect l
 check "simulate --camera-every -1" 2 "usage error: --camera-every" lidarseg-simulate -w "$worlds/maze.world" -t "$worlds/maze.traj" --camera-every -1 -o out/
 check "simulate --seed -1" 2 "usage error: --seed" lidarseg-simulate -w "$worlds/maze.world" -t "$worlds/maze.traj" --seed -1 -o out/
 # Values checked after parsing are usage errors too (they printed "error:").
+printf '[segmentation]\n' > seg.ini
+check "segment --section ''" 2 "usage error: --section: an empty name names no section" lidarseg-segment log.log -c seg.ini --section '' -o out
 check "odometry --max-lost-ratio 2" 2 "usage error: --max-lost-ratio must be in \[0, 1\] (got 2)" lidarseg-odometry log.log --max-lost-ratio 2 -o out
 check "odometry --baseline csm" 2 "usage error: --baseline 'csm' (known:" lidarseg-odometry log.log --baseline csm -o out
 # The value as typed (it read "(got -2.000000)" for -1, "(got 0.000000)" for 1e-300).

@@ -109,5 +109,39 @@ TEST(FeatureEvaluation, ReadsTheSimulatorsFileAndNamesBadLines) {
   EXPECT_THROW(readTrueFeatures(dir + "/no_such_truth.csv"), std::runtime_error);
 }
 
+// Issue 16: 1e300 in a truth x reached the --matches-out table as a 300-digit number that cut
+// its row at 256 characters; a row given twice doubled the truths (recall halved); another
+// file's header was read as data. Each is refused with the file, line and column.
+TEST(FeatureEvaluation, TruthValuesOutOfBoundsRowsGivenTwiceAndOtherFilesAreRefused) {
+  const std::string path = std::string(LIDARSEG_TEST_TMP_DIR) + "/truth_checked.csv";
+  const auto errorFor = [&](const std::string& rows) {
+    std::ofstream(path) << "scan,t,type,x,y,theta,width,id,resolvable,seen_as\n" << rows;
+    try {
+      readTrueFeatures(path);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what()).substr(path.size());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(errorFor("0,1.0,door_ajar,1e300,2,0,0.9,3,1,door_open\n"), ":2: column 'x' = 1e300 is not in [-1e6, 1e6]");
+  EXPECT_EQ(errorFor("0,1.0,door_ajar,1,2,0,1e300,3,1,door_open\n"), ":2: column 'width' = 1e300 is not in [0, 1e6]");
+  EXPECT_EQ(errorFor("0,1.0,door_ajar,1,2,0,-5,3,1,door_open\n"), ":2: column 'width' = -5 is not in [0, 1e6]");
+  EXPECT_EQ(errorFor("0,1.0,door_ajar,1,2,0,0.9,3,7,door_open\n"), ":2: column 'resolvable' must be 0 or 1, not '7'");
+  EXPECT_EQ(errorFor("0,1.0,door_ajar,1,2,0,0.9,3,1,door_open\n0,1.0,door_closed,1,2,0,0.9,3,1,door_closed\n"),
+            ":3: door 3 of scan 0 given twice (first at line 2)");
+  // Doors and corners are numbered apart; the same number in another scan is another sighting.
+  EXPECT_EQ(errorFor("0,1.0,door_ajar,1,2,0,0.9,3,1,door_open\n0,1.0,corner_convex,1,2,0,0,3,0,corner_convex\n"
+                     "1,1.1,door_ajar,1,2,0,0.9,3,1,door_open\n"),
+            "no error");
+  std::ofstream(path) << "t,type,x,y,theta\n1.0,door_open,1,2,0\n";
+  try {
+    readTrueFeatures(path);
+    FAIL() << "another file's header read as data";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ":1: not a feature truth file: its header starts 't'"), std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace lidarseg::eval

@@ -2,6 +2,9 @@
 #include <stdexcept>
 #include <string>
 
+#include <utility>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "TempFiles.h"
@@ -312,6 +315,31 @@ TEST(LidarsegConfig, SimulationStampsAndSizesAreBoundedWithTheKeyNamed) {
             0u)
       << simError("camera_width = 100000");
   EXPECT_EQ(simError("start_time_s = 1767225600\nnum_beams = 100000"), "no error");
+  // Magnitudes no robot, camera or noise model has reached the simulated odometry as 300-digit
+  // numbers (issue 16).
+  EXPECT_EQ(simError("odom_translation_per_m = 1e200"),
+            ":2 [simulation] odom_translation_per_m: odom_translation_per_m must be within +-10 (m per m) (got 1e+200)");
+  for (const char* key : {"odom_rotation_per_rad", "range_sigma_m", "far_range_sigma_m", "camera_x_m", "camera_cx",
+                          "camera_yaw_rad"}) {
+    const std::string e = simError(std::string(key) + " = 1e308");
+    EXPECT_EQ(e.rfind(":2 [simulation] " + std::string(key) + ": " + key + " must be within +-", 0), 0u) << e;
+  }
+}
+
+// Issue 16: a noise model's standard deviation of 1e100 m reached results.md as a 100-digit
+// final sigma, 1e200 as "-nan" (its square overflowed); every sigma is bounded.
+TEST(LidarsegConfig, StandardDeviationsAreBoundedWithTheKeyNamed) {
+  const auto errorFor = [](const std::string& section, const std::string& line) {
+    return errorOf(writeTemp("sigma.ini", "[" + section + "]\n" + line + "\n"));
+  };
+  for (const auto& [section, key] : std::vector<std::pair<std::string, std::string>>{
+           {"refiner", "model_sigma_m"}, {"refiner", "min_point_sigma_m"}, {"refiner", "model_sigma_rad"},
+           {"segmentation", "bearing_sigma_rad"}, {"segmentation", "range_sigma_m"}, {"matcher", "min_rho_sigma_m"}}) {
+    const std::string e = errorFor(section, key + " = 1e100");
+    EXPECT_NE(e.find(":2 [" + section + "] " + key + ": "), std::string::npos) << e;
+    EXPECT_NE(e.find(key + " must be in "), std::string::npos) << e;
+    EXPECT_EQ(errorFor(section, key + " = 0.01").find(key), std::string::npos) << section << " " << key;
+  }
 }
 
 }  // namespace

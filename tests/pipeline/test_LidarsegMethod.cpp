@@ -157,5 +157,32 @@ TEST(OdometryRun, ARefusedScansPriorIsNotCounted) {
   EXPECT_EQ(report.odometry_jumps, 0u);
 }
 
+// A scan without wheel odometry (its reading dropped as not finite) breaks the chain: the
+// next reading's increment would span two scans. With no two consecutive readings the summary
+// says the prior was constant velocity, not "wheel odometry" (issue 16).
+TEST(OdometryRun, AScanWithoutOdometryBreaksThePriorsChain) {
+  auto log = corridorLog();
+  Pose2D odometry{5.0, -2.0, 0.3};
+  for (auto& record : log) {
+    record.odometry = odometry;
+    odometry = compose(odometry, Pose2D{0.04, 0.0, 0.5 * kDeg});
+  }
+  log[6].odometry.reset();
+  RunSettings settings;
+  settings.use_odometry = true;
+  OdometryRun run(settings);
+  for (const auto& record : log) ASSERT_TRUE(run.process(record).processed) << record.where;
+  const report::OdometryReport report = run.finish(0.01);
+  EXPECT_EQ(report.odometry_priors, log.size() - 3) << "not the first, the one without, nor the one after it";
+  EXPECT_EQ(report.prior, "wheel odometry");
+
+  for (std::size_t k = 1; k < log.size(); ++k) log[k].odometry.reset();
+  OdometryRun none(settings);
+  for (const auto& record : log) ASSERT_TRUE(none.process(record).processed) << record.where;
+  const report::OdometryReport r2 = none.finish(0.01);
+  EXPECT_EQ(r2.odometry_priors, 0u);
+  EXPECT_EQ(r2.prior, "constant velocity (no usable wheel odometry between scans)");
+}
+
 }  // namespace
 }  // namespace lidarseg::pipeline

@@ -145,7 +145,7 @@ void SearchParams::validate() const {
   detail::requireInRange("linear_window_m", linear_window_m, 0.0, 20.0);
   detail::requireInRange("angular_window_rad", angular_window_rad, 0.0, 3.15);
   detail::requireInRange("resolution_m", resolution_m, 0.005, 1.0);
-  detail::requirePositive("sigma_m", sigma_m);
+  detail::requireSigmaM("sigma_m", sigma_m, false);
   if (sigma_m > 20.0 * resolution_m) detail::failKey("sigma_m", "<= 20 * resolution_m", sigma_m);
   // 0 = automatic; otherwise at least kMinAngularStepRad, so that the number of rotations
   // tried (2 x angular_window_rad / step + 1, at most 12,601) stays bounded (issue 16).

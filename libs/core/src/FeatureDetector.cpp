@@ -143,7 +143,7 @@ void FeatureDetectorParams::validate() const {
   requireInRange("door_collinear_angle_deg", door_collinear_angle_deg, 0.0, 45.0);
   requireNonNegative("door_collinear_offset_m", door_collinear_offset_m);
   requireInRange("door_noise_sigmas", door_noise_sigmas, 0.0, 20.0);
-  requirePositive("door_min_range_sigma_m", door_min_range_sigma_m);
+  detail::requireSigmaM("door_min_range_sigma_m", door_min_range_sigma_m, false);
   requireInRange("door_gap_min_spacings", door_gap_min_spacings, 0.0, 100.0);
   requireInRange("door_quantum_min_share", door_quantum_min_share, 0.0, 1.0);
   if (door_quantum_min_share <= 0.2) {

@@ -397,15 +397,15 @@ void RefinerParams::validate() const {
   if (bearing_window < 1 || bearing_window > 64) {
     detail::failKey("bearing_window", "in [1, 64]", static_cast<double>(bearing_window));
   }
-  detail::requirePositive("min_point_sigma_m", min_point_sigma_m);
-  detail::requireNonNegative("model_sigma_m", model_sigma_m);
-  detail::requireNonNegative("model_sigma_rad", model_sigma_rad);
+  detail::requireSigmaM("min_point_sigma_m", min_point_sigma_m, false);
+  detail::requireSigmaM("model_sigma_m", model_sigma_m, true);
+  detail::requireSigmaRad("model_sigma_rad", model_sigma_rad, true);
   detail::requireInRange("correlation_length_points", correlation_length_points, 1.0, 1e3);
   detail::requireInRange("min_inlier_ratio", min_inlier_ratio, 0.0, 1.0);
   if (min_points < 3) detail::failKey("min_points", ">= 3", static_cast<double>(min_points));
   detail::requireInRange("degeneracy_ratio", degeneracy_ratio, 0.0, 1.0);
   detail::requireNonNegative("min_constraint_points", min_constraint_points);
-  detail::requirePositive("unconstrained_sigma_m", unconstrained_sigma_m);
+  detail::requireSigmaM("unconstrained_sigma_m", unconstrained_sigma_m, false);
   detail::requirePositive("convergence_m", convergence_m);
   detail::requireNonNegative("reassociate_m", reassociate_m);
   if (max_points < min_points) detail::failKey("max_points", ">= min_points", static_cast<double>(max_points));

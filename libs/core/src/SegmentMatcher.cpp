@@ -442,9 +442,9 @@ void MatcherParams::validate() const {
   }
   detail::requirePositive("outlier_sigmas", outlier_sigmas);
   detail::requireInRange("degeneracy_ratio", degeneracy_ratio, 0.0, 1.0);
-  detail::requirePositive("unconstrained_sigma_m", unconstrained_sigma_m);
-  detail::requirePositive("min_rho_sigma_m", min_rho_sigma_m);
-  detail::requirePositive("min_theta_sigma_rad", min_theta_sigma_rad);
+  detail::requireSigmaM("unconstrained_sigma_m", unconstrained_sigma_m, false);
+  detail::requireSigmaM("min_rho_sigma_m", min_rho_sigma_m, false);
+  detail::requireSigmaRad("min_theta_sigma_rad", min_theta_sigma_rad, false);
 }
 
 SegmentMatcher::SegmentMatcher(const MatcherParams& params) : params_(params) { params_.validate(); }

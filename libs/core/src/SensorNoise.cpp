@@ -5,8 +5,8 @@
 namespace lidarseg {
 
 void SensorNoise::validate() const {
-  detail::requireNonNegative("range_sigma_m", range_sigma_m);
-  detail::requireNonNegative("bearing_sigma_rad", bearing_sigma_rad);
+  detail::requireSigmaM("range_sigma_m", range_sigma_m, true);
+  detail::requireSigmaRad("bearing_sigma_rad", bearing_sigma_rad, true);
 }
 
 }  // namespace lidarseg

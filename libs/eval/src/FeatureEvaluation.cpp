@@ -1,16 +1,19 @@
 #include "lidarseg/eval/FeatureEvaluation.h"
 #include "lidarseg/eval/Csv.h"
 #include "lidarseg/core/NumberText.h"
+#include "lidarseg/core/ScanRecord.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
 #include <tuple>
+#include <utility>
 
 namespace lidarseg::eval {
 
@@ -37,9 +40,16 @@ std::map<std::size_t, std::vector<TrueFeature>> readTrueFeatures(const std::stri
   static const char* kColumns[] = {"scan", "t", "type", "x", "y", "theta", "width", "id", "resolvable", "seen_as"};
   CsvReader reader(in, path, true);
   std::vector<std::string> cols;
+  std::map<std::tuple<std::size_t, bool, std::size_t>, std::size_t> first_line;  // (scan, door?, id) -> line
   while (reader.next(cols)) {
     const std::size_t number = reader.lineNumber();
     if (number == 1 && cols.size() > 1 && cols[0] == "scan") continue;  // header
+    // Another file's header (a --features-out table, a TUM line): not a truth file at all.
+    if (number == 1 && !parseNumber(cols[0]).ok()) {
+      fail(path, number, "not a feature truth file: its header starts '" + cols[0].substr(0, 40) +
+                             "', expected 'scan,t,type,x,y,theta,width,id[,resolvable,seen_as]' (lidarseg-simulate's "
+                             "PREFIX.features.csv)");
+    }
     if (cols.size() < 8) fail(path, number, "expected at least 8 columns (scan,t,type,x,y,theta,width,id)");
     auto number_at = [&](std::size_t k) {
       const ParsedNumber v = parseNumber(cols[k]);
@@ -57,14 +67,36 @@ std::map<std::size_t, std::vector<TrueFeature>> readTrueFeatures(const std::stri
     if (!(scan >= 0 && scan <= 1e15) || scan != std::floor(scan)) {
       fail(path, number, "column 'scan' must be an integer in [0, 1e15]");
     }
+    // Positions, angles and widths past the logs' bound are no building's (1e300 reached the
+    // matches table as a 300-digit number that cut its row).
+    const auto bounded = [&](std::size_t k, double lo) {
+      const double v = number_at(k);
+      if (!(v >= lo && std::abs(v) <= kMaxLogCoordinate)) {
+        fail(path, number, std::string("column '") + kColumns[k] + "' = " + cols[k] + " is not in [" +
+                               (lo < 0.0 ? "-1e6" : "0") + ", 1e6]");
+      }
+      return v;
+    };
     f.stamp_s = number_at(1);
-    f.position = {number_at(3), number_at(4)};
-    f.theta_rad = number_at(5);
-    f.width_m = number_at(6);
+    f.position = {bounded(3, -kMaxLogCoordinate), bounded(4, -kMaxLogCoordinate)};
+    f.theta_rad = bounded(5, -kMaxLogCoordinate);
+    f.width_m = bounded(6, 0.0);
     const double id = number_at(7);
     if (!(id >= 0 && id <= 1e15) || id != std::floor(id)) fail(path, number, "column 'id' must be an integer in [0, 1e15]");
     f.id = static_cast<std::size_t>(id);
-    if (cols.size() > 8) f.resolvable = number_at(8) != 0.0;
+    // Doors and corners are numbered apart: one of each may share a number.
+    const auto [first, added] =
+        first_line.emplace(std::make_tuple(static_cast<std::size_t>(scan), isDoor(f.type), f.id), number);
+    if (!added) {
+      fail(path, number, std::string(isDoor(f.type) ? "door " : "corner ") + std::to_string(f.id) + " of scan " +
+                             std::to_string(static_cast<std::size_t>(scan)) + " given twice (first at line " +
+                             std::to_string(first->second) + ")");
+    }
+    if (cols.size() > 8) {
+      const double resolvable = number_at(8);
+      if (resolvable != 0.0 && resolvable != 1.0) fail(path, number, "column 'resolvable' must be 0 or 1, not '" + cols[8] + "'");
+      f.resolvable = resolvable != 0.0;
+    }
     if (cols.size() > 9) {
       const auto seen = featureTypeFromString(cols[9]);
       if (!seen) fail(path, number, "column 'seen_as': unknown feature type '" + cols[9] + "'");
@@ -144,7 +176,7 @@ void writeMatchesCsvRows(std::ostream& os, std::size_t scan, const std::vector<T
                          const std::vector<Feature>& detected, const FeatureEvaluation& evaluation) {
   const auto& tm = evaluation.lastTruthMatches();
   const auto& dm = evaluation.lastDetectionMatches();
-  char line[256];
+  char line[1024];  // the fields are bounded (readTrueFeatures, the scans' ranges)
   for (std::size_t k = 0; k < truth.size(); ++k) {
     const TrueFeature& t = truth[k];
     std::snprintf(line, sizeof(line), "%zu,truth,%s,%s,%.4f,%.4f,%.4f,%.4f,%zu,%d,%s\n", scan, toString(t.type),

@@ -458,6 +458,9 @@ void RawlogScanReader::take(const mrpt::obs::CObservation::Ptr& obs) {
     if (usablePose(p)) {
       odometry_ = p;
     } else {
+      // The scans after it have no odometry until the next good reading: the last good one
+      // would stand for them and make the robot stand still.
+      odometry_.reset();
       dropOdometry("an odometry reading");
     }
   }

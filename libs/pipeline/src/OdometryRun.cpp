@@ -57,7 +57,8 @@ RunStep OdometryRun::process(const mrpt_adapter::LaserRecord& record) {
     gate_.warn(choice.jump);
   }
   for (const auto& m : baselines_) out.steps.push_back(m->process(input));
-  if (settings_.use_odometry && record.odometry) last_odometry_ = record.odometry;
+  // A scan without odometry breaks the chain: the next reading's increment would span it.
+  if (settings_.use_odometry) last_odometry_ = record.odometry;
   if (record.log_pose) log_poses_.push_back({out.time.output_stamp_s, *record.log_pose});
   if (record.odometry) wheel_odometry_.push_back({out.time.output_stamp_s, *record.odometry});
   if (!out.time.first) steps_.push_back(out.time.dt_s);
@@ -74,6 +75,10 @@ report::OdometryReport OdometryRun::finish(double max_lost_ratio) {
   if (settings_.use_odometry && wheel_odometry_.empty()) {
     gate_.warn("--use-odometry: the log has no wheel odometry; every scan's prior was constant velocity");
     r.prior = "constant velocity (the log has no wheel odometry)";
+  } else if (settings_.use_odometry && odometry_priors_ == 0) {
+    gate_.warn("--use-odometry: no two consecutive scans have usable wheel odometry; every scan's prior was constant "
+               "velocity");
+    r.prior = "constant velocity (no usable wheel odometry between scans)";
   } else if (settings_.use_odometry) {
     r.prior = "wheel odometry";
   }

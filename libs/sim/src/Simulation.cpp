@@ -22,6 +22,14 @@ void requireNonNegative(const char* key, double v) {
 void requireFinite(const char* key, double v) {
   if (!std::isfinite(v)) throw std::invalid_argument(std::string(key) + " must be finite (got " + numberText(v) + ")");
 }
+// A value whose magnitude no robot, camera or noise model has: it reached the outputs as
+// 300-digit numbers (issue 16).
+void requireAtMost(const char* key, double v, double bound, const char* unit) {
+  if (!(std::abs(v) <= bound)) {
+    throw std::invalid_argument(std::string(key) + " must be within +-" + numberText(bound) + " " + unit + " (got " +
+                                numberText(v) + ")");
+  }
+}
 }  // namespace
 
 void SimulationParams::validate() const {
@@ -75,6 +83,22 @@ void SimulationParams::validate() const {
   requireNonNegative("odom_translation_per_m", odometry.translation_per_m);
   requireNonNegative("odom_rotation_per_rad", odometry.rotation_per_rad);
   requireNonNegative("odom_rotation_per_m", odometry.rotation_per_m);
+  requireAtMost("range_sigma_m", sensor.range_sigma_m, 100.0, "m");
+  requireAtMost("far_range_sigma_m", sensor.far_range_sigma_m, 100.0, "m");
+  requireAtMost("lidar_z_m", lidar_z_m, 1e3, "m");
+  requireAtMost("camera_cx", camera.cx, 1e5, "px");
+  requireAtMost("camera_cy", camera.cy, 1e5, "px");
+  requireAtMost("camera_fx", camera.fx, 1e6, "px");
+  requireAtMost("camera_fy", camera.fy, 1e6, "px");
+  requireAtMost("camera_x_m", camera.x_m, 1e3, "m");
+  requireAtMost("camera_y_m", camera.y_m, 1e3, "m");
+  requireAtMost("camera_z_m", camera.z_m, 1e3, "m");
+  requireAtMost("camera_yaw_rad", camera.yaw_rad, 2.0 * kPi, "rad");
+  requireAtMost("wall_height_m", heights.wall_m, 1e3, "m");
+  requireAtMost("door_height_m", heights.door_m, 1e3, "m");
+  requireAtMost("odom_translation_per_m", odometry.translation_per_m, 10.0, "(m per m)");
+  requireAtMost("odom_rotation_per_rad", odometry.rotation_per_rad, 10.0, "(rad per rad)");
+  requireAtMost("odom_rotation_per_m", odometry.rotation_per_m, 10.0, "(rad per m)");
 }
 
 
