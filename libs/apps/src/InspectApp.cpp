@@ -91,7 +91,12 @@ std::unique_ptr<Session> InspectApp::open() {
   }
   for (const std::string& r : options_.references) {
     const auto eq = r.find('=');
-    session->addReference({r.substr(0, eq), eval::readTum(r.substr(eq + 1))});
+    eval::StampedTrajectory reference = eval::readTum(r.substr(eq + 1));
+    if (reference.empty()) {
+      std::cerr << "lidarseg-inspect: warning: trajectory '" << r.substr(0, eq) << "' ('" << r.substr(eq + 1)
+                << "') holds no pose\n";
+    }
+    session->addReference({r.substr(0, eq), std::move(reference)});
   }
   return session;
 }
