@@ -36,6 +36,28 @@ TEST(LidarsegConfig, TheShippedDefaultFileLoadsWithEveryStampKey) {
   for (const auto& k : stampKeys()) EXPECT_NE(text.find("\n" + k + " "), std::string::npos) << k;
 }
 
+// Decision 110: the ICP baseline without a config file (or without [icp] keys) is the one
+// config/default.ini configures for accuracy, not MRPT's faster defaults; a key given
+// replaces its value alone.
+TEST(LidarsegConfig, TheIcpBaselineWithoutAConfigIsTheShippedOne) {
+  const LidarsegConfig none;
+  const LidarsegConfig shipped = LidarsegConfig::loadFile(std::string(LIDARSEG_CONFIG_DIR) + "/default.ini");
+  EXPECT_EQ(none.icp.corresponding_points_decimation, 1u);
+  EXPECT_DOUBLE_EQ(none.icp.thresholdDist, 0.5);
+  EXPECT_EQ(none.icp.maxIterations, 60u);
+  EXPECT_EQ(none.icp.corresponding_points_decimation, shipped.icp.corresponding_points_decimation);
+  EXPECT_DOUBLE_EQ(none.icp.thresholdDist, shipped.icp.thresholdDist);
+  EXPECT_EQ(none.icp.maxIterations, shipped.icp.maxIterations);
+  EXPECT_DOUBLE_EQ(none.icp.thresholdAng, shipped.icp.thresholdAng);
+  const LidarsegConfig no_icp = LidarsegConfig::loadFile(writeTemp("no-icp.ini", "[matcher]\niterations = 2\n"));
+  EXPECT_EQ(no_icp.icp.corresponding_points_decimation, 1u);
+  EXPECT_EQ(no_icp.icp.maxIterations, 60u);
+  const LidarsegConfig one_key = LidarsegConfig::loadFile(writeTemp("one-icp-key.ini", "[icp]\nmaxIterations = 17\n"));
+  EXPECT_EQ(one_key.icp.maxIterations, 17u);
+  EXPECT_EQ(one_key.icp.corresponding_points_decimation, 1u);
+  EXPECT_DOUBLE_EQ(one_key.icp.thresholdDist, 0.5);
+}
+
 TEST(LidarsegConfig, AMisspeltSectionIsAnErrorNamingFileAndLine) {
   const std::string path = writeTemp("misspelt.ini", "[matcher]\niterations = 4\n\n[matchr]\niterations = 5\n");
   const std::string e = errorOf(path);

@@ -207,6 +207,14 @@ const std::vector<std::string>& LidarsegConfig::knownSections() {
   return kKnown;
 }
 
+mrpt::slam::CICP::TConfigParams LidarsegConfig::baselineIcpDefaults() {
+  mrpt::slam::CICP::TConfigParams p;
+  p.corresponding_points_decimation = 1;
+  p.thresholdDist = 0.5;
+  p.maxIterations = 60;
+  return p;
+}
+
 LidarsegConfig LidarsegConfig::loadFile(const std::string& path) {
   const detail::LoadedConfig file = detail::readConfigFile(path);
   rejectUnknownSections(file, path);

@@ -27,8 +27,17 @@ struct LidarsegConfig {
   /// [camera], [rois], [people].
   VisionConfig vision;
   /// [icp]: MRPT's ICP, the baseline (CICP's own keys, read by CICP from the same file, so
-  /// YAML works as INI does).
-  mrpt::slam::CICP::TConfigParams icp;
+  /// YAML works as INI does). Starts from baselineIcpDefaults(), not MRPT's defaults; the
+  /// section's keys replace those values one by one.
+  mrpt::slam::CICP::TConfigParams icp = baselineIcpDefaults();
+
+  /// The baseline ICP as configured without any [icp] key (decision 110): MRPT's defaults
+  /// except every point paired (corresponding_points_decimation 1, MRPT's 5), a 0.5 m
+  /// initial pairing threshold (thresholdDist, MRPT's 0.75 m) and up to 60 iterations
+  /// (maxIterations, MRPT's 40): the configuration measured as the most accurate on the real
+  /// logs (docs/results.md, decision 36), so that a run without a config file compares
+  /// lidarseg with ICP configured for accuracy, as config/default.ini does.
+  static mrpt::slam::CICP::TConfigParams baselineIcpDefaults();
 
   /// Reads `path` once. @throws std::runtime_error if it cannot be read;
   /// std::invalid_argument naming file:line [section] key.
