@@ -47,13 +47,13 @@ struct JobArguments {
         sim_config("", "sim-config", "INI with [simulation]", false, "", "FILE", cmd),
         config("c", "config", "INI with lidarseg-odometry's sections", false, "", "FILE", cmd),
         out("o", "out", "results folder", true, "", "DIR", cmd),
-        seeds("", "seeds", "seeds to run, e.g. 1-50 (run)", false, "1-50", "LIST", cmd),
-        seed("", "seed", "the seed (one)", false, 1, "N", cmd),
-        jobs("j", "jobs", "runs at a time (run; default: all cores)", false, 0, "N", cmd),
+        seeds("", "seeds", "seeds to run, e.g. 1-50 (run only)", false, "1-50", "LIST", cmd),
+        seed("", "seed", "the seed (one only)", false, 1, "N", cmd),
+        jobs("j", "jobs", "runs at a time (run only; default: all cores)", false, 0, "N", cmd),
         no_icp("", "no-icp", "do not run MRPT ICP", cmd),
         keep("", "keep-data", "keep the simulated rawlogs", cmd),
         quiet("q", "quiet", "no progress on stderr", cmd),
-        title("", "title", "title of the aggregated table", false, "", "TEXT", cmd),
+        title("", "title", "title of the aggregated table (run only)", false, "", "TEXT", cmd),
         lock_fd("", "folder-lock-fd",
                 "(one; set by run for its jobs) the runner's lock on --out, inherited as descriptor N", false, -1, "N",
                 cmd) {}
@@ -89,6 +89,26 @@ bool lockFlagMisused(const std::string& command, JobArguments& a) {
   return true;
 }
 
+// A flag of the other sub-command would be ignored without a word (`run --seed 7` ran seeds
+// 1-50): a usage error naming the flag and where it belongs (issue 16).
+bool otherCommandsFlag(const std::string& command, JobArguments& a) {
+  std::string flag, hint;
+  if (command == "run" && a.seed.isSet()) {
+    flag = "--seed", hint = "'run' takes --seeds LIST (e.g. --seeds 7)";
+  } else if (command == "one" && a.seeds.isSet()) {
+    flag = "--seeds", hint = "'one' runs one seed: --seed N";
+  } else if (command == "one" && a.jobs.isSet()) {
+    flag = "-j/--jobs", hint = "'one' is one run; 'run' runs several at a time";
+  } else if (command == "one" && a.title.isSet()) {
+    flag = "--title", hint = "the table's title is given to 'run' or 'aggregate'";
+  } else {
+    return false;
+  }
+  std::cerr << "lidarseg-batch " << command << ": usage error: " << flag << " is not an option of '" << command
+            << "': " << hint << "\n";
+  return true;
+}
+
 // `lidarseg-batch run`: every seed as its own `one` job, N at a time, then the table.
 int runAll(JobArguments& a, const char* argv0) {
   using lidarseg::apps::BatchApp;
@@ -117,7 +137,7 @@ int jobsMain(const std::string& command, int argc, char** argv) {
                                                            {{"--sensor", "--sensor-model"}})) {
     return *status;
   }
-  if (lockFlagMisused(command, a)) return lidarseg::apps::kUsageError;
+  if (lockFlagMisused(command, a) || otherCommandsFlag(command, a)) return lidarseg::apps::kUsageError;
   if (command == "run") return runAll(a, argv[0]);
   lidarseg::apps::BatchJob job = a.job();
   job.seed = a.seed.getValue();

@@ -88,6 +88,13 @@ std::optional<OdometryOptions> optionsOf(CommandLine& c) {
   o.auto_gt = !c.no_gt.getValue();
   o.relations_path = c.relations.getValue();
   o.relations_tolerance_s = c.rel_tol.getValue();
+  // Options that contradict each other or act on nothing are usage errors (issue 16).
+  if (!o.gt_path.empty() && c.no_gt.getValue()) {
+    throw lidarseg::apps::UsageError("--gt " + o.gt_path + " and --no-gt contradict each other (give one)");
+  }
+  if (c.rel_tol.isSet() && o.relations_path.empty()) {
+    throw lidarseg::apps::UsageError("--relations-tolerance applies to the relations of --relations, which is not given");
+  }
   o.log_reference = c.log_reference.getValue();
   o.write_rawlog = c.write_rawlog.getValue();
   o.features_out = c.features_out.getValue();

@@ -1,13 +1,13 @@
 #!/bin/bash
 # SIGINT during lidarseg-simulate leaves no temporary file or folder and publishes nothing
 # (issue 16); so does SIGTERM while its camera images are written.
-# The run is made long (a 2 kHz scanner over the maze loop) so that it is still writing when
+# The run is made long (a 1 kHz scanner, the largest rate accepted, over the maze loop) so that it is still writing when
 # the signal comes; the test waits for the state "writing" (a temporary exists), not a time.
 # usage: run_simulate_signal.sh SIMULATE_BIN WORLDS_DIR TMPDIR
 set -u
 bin=$1; worlds=$2; tmp=$3
 rm -rf "$tmp"; mkdir -p "$tmp"
-printf '[simulation]\nfrequency_hz = 2000\n' > "$tmp/fast.ini"
+printf '[simulation]\nfrequency_hz = 1000\n' > "$tmp/fast.ini"
 fails=0
 
 # interrupt NAME CAMERA_EVERY WRITING_GLOB SIGNAL EXIT PUBLISHED...: runs the simulator into

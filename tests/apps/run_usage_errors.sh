@@ -56,6 +56,15 @@ check "batch --sensor-model LMS100" 2 "usage error: --sensor-model: unknown sens
 check "batch -j 100000" 2 "usage error: -j/--jobs must be in \[1, 256\]" lidarseg-batch run --world "$worlds/maze.world" --trajectory "$worlds/maze.traj" --seeds 1-2 -j 100000 -o out
 check "batch -j -1" 2 "usage error: -j/--jobs: '-1'" lidarseg-batch run --world "$worlds/maze.world" --trajectory "$worlds/maze.traj" --seeds 1-2 -j -1 -o out
 check "batch --version" 0 "version: 0.1.0" lidarseg-batch --version
+# A flag of the other sub-command, or one that contradicts another or acts on nothing, is a
+# usage error (run --seed 7 ran seeds 1-50; the others were ignored without a word).
+check "batch run --seed" 2 "usage error: --seed is not an option of 'run'" lidarseg-batch run --world "$worlds/maze.world" --trajectory "$worlds/maze.traj" --seed 7 -o out
+check "batch one --seeds" 2 "usage error: --seeds is not an option of 'one'" lidarseg-batch one --world "$worlds/maze.world" --trajectory "$worlds/maze.traj" --seeds 3-4 -o out
+check "batch one -j" 2 "usage error: -j/--jobs is not an option of 'one'" lidarseg-batch one --world "$worlds/maze.world" --trajectory "$worlds/maze.traj" -j 5 -o out
+check "batch one --title" 2 "usage error: --title is not an option of 'one'" lidarseg-batch one --world "$worlds/maze.world" --trajectory "$worlds/maze.traj" --title t -o out
+check "odometry --gt with --no-gt" 2 "usage error: --gt log.log and --no-gt contradict" lidarseg-odometry log.log --gt log.log --no-gt -o out
+check "odometry --relations-tolerance alone" 2 "usage error: --relations-tolerance applies to the relations of --relations" lidarseg-odometry log.log --relations-tolerance 0.1 -o out
+check "odometry --scan-stamp without the correction" 2 "usage error: --scan-stamp last places the beams for the rolling-shutter correction, which is off" lidarseg-odometry log.log --scan-stamp last -o out
 # An output that is an input, and two outputs on one path.
 mkdir -p oz io
 cp log.log oz/timing.csv; cp log.log io/index.html; cp log.log oz/lidarseg.tum

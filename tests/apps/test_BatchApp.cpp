@@ -33,6 +33,17 @@ TEST(BatchApp, ParseSeeds) {
   EXPECT_EQ(parseSeeds("18446744073709551614-18446744073709551615"),
             (std::vector<std::uint64_t>{18446744073709551614ull, 18446744073709551615ull}));
   EXPECT_THROW(parseSeeds("1-60000,100001-160000"), std::invalid_argument);  // 120,000 runs
+  // The cap is checked before a range is expanded: 30,000 ranges of 100,001 seeds (24 GB
+  // expanded) are refused at once, as too many runs (not as a malformed range after a
+  // bad_alloc).
+  std::string many;
+  for (int i = 0; i < 30000; ++i) many += (i ? ",0-100000" : "0-100000");
+  try {
+    parseSeeds(many);
+    ADD_FAILURE() << "3e9 runs accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("more than 100000 runs"), std::string::npos) << e.what();
+  }
 }
 
 // A job of 6 m through the maze, its trajectory and results in `dir` (emptied first): its

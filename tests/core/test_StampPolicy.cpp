@@ -47,6 +47,18 @@ TEST(StampPolicy, ARepeatedOrBackwardsStampUsesTheLastGoodStepAndStillIncreasesT
   for (std::size_t k = 1; k < s.size(); ++k) EXPECT_GT(s[k].output_stamp_s, s[k - 1].output_stamp_s);
 }
 
+// With epoch stamps a nudge can be below the stamps' resolution: the output still increases.
+TEST(StampPolicy, RepeatedEpochStampsStillIncreaseTheOutput) {
+  StampPolicyParams params;
+  params.output_nudge_s = 1e-6;
+  StampPolicy p(params);
+  const double t0 = 4e9;  // year 2096: a double's step there is 4.8e-7 s
+  const auto s = run(p, std::vector<double>(50, t0));
+  for (std::size_t k = 1; k < s.size(); ++k) EXPECT_GT(s[k].output_stamp_s, s[k - 1].output_stamp_s) << k;
+  params.output_nudge_s = 1e-12;
+  EXPECT_THROW(StampPolicy{params}, std::invalid_argument);
+}
+
 TEST(StampPolicy, AGapIsFlaggedAndItsStepIsNotTheNextRepairStep) {
   StampPolicy p;
   const auto s = run(p, {0.0, 0.1, 5.0, 5.0});

@@ -346,6 +346,26 @@ TEST(LidarsegConfig, SimulationStampsAndSizesAreBoundedWithTheKeyNamed) {
     const std::string e = simError(std::string(key) + " = 1e308");
     EXPECT_EQ(e.rfind(":2 [simulation] " + std::string(key) + ": " + key + " must be within +-", 0), 0u) << e;
   }
+  // A scan rate of 1e-300 Hz wrote 300-digit stamps (issue 16): 0.1 to 1000 Hz.
+  for (const char* v : {"1e-300", "0.01", "1e6"}) {
+    EXPECT_EQ(simError(std::string("frequency_hz = ") + v).rfind(":2 [simulation] frequency_hz: frequency_hz must be in "
+                                                                 "[0.1, 1000] Hz",
+                                                                 0),
+              0u)
+        << simError(std::string("frequency_hz = ") + v);
+  }
+  EXPECT_EQ(simError("frequency_hz = 0.1"), "no error");
+  EXPECT_EQ(simError("frequency_hz = 1000"), "no error");
+}
+
+// An output stamp nudge of 1e308 s wrote inf stamps, 1e-12 s nudged nothing (issue 16).
+TEST(LidarsegConfig, TheOutputStampNudgeIsBounded) {
+  for (const char* v : {"1e308", "1e-12", "2"}) {
+    const std::string e = errorOf(writeTemp("nudge.ini", std::string("[stamps]\noutput_nudge_s = ") + v + "\n"));
+    EXPECT_NE(e.find(":2 [stamps] output_nudge_s"), std::string::npos) << v << ": " << e;
+    EXPECT_NE(e.find("in [1e-06, 1]"), std::string::npos) << v << ": " << e;
+  }
+  EXPECT_EQ(errorOf(writeTemp("nudge.ini", "[stamps]\noutput_nudge_s = 1e-6\n")), "");
 }
 
 // Issue 16: a noise model's standard deviation of 1e100 m reached results.md as a 100-digit

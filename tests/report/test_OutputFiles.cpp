@@ -147,6 +147,38 @@ TEST(OutputFiles, ASetThatCannotBePublishedLeavesNoManifestBesideItsFiles) {
   }
 }
 
+// An output that cannot be written (a picture on a full disk) leaves the set: a caller that
+// goes on without it publishes the rest, never a name whose file is missing (it failed with
+// "cannot put 'trajectories.png' in place: No such file or directory", the folder half
+// published; issue 16).
+TEST(OutputFiles, AFileThatCannotBeWrittenLeavesTheSetAndTheRestIsPublished) {
+  const std::string dir = freshFolder("write-failed");
+  const int code = lidarseg::testing::inChildWithFileSizeLimit(4096, [&] {
+    OutputSet set;
+    set.add(dir + "/lidarseg.tum", "small");
+    try {
+      set.add(dir + "/trajectories.png", std::string(100000, 'p'));
+      return 10;  // the write beyond the limit did not fail
+    } catch (const std::runtime_error& e) {
+      if (std::string(e.what()).find("trajectories.png") == std::string::npos) return 11;
+    }
+    set.add(dir + "/summary.json", "manifest");
+    try {
+      set.commit();
+    } catch (const std::exception&) {
+      return 12;
+    }
+    return 0;
+  });
+  EXPECT_EQ(code, 0);
+  EXPECT_EQ(slurp(dir + "/lidarseg.tum"), "small");
+  EXPECT_EQ(slurp(dir + "/summary.json"), "manifest");
+  EXPECT_FALSE(fs::exists(dir + "/trajectories.png"));
+  for (const auto& e : fs::directory_iterator(dir)) {
+    EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
+  }
+}
+
 // A manifest as lidarseg-odometry's: JSON listing its set's files.
 std::string manifestOf(const std::vector<std::string>& files) {
   return nlohmann::json{{"files", files}}.dump() + "\n";

@@ -37,6 +37,36 @@ TEST(PeopleDetector, ParametersAreValidated) {
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()).rfind("roi_margin", 0), 0u) << e.what();
   }
+  p.roi_margin = 1e9;  // it overflowed an int in grow(): a smaller, arbitrary region (issue 16)
+  EXPECT_THROW(p.validate(), std::invalid_argument);
+}
+
+// A region grown by a margin stays the region grown and clipped to the frame, however large
+// the margin (computed in floating point: 1e9 overflowed an int).
+TEST(PeopleDetector, AGrownRegionIsClippedToTheFrame) {
+  const cv::Size frame(640, 480);
+  EXPECT_EQ(grow(cv::Rect(100, 100, 100, 200), 0.25, frame), cv::Rect(75, 50, 150, 300));
+  EXPECT_EQ(grow(cv::Rect(100, 100, 100, 200), 10.0, frame), cv::Rect(0, 0, 640, 480));
+  EXPECT_EQ(grow(cv::Rect(100, 100, 100, 200), 1e9, frame), cv::Rect(0, 0, 640, 480));
+  EXPECT_EQ(grow(cv::Rect(600, 400, 100, 100), 0.0, frame), cv::Rect(600, 400, 40, 80));
+}
+
+// The resized image obeys the images' own 8192 px cap (a scale of 4 on an 8192 px image
+// asked for 16 GB).
+TEST(PeopleDetector, AScaleBeyondTheImageCapIsRefused) {
+  PeopleDetectorParams p;
+  p.image_scale = 4.0;
+  const PeopleDetector d(p);
+  const cv::Mat big(3000, 100, CV_8UC3, cv::Scalar(0, 0, 0));
+  try {
+    d.detectFullFrame(big);
+    FAIL() << "a 12000 px image was made";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("image_scale 4 makes this 100x3000 image 12000 px"), std::string::npos)
+        << e.what();
+  }
+  const cv::Mat small(200, 100, CV_8UC3, cv::Scalar(0, 0, 0));
+  EXPECT_NO_THROW(d.detectFullFrame(small));
 }
 
 TEST(PeopleDetector, OverlappingRegionsAreMergedUntilDisjoint) {

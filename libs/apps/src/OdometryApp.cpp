@@ -48,6 +48,13 @@ pipeline::RunSettings settingsOf(const OdometryOptions& o) {
   if (o.scanner_rotation_hz) s.config.odometry.scanner_rotation_hz = *o.scanner_rotation_hz;
   if (!o.scan_stamp.empty()) s.config.odometry.scan_stamp = scanStampFromString(o.scan_stamp);
   s.config.odometry.validate();
+  // The stamped beam only places the beams' instants for the rolling-shutter correction:
+  // without it the option would change nothing, without a word (issue 16).
+  if (!o.scan_stamp.empty() && !(s.config.odometry.scanner_rotation_hz > 0.0)) {
+    throw UsageError("--scan-stamp " + o.scan_stamp +
+                     " places the beams for the rolling-shutter correction, which is off: give --scanner-hz (or "
+                     "[odometry] scanner_rotation_hz in the configuration)");
+  }
   s.use_odometry = o.use_odometry;
   s.baselines = baselinesOf(o);
   return s;

@@ -194,7 +194,12 @@ void readFrames(const PeopleOptions& o, const vision::RegionTable& regions, Fram
     const std::size_t index = source.frameIndex();
     if (index % o.every != 0) continue;
     if (o.max_frames > 0 && report.frames >= o.max_frames) break;
-    pass.addFrame(index, frame, regions.of(index, file));
+    try {
+      pass.addFrame(index, frame, regions.of(index, file));
+    } catch (const std::invalid_argument& e) {  // a frame the detector refuses: name it
+      throw std::invalid_argument((file.empty() ? o.input + " frame " + std::to_string(index) : file) + ": " +
+                                  e.what());
+    }
     progress.update(report.frames);
   }
   progress.done(report.frames);

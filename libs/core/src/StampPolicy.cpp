@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "Validation.h"
 
@@ -14,7 +15,9 @@ void StampPolicyParams::validate() const {
   detail::requirePositive("unusable_step_span_s", unusable_step_span_s);
   detail::requireNonNegative("min_span_s", min_span_s);
   detail::requireNonNegative("jump_margin", jump_margin);
-  detail::requirePositive("output_nudge_s", output_nudge_s);
+  // A nudge below a microsecond vanishes in a stamp's rounding (1e9 s + 1e-12 is 1e9 s);
+  // beyond a second it moves stamps by more than any gap the policy accepts (issue 16).
+  detail::requireInRange("output_nudge_s", output_nudge_s, 1e-6, 1.0);
 }
 
 StampPolicy::StampPolicy(const StampPolicyParams& params) : params_(params) { params_.validate(); }
@@ -40,7 +43,11 @@ StampStep StampPolicy::next(double log_stamp_s) const {
     }
     s.model_stamp_s = last_model_ + step;
     s.dt_s = step;
-    if (!(s.output_stamp_s > last_output_)) s.output_stamp_s = last_output_ + params_.output_nudge_s;
+    if (!(s.output_stamp_s > last_output_)) {
+      // At least the next representable stamp: the written stamps always increase.
+      s.output_stamp_s = std::max(last_output_ + params_.output_nudge_s,
+                                  std::nextafter(last_output_, std::numeric_limits<double>::infinity()));
+    }
   }
   return s;
 }

@@ -244,30 +244,32 @@ std::string aggregateCsv(const FinishedRuns& runs) {
 }
 
 std::vector<std::uint64_t> parseSeeds(const std::string& text) {
+  constexpr std::uint64_t kMaxRuns = 100000;
   std::vector<std::uint64_t> seeds;
   for (const std::string& part : eval::splitCsvLine(text)) {
-    const auto dash = part.find('-');
+    std::uint64_t lo = 0, count = 1;  // the seeds lo, lo + 1, ..., lo + count - 1
     try {
-      std::size_t used = 0;
-      if (dash == std::string::npos) {
-        const auto v = std::stoull(part, &used);
-        if (used != part.size()) throw std::invalid_argument(part);
-        seeds.push_back(v);
-      } else {
-        const std::string a = part.substr(0, dash), b = part.substr(dash + 1);
-        std::size_t ua = 0, ub = 0;
-        const auto lo = std::stoull(a, &ua), hi = std::stoull(b, &ub);
-        if (ua != a.size() || ub != b.size() || hi < lo || hi - lo > 100000)
-          throw std::invalid_argument(part);
-        for (std::uint64_t k = 0; k <= hi - lo; ++k)
-          seeds.push_back(lo + k);  // no wrap at the top of uint64
+      const auto dash = part.find('-');
+      const std::string a = part.substr(0, dash);
+      std::size_t ua = 0;
+      lo = std::stoull(a, &ua);
+      if (ua != a.size()) throw std::invalid_argument(part);
+      if (dash != std::string::npos) {
+        const std::string b = part.substr(dash + 1);
+        std::size_t ub = 0;
+        const auto hi = std::stoull(b, &ub);
+        if (ub != b.size() || hi < lo || hi - lo > kMaxRuns) throw std::invalid_argument(part);
+        count = hi - lo + 1;
       }
     } catch (const std::exception&) {
       throw std::invalid_argument("seeds: '" + part + "' is not a seed or a range like 1-50");
     }
+    // Counted before a range is expanded: a long list of ranges must not fill memory before
+    // the cap is checked (issue 16; a seed asked for twice counts twice).
+    if (seeds.size() + count > kMaxRuns) throw std::invalid_argument("seeds: more than 100000 runs asked for");
+    for (std::uint64_t k = 0; k < count; ++k) seeds.push_back(lo + k);  // no wrap at the top of uint64
   }
   if (seeds.empty()) throw std::invalid_argument("seeds: none given");
-  if (seeds.size() > 100000) throw std::invalid_argument("seeds: more than 100000 runs asked for");
   std::sort(seeds.begin(), seeds.end());
   seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
   return seeds;

@@ -463,7 +463,15 @@ void OutputSet::add(const std::string& path, std::string content) {
   claim(path);
   const std::string tmp = uniqueTemporary(path);
   pending_.push_back({path, tmp});  // registered first: removed on failure
-  writeTemporary(tmp, content, path);
+  try {
+    writeTemporary(tmp, content, path);
+  } catch (...) {
+    // Not part of the set: a caller that goes on without it (pictures on a full disk) must
+    // not publish a name whose file was never written (issue 16).
+    std::remove(tmp.c_str());
+    pending_.pop_back();
+    throw;
+  }
 }
 
 std::string OutputSet::addWritten(const std::string& path) {

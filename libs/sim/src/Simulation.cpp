@@ -43,7 +43,11 @@ void SimulationParams::validate() const {
   }
   requireNonNegative("range_sigma_m", sensor.range_sigma_m);
   requireNonNegative("far_range_sigma_m", sensor.far_range_sigma_m);
-  requirePositive("frequency_hz", sensor.frequency_hz);
+  // A scanner turns between 0.1 and 1000 times a second; beyond, the stamps reach 300 digits
+  // or the beams share one instant (issue 16).
+  if (!(std::isfinite(sensor.frequency_hz) && sensor.frequency_hz >= 0.1 && sensor.frequency_hz <= 1000.0)) {
+    throw std::invalid_argument("frequency_hz must be in [0.1, 1000] Hz (got " + numberText(sensor.frequency_hz) + ")");
+  }
   requireNonNegative("lidar_z_m", lidar_z_m);
   requireNonNegative("field_of_view_rad", field_of_view_rad);
   if (field_of_view_rad > 2.0 * kPi + 1e-9) {

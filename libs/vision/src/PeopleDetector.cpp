@@ -8,6 +8,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "lidarseg/vision/ImageFile.h"
 #include "lidarseg/vision/RegionsOfInterest.h"
 
 namespace lidarseg::vision {
@@ -23,7 +24,7 @@ void PeopleDetectorParams::validate() const {
   if (win_stride_px < 8 || win_stride_px % 8 != 0) fail("win_stride_px", "a multiple of 8", win_stride_px);
   if (!(std::isfinite(scale_step) && scale_step > 1.0)) fail("scale_step", "finite and > 1", scale_step);
   if (group_threshold < 0) fail("group_threshold", ">= 0", group_threshold);
-  if (!(std::isfinite(roi_margin) && roi_margin >= 0.0)) fail("roi_margin", "finite and >= 0", roi_margin);
+  if (!(std::isfinite(roi_margin) && roi_margin >= 0.0 && roi_margin <= 10.0)) fail("roi_margin", "in [0, 10]", roi_margin);
   if (!(std::isfinite(image_scale) && image_scale >= 0.25 && image_scale <= 4.0)) {
     fail("image_scale", "in [0.25, 4]", image_scale);
   }
@@ -36,6 +37,15 @@ PeopleDetector::PeopleDetector(const PeopleDetectorParams& params) : params_(par
 
 std::vector<Person> PeopleDetector::detect(const cv::Mat& image) const {
   cv::Mat input = image;
+  // The resized image obeys the images' own cap: 8192 px at a scale of 4 asked for 16 GB
+  // (issue 16).
+  const double longest = params_.image_scale * std::max(image.cols, image.rows);
+  if (longest > static_cast<double>(kMaxImageSidePx)) {
+    throw std::invalid_argument("[people] image_scale " + numberText(params_.image_scale) + " makes this " +
+                                std::to_string(image.cols) + "x" + std::to_string(image.rows) + " image " +
+                                numberText(std::round(longest)) + " px on its longest side, beyond the " +
+                                std::to_string(kMaxImageSidePx) + " px cap: lower image_scale");
+  }
   if (params_.image_scale != 1.0) {
     cv::resize(image, input, cv::Size(), params_.image_scale, params_.image_scale, cv::INTER_LINEAR);
   }

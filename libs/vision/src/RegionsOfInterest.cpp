@@ -103,9 +103,15 @@ double intersectionOverUnion(const cv::Rect& a, const cv::Rect& b) {
 }
 
 cv::Rect grow(const cv::Rect& box, double margin, const cv::Size& image) {
-  const int dx = static_cast<int>(std::lround(margin * box.width));
-  const int dy = static_cast<int>(std::lround(margin * box.height));
-  return cv::Rect(box.x - dx, box.y - dy, box.width + 2 * dx, box.height + 2 * dy) & cv::Rect(cv::Point(0, 0), image);
+  // In floating point, clipped to the image before any conversion: a large margin or box
+  // must not overflow an int (issue 16).
+  const double dx = std::round(margin * box.width), dy = std::round(margin * box.height);
+  const double x0 = std::clamp(box.x - dx, 0.0, static_cast<double>(image.width));
+  const double y0 = std::clamp(box.y - dy, 0.0, static_cast<double>(image.height));
+  const double x1 = std::clamp(box.x + box.width + dx, 0.0, static_cast<double>(image.width));
+  const double y1 = std::clamp(box.y + box.height + dy, 0.0, static_cast<double>(image.height));
+  if (!(x1 > x0 && y1 > y0)) return cv::Rect();
+  return cv::Rect(static_cast<int>(x0), static_cast<int>(y0), static_cast<int>(x1 - x0), static_cast<int>(y1 - y0));
 }
 
 double coveredFraction(const std::vector<cv::Rect>& boxes, const cv::Size& image) {

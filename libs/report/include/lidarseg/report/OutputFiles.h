@@ -182,7 +182,9 @@ class OutputSet {
   /// before it renames its own into place, never an input, never a file no run recorded
   /// (a user's picture named alike). Files of other names are not touched.
   void replaceNumbered(const std::string& folder, const NumberedName& numbered);
-  /// Adds a text output.
+  /// Adds a text output, written at once under its temporary name.
+  /// @throws std::runtime_error naming `path` when it cannot be written (a full disk); the
+  ///         set then holds nothing of it, so a caller may go on and commit the rest.
   void add(const std::string& path, std::string content);
   /// Registers an output someone else writes: returns the temporary name to write it under.
   std::string addWritten(const std::string& path);

@@ -22,7 +22,7 @@ struct PeopleDetectorParams {
   /// Minimum number of overlapping windows to keep a detection (OpenCV's groupThreshold).
   int group_threshold = 2;
   /// Each region is grown by this fraction of its size on every side before it is analysed,
-  /// so a person standing across its border is still seen whole.
+  /// so a person standing across its border is still seen whole. At most 10.
   double roi_margin = 0.25;
   /// The image is resized by this factor before detection (people smaller than the 128-pixel
   /// window are found only with a factor > 1); boxes are returned in the original image.
