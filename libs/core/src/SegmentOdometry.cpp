@@ -498,7 +498,19 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   step.T_odom_sensor = pose_;
   last_stamp_ = scan.stamp_s;
   ++count_;
-  remember(scan.stamp_s);
+  // A fit free along a corridor's axis took its position there from the prior (or from
+  // wherever its hypothesis left it): its motion along that axis is no measurement, and the
+  // velocity keeps what the constrained steps before it measured (decision 111).
+  Eigen::Vector2d free_odom = Eigen::Vector2d::Zero();
+  if (params_.degenerate_keeps_velocity && refined && step.refine.status == RefineStatus::kDegenerate) {
+    const Eigen::Vector2d& u = step.refine.degenerate_direction;
+    const double u2 = params_.refiner.unconstrained_sigma_m * params_.refiner.unconstrained_sigma_m;
+    if (u.squaredNorm() > 0.5 && u.dot(step.refine.covariance.topLeftCorner<2, 2>() * u) > 0.5 * u2) {
+      const double c = std::cos(keyframe_pose_.yaw), s = std::sin(keyframe_pose_.yaw);
+      free_odom = Eigen::Vector2d(c * u.x() - s * u.y(), s * u.x() + c * u.y());
+    }
+  }
+  remember(scan.stamp_s, free_odom);
 
   const Pose2D& from_key = T_key_curr;
   const bool moved = std::hypot(from_key.x, from_key.y) >= params_.keyframe_distance_m ||
@@ -540,11 +552,21 @@ void SegmentOdometry::prepareKeyframe(OdometryStep& step) {
   step.matching_us += step.keyframe_us;
 }
 
-void SegmentOdometry::remember(double stamp) {
+void SegmentOdometry::remember(double stamp, const Eigen::Vector2d& free_odom) {
   history_stamp_[history_size_ % kHistory] = stamp;
   history_pose_[history_size_ % kHistory] = pose_;
   ++history_size_;
-  const Twist2D linear = meanVelocity(stamp, params_.velocity_window_s);
+  Twist2D linear = meanVelocity(stamp, params_.velocity_window_s);
+  if (free_odom.squaredNorm() > 0.0) {
+    // The free direction in the sensor frame the velocities are given in (the body's, to
+    // within the window's small turn): the new estimate's component along it is the old one's.
+    const double c = std::cos(pose_.yaw), s = std::sin(pose_.yaw);
+    const Eigen::Vector2d u(c * free_odom.x() + s * free_odom.y(), -s * free_odom.x() + c * free_odom.y());
+    const Eigen::Vector2d v_new(linear.vx, linear.vy), v_old(velocity_.vx, velocity_.vy);
+    const Eigen::Vector2d v = v_new + u * (u.dot(v_old) - u.dot(v_new));
+    linear.vx = v.x();
+    linear.vy = v.y();
+  }
   const Twist2D angular = meanVelocity(stamp, params_.angular_velocity_window_s);
   velocity_ = {linear.vx, linear.vy, angular.omega};
 }

@@ -81,6 +81,7 @@ struct OdometryKeys {
     visit("wide_search_factor", p.wide_search_factor);
     visit("check_match_against_prior", p.check_match_against_prior);
     visit("degenerate_along_prior", p.degenerate_along_prior);
+    visit("degenerate_keeps_velocity", p.degenerate_keeps_velocity);
     visit("prior_gate_sigmas", p.prior_gate_sigmas);
     visit("prior_accel_m_s2", p.prior_accel_m_s2);
     visit("prior_angular_accel_rad_s2", p.prior_angular_accel_rad_s2);

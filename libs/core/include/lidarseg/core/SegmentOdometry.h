@@ -64,6 +64,13 @@ struct OdometryParams {
   /// or a search hypothesis one bay away, which the constant-velocity prior then carries on
   /// through the whole corridor (decision 98). With wheel odometry, the odometry's value.
   bool degenerate_along_prior = true;
+  /// Whether a degenerate fit's motion along its free direction (a corridor's axis, where its
+  /// position came from the prior or from wherever its hypothesis left it, not from the
+  /// scan) is kept out of the constant-velocity estimate: the velocity along that direction
+  /// stays what the steps before measured. Without it, one scan placed a bay off at a
+  /// corridor's entrance set a velocity that every later degenerate step reproduced (the
+  /// 181-beam SICK at 5 Hz with keyframes every 0.3 rad: 23 m off; decision 111).
+  bool degenerate_keeps_velocity = true;
   /// How far the prior may plausibly be wrong, which bounds how far from it the correlative
   /// search's hypothesis may replace the prior's own refinement while that one holds:
   /// prior_gate_sigmas standard deviations of the prior's error, and never less than
@@ -213,7 +220,10 @@ class SegmentOdometry {
   void reset();
 
  private:
-  void remember(double stamp);
+  /// Records the pose at `stamp` and updates the constant-velocity estimate; `free_odom`
+  /// (odometry frame, unit, or zero): a direction the step did not measure, along which the
+  /// velocity keeps its earlier value (decision 111).
+  void remember(double stamp, const Eigen::Vector2d& free_odom = Eigen::Vector2d::Zero());
   void segmentInto(const Scan& scan, int slot, const Twist2D& motion, OdometryStep& step);
   MatchResult matchWithKeyframe(int slot, const Pose2D& prior, OdometryStep& step) const;
   /// Refines the match (or recovers from a failed one) into step.refine and step.status;
