@@ -288,13 +288,12 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
   // constrained in every direction (decision 98). Only a direction the fit leaves truly free
   // counts (its variance there is the unconstrained one's, not a yaw-mostly weak direction
   // whose translation part the points do constrain).
-  if (params_.degenerate_along_prior && best.status == RefineStatus::kDegenerate) {
-    const Eigen::Vector2d& u = best.degenerate_direction;
-    const double u2 = params_.refiner.unconstrained_sigma_m * params_.refiner.unconstrained_sigma_m;
-    const bool free = u.dot(best.covariance.topLeftCorner<2, 2>() * u) > 0.5 * u2;
+  const std::optional<Eigen::Vector2d> free = freeDirection(best);
+  if (params_.degenerate_along_prior && free) {
+    const Eigen::Vector2d& u = *free;
     const double off = std::clamp(u.x() * (prior.x - best.T_key_curr.x) + u.y() * (prior.y - best.T_key_curr.y),
                                   -gate.translation_m, gate.translation_m);
-    if (free && std::abs(off) > params_.refiner.robust_scale_m) {
+    if (std::abs(off) > params_.refiner.robust_scale_m) {
       Pose2D start = best.T_key_curr;
       start.x += off * u.x();
       start.y += off * u.y();
@@ -502,12 +501,10 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   // wherever its hypothesis left it): its motion along that axis is no measurement, and the
   // velocity keeps what the constrained steps before it measured (decision 111).
   Eigen::Vector2d free_odom = Eigen::Vector2d::Zero();
-  if (params_.degenerate_keeps_velocity && refined && step.refine.status == RefineStatus::kDegenerate) {
-    const Eigen::Vector2d& u = step.refine.degenerate_direction;
-    const double u2 = params_.refiner.unconstrained_sigma_m * params_.refiner.unconstrained_sigma_m;
-    if (u.squaredNorm() > 0.5 && u.dot(step.refine.covariance.topLeftCorner<2, 2>() * u) > 0.5 * u2) {
+  if (params_.degenerate_keeps_velocity && refined) {
+    if (const std::optional<Eigen::Vector2d> u = freeDirection(step.refine)) {
       const double c = std::cos(keyframe_pose_.yaw), s = std::sin(keyframe_pose_.yaw);
-      free_odom = Eigen::Vector2d(c * u.x() - s * u.y(), s * u.x() + c * u.y());
+      free_odom = Eigen::Vector2d(c * u->x() - s * u->y(), s * u->x() + c * u->y());
     }
   }
   remember(scan.stamp_s, free_odom);
@@ -535,6 +532,14 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
     step.keyframe = true;
   }
   return step;
+}
+
+std::optional<Eigen::Vector2d> SegmentOdometry::freeDirection(const RefineResult& fit) const {
+  if (fit.status != RefineStatus::kDegenerate) return std::nullopt;
+  const Eigen::Vector2d& u = fit.degenerate_direction;
+  const double u2 = params_.refiner.unconstrained_sigma_m * params_.refiner.unconstrained_sigma_m;
+  if (!(u.squaredNorm() > 0.5) || !(u.dot(fit.covariance.topLeftCorner<2, 2>() * u) > 0.5 * u2)) return std::nullopt;
+  return u;
 }
 
 void SegmentOdometry::prepareKeyframe(OdometryStep& step) {

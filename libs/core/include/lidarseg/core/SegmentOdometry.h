@@ -226,8 +226,6 @@ class SegmentOdometry {
   void remember(double stamp, const Eigen::Vector2d& free_odom = Eigen::Vector2d::Zero());
   void segmentInto(const Scan& scan, int slot, const Twist2D& motion, OdometryStep& step);
   MatchResult matchWithKeyframe(int slot, const Pose2D& prior, OdometryStep& step) const;
-  /// Refines the match (or recovers from a failed one) into step.refine and step.status;
-  /// returns T_keyframe_curr.
   /// The gate of the prior (translation m, rotation rad): see OdometryParams::prior_gate_sigmas.
   struct PriorGate {
     double translation_m = 0.0, rotation_rad = 0.0;
@@ -238,8 +236,9 @@ class SegmentOdometry {
     bool wheel_odometry = false;
   };
   PriorGate priorGate(double dt, const std::optional<Pose2D>& odometry_increment) const;
-  /// `sweep`: the scan's sweep model when its rotation rate is estimated with the pose
-  /// (decision 95), else nullptr.
+  /// Refines the match (or recovers from a failed one) into step.refine and step.status;
+  /// returns T_keyframe_curr. `sweep`: the scan's sweep model when its rotation rate is
+  /// estimated with the pose (decision 95), else nullptr.
   Pose2D refineWithKeyframe(int slot, const Pose2D& prior, const PriorGate& gate, const SweepModel* sweep,
                             OdometryStep& step);
   /// Segments the scan again with the rotation rate of T_key_curr when it differs from the
@@ -247,6 +246,11 @@ class SegmentOdometry {
   /// T_key_curr; returns the pose kept.
   Pose2D deskewWithRefinedMotion(const Scan& scan, int slot, double dt, const Twist2D& used, const Pose2D& T_key_curr,
                                  OdometryStep& step);
+  /// The direction (keyframe frame, unit) along which a degenerate fit is truly free: its
+  /// translation variance there is at least half the unconstrained one's (a yaw-mostly weak
+  /// direction whose translation part the points constrain is not). Nullopt otherwise, and
+  /// for a fit that is not degenerate (decisions 98 and 111).
+  std::optional<Eigen::Vector2d> freeDirection(const RefineResult& fit) const;
   /// Prepares the keyframe (and the local map) for the refinements.
   void prepareKeyframe(OdometryStep& step);
   Twist2D meanVelocity(double stamp, double window) const;
