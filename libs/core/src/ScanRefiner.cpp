@@ -289,15 +289,15 @@ struct Pairing {
 // `pairs`; with it true the stored pairings are used as they are (no search: the step since
 // they were made is small), and `covered` is kept from the pass that made them.
 void accumulate(const KeyframeIndex& ix, const RefinerParams& P, const std::vector<Eigen::Vector2d>& pts,
-                const Pose2D& T, double yaw_scale, std::vector<Pairing>& pairs, bool reuse, Accumulator& acc,
-                const std::vector<double>* times = nullptr) {
+                const Pose2D& T, double yaw_scale, double scale, std::vector<Pairing>& pairs, bool reuse,
+                Accumulator& acc, const std::vector<double>* times = nullptr) {
   const std::size_t covered = acc.covered;
   const bool store = P.reassociate_m > 0.0;
   acc = Accumulator{};
   if (reuse) acc.covered = covered;
   else pairs.clear();
   const double c = std::cos(T.yaw), s = std::sin(T.yaw);
-  const double inv_c2 = 1.0 / (P.robust_scale_m * P.robust_scale_m);
+  const double inv_c2 = 1.0 / (scale * scale);
   const double inlier_limit = 3.0 * P.robust_scale_m;
   double h[6] = {0, 0, 0, 0, 0, 0}, hu[6] = {0, 0, 0, 0, 0, 0}, g[3] = {0, 0, 0};
   const std::size_t count = reuse ? pairs.size() : pts.size();
@@ -393,6 +393,7 @@ void RefinerParams::validate() const {
   }
   detail::requirePositive("max_distance_m", max_distance_m);
   detail::requirePositive("robust_scale_m", robust_scale_m);
+  detail::requireInRange("initial_scale_m", initial_scale_m, 0.0, max_distance_m);
   detail::requireNonNegative("endpoint_margin_m", endpoint_margin_m);
   if (bearing_window < 1 || bearing_window > 64) {
     detail::failKey("bearing_window", "in [1, 64]", static_cast<double>(bearing_window));
@@ -451,7 +452,7 @@ RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segme
 }
 
 RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segmentation& current,
-                                 const Pose2D& initial, const SweepModel* sweep) const {
+                                 const Pose2D& initial, const SweepModel* sweep, bool guessed_start) const {
   const RefinerParams& P = params_;
   RefineResult result;
   result.T_key_curr = initial;
@@ -520,6 +521,9 @@ RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segme
   }
   Eigen::Matrix3d H_pose;  // the pose's information, the rate eliminated (Schur complement)
   Eigen::Vector3d g_pose;
+  // The loss's scale this iteration: from initial_scale_m, halved each iteration down to
+  // robust_scale_m (graduated robustness).
+  double scale = guessed_start ? std::max(P.robust_scale_m, P.initial_scale_m) : P.robust_scale_m;
   for (std::size_t it = 0; it < P.max_iterations; ++it) {
     if (sweeping) {
       // The points turned by c t about the sensor (exact rotation: c t reaches 0.3 rad).
@@ -530,7 +534,7 @@ RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segme
         turned[i] = Eigen::Vector2d(ca * p.x() - sa * p.y(), sa * p.x() + ca * p.y());
       }
     }
-    accumulate(keyframe, P, sweeping ? turned : points, T, D(2), pairs, reuse, acc, sweeping ? &times : nullptr);
+    accumulate(keyframe, P, sweeping ? turned : points, T, D(2), scale, pairs, reuse, acc, sweeping ? &times : nullptr);
     // With the sweep's rate unknown too, what constrains the pose is what the rate does not
     // explain: the directions are judged on the unweighted information with the rate
     // eliminated (a corridor's along-axis cue may be spent on bending its walls).
@@ -584,7 +588,14 @@ RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segme
     T.yaw = wrapAngle(T.yaw + step.z());
     result.iterations = it + 1;
     const double moved = std::max({std::hypot(step.x(), step.y()), std::abs(step.z()) * L, std::abs(dc) * t_max * L});
+    const bool final_scale = scale <= P.robust_scale_m;
+    scale = std::max(P.robust_scale_m, 0.5 * scale);
     if (moved < P.convergence_m) {
+      if (!final_scale) {
+        scale = P.robust_scale_m;  // at rest under a wider loss: the final loss's iterations follow
+        reuse = false;
+        continue;
+      }
       result.converged = true;
       break;
     }

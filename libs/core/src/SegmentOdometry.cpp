@@ -99,6 +99,7 @@ SegmentOdometry::SegmentOdometry(const OdometryParams& params)
 
 void SegmentOdometry::reset() {
   count_ = 0;
+  motion_measured_ = false;
   typical_inlier_ratio_ = 0.0;
   pose_ = {};
   keyframe_pose_ = {};
@@ -183,9 +184,14 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
     return r.status == RefineStatus::kFailed ||
            (typical_inlier_ratio_ > 0.0 && r.inlier_ratio < params_.doubtful_ratio * typical_inlier_ratio_);
   };
+  // Before any step has measured the motion, the constant-velocity prior is a guess (the
+  // robot may already move at any speed): the refinements start from a wider loss, so that
+  // a start off by more than the final loss's scale along a corridor still feels the jambs
+  // (decision 112). Wheel odometry is a measurement.
+  const bool guessed = !gate.wheel_odometry && !motion_measured_;
   // 1. From the segment match.
   RefineResult best;
-  if (matched) best = refiner_.refine(refine_keyframe_, cur, m.T_prev_curr, sweep);
+  if (matched) best = refiner_.refine(refine_keyframe_, cur, m.T_prev_curr, sweep, guessed);
   // 2. From the prior, when the match failed, moved far from the prior (it may have locked
   // onto a wrong couple: a repeated door, a corridor), its refinement is doubtful, or that
   // refinement was still moving when its iterations ran out (a start off along a corridor
@@ -238,7 +244,7 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
            dyaw * dyaw > k2 * (gate.sigma_rad * gate.sigma_rad + r.covariance(2, 2));
   };
   if (!matched || far || doubtful(best) || !best.converged || disagrees(best)) {
-    reference = refiner_.refine(refine_keyframe_, cur, prior, sweep);
+    reference = refiner_.refine(refine_keyframe_, cur, prior, sweep, guessed);
     if (!matched || !replaces(best, false)) best = *reference;
   }
   bool recovered = false;
@@ -508,6 +514,7 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
     }
   }
   remember(scan.stamp_s, free_odom);
+  if (step.refine.status == RefineStatus::kOk) motion_measured_ = true;
 
   const Pose2D& from_key = T_key_curr;
   const bool moved = std::hypot(from_key.x, from_key.y) >= params_.keyframe_distance_m ||

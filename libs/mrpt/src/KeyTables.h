@@ -116,6 +116,7 @@ struct RefinerKeys {
     visit("max_iterations", p.max_iterations);
     visit("max_distance_m", p.max_distance_m);
     visit("robust_scale_m", p.robust_scale_m);
+    visit("initial_scale_m", p.initial_scale_m);
     visit("endpoint_margin_m", p.endpoint_margin_m);
     visit("bearing_window", p.bearing_window);
     visit("min_point_sigma_m", p.min_point_sigma_m);

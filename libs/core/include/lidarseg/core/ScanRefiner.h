@@ -41,6 +41,13 @@ struct RefinerParams {
   /// Scale of the Cauchy loss on the point-to-line residuals (m): residuals well below it
   /// count fully, far beyond it hardly at all.
   double robust_scale_m = 0.05;
+  /// Scale of the Cauchy loss in the first Gauss-Newton iteration of a refinement from a
+  /// guessed start (refine's `guessed_start`) (m); it halves at each iteration down to
+  /// robust_scale_m, and the refinement ends only at robust_scale_m. A start off by more than
+  /// robust_scale_m along a corridor is pulled only by the few jamb or recess points, at
+  /// residuals the final loss hardly counts: the wider first loss lets them pull (graduated
+  /// robustness). At most max_distance_m; 0 (or at most robust_scale_m): no schedule.
+  double initial_scale_m = 0.15;
   /// How far beyond a segment's end a point's projection may fall and still pair with it
   /// (m): the segment is finite, so a wall's points do not slide onto a jamb's extension.
   double endpoint_margin_m = 0.0;
@@ -210,9 +217,11 @@ class ScanRefiner {
   RefineResult refine(const RefinementKeyframe& keyframe, const Segmentation& current,
                       const Pose2D& initial) const;
   /// The same with the sweep's rotation rate estimated too (see SweepModel; `sweep` null or
-  /// without times: the overload above).
+  /// without times: the overload above). `guessed_start`: `initial` is a guess whose error
+  /// is not bounded by robust_scale_m (no motion measured yet): the loss starts at
+  /// RefinerParams::initial_scale_m (decision 112).
   RefineResult refine(const RefinementKeyframe& keyframe, const Segmentation& current, const Pose2D& initial,
-                      const SweepModel* sweep) const;
+                      const SweepModel* sweep, bool guessed_start = false) const;
 
   /// Prepares `keyframe` for refinements: O(beams x bearing_window).
   void prepare(const Segmentation& keyframe, RefinementKeyframe& out) const;

@@ -276,6 +276,9 @@ class SegmentOdometry {
   int keyframe_ = 0;
   int current_ = 0;
   std::size_t count_ = 0;
+  /// A step has measured the motion (a refinement constrained in every direction): until
+  /// then the constant-velocity prior is a guess, refined from a wider loss (decision 112).
+  bool motion_measured_ = false;
   double typical_inlier_ratio_ = 0.0;  // running mean of the refinements' inlier ratios
   double last_stamp_ = 0.0;
   /// Recent (stamp, pose): a ring buffer for the velocity estimate.
