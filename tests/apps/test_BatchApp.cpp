@@ -126,6 +126,23 @@ TEST(BatchApp, RunsResumeAndAggregate) {
   EXPECT_FALSE(fs::exists(job.out_dir + "/final_errors.png"));
 }
 
+// The simulator's stamp convention reaches the correction: a last-stamped simulation was
+// deskewed as first-stamped (about the wrong beam), which summary.json now says.
+TEST(BatchApp, TheSimulatedStampConventionReachesTheCorrection) {
+  const std::string dir = kTmp + "/stamp";
+  fs::create_directories(dir);
+  const std::string sim_config = dir + "/sim.ini";
+  std::ofstream(sim_config) << "[simulation]\nscan_stamp = last\n";
+  BatchJob job = shortMazeJob(dir + "/out");
+  job.sim_config_path = sim_config;
+  job.baseline_icp = false;
+  job.seed = 1;
+  BatchApp::runOne(job);
+  std::ifstream in(BatchApp::runDir(job.out_dir, 1) + "/summary.json");
+  const std::string summary((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(summary.find("stamped at the last beam"), std::string::npos) << summary.substr(0, 800);
+}
+
 TEST(BatchApp, AFailingJobLeavesNothingThatLooksFinished) {
   BatchJob job;
   job.world_path = kWorlds + "no-such.world";

@@ -68,6 +68,9 @@ OdometryOptions odometryOptions(const BatchJob& job, const fs::path& work) {
   o.out_dir = work.string();
   o.gt_path = (work / "sim.gt.tum").string();
   o.scanner_rotation_hz = params.rolling_shutter ? params.sensor.frequency_hz : 0.0;
+  // The simulator's stamp convention is known: the correction assumes the same one (a
+  // last-stamped simulation corrected as first-stamped deskews every sweep about the wrong beam).
+  if (params.rolling_shutter) o.scan_stamp = toString(params.scan_stamp);
   o.progress = false;
   return o;
 }

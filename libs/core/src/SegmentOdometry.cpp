@@ -353,6 +353,41 @@ Pose2D SegmentOdometry::deskewWithRefinedMotion(const Scan& scan, int slot, doub
   return step.refine.T_key_curr;
 }
 
+Pose2D SegmentOdometry::searchWithItsOwnDeskew(const Scan& scan, int slot, double dt, Twist2D& used,
+                                               const Pose2D& T_key_curr, OdometryStep& step) {
+  // The search's hypothesis was refined with the scan deskewed by the predicted rate. When it
+  // turns at another rate (a turn that began or ended within the last interval), the sweep it
+  // implies bends the scan differently: judged on a scan bent for another motion, the right
+  // hypothesis pairs no more points than the prior's, and the scan keeps the prior's heading
+  // (a slow scanner stamped at its last beam, at a turn's onset: decision 113). It is refined
+  // again on the scan deskewed with its own rate, and replaces the estimate when it pairs
+  // clearly more points, as a search hypothesis must (search_preference).
+  // Its rate is the mean over the interval since the last scan: the sweep's own only where
+  // the sweep lies in that interval (beams before the stamp: stamped at the last or middle
+  // beam); a sweep that starts at its stamp comes after it, and the hypothesis says nothing
+  // of its rate.
+  if (!step.search || !step.search->found || !(scan.time_offsets_s.front() < 0.0)) return T_key_curr;
+  const double sweep = scan.time_offsets_s.back() - scan.time_offsets_s.front();
+  const Pose2D implied = relative(compose(keyframe_pose_, step.search->T_key_curr), pose_);
+  Twist2D own = used;
+  own.omega = implied.yaw / dt;
+  if (!(std::abs(own.omega - used.omega) * sweep > params_.deskew_tolerance_rad)) return T_key_curr;
+  segmentInto(scan, slot, own, step);
+  RefineResult again = refiner_.refine(refine_keyframe_, segmentation_[slot], step.search->T_key_curr);
+  const bool clearly_better =
+      again.status != RefineStatus::kFailed &&
+      static_cast<double>(again.inliers) > (1.0 + params_.search_preference) * static_cast<double>(step.refine.inliers);
+  if (!clearly_better) {
+    segmentInto(scan, slot, used, step);  // keep the segments the estimate came from
+    return T_key_curr;
+  }
+  step.deskewed_again = true;
+  step.status = again.status == RefineStatus::kDegenerate ? TrackStatus::kDegenerate : TrackStatus::kRecovered;
+  step.refine = std::move(again);
+  used = own;
+  return step.refine.T_key_curr;
+}
+
 const Scan& SegmentOdometry::withBeamTimes(const Scan& scan) {
   if (!scan.time_offsets_s.empty() || !(params_.scanner_rotation_hz > 0.0) || !scan.layout) return scan;
   if (scan.layout != timed_layout_ || params_.scan_stamp != timed_stamp_) {
@@ -484,6 +519,7 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
       if (swept.omega != deskewed_with.omega) segmentInto(scan, slot, swept, step);
       sweep_omega_ = swept.omega;
     } else if (deskew && dt > 0.0 && step.refine.status != RefineStatus::kFailed) {
+      if (params_.deskew_search_hypothesis) T_key_curr = searchWithItsOwnDeskew(scan, slot, dt, deskewed_with, T_key_curr, step);
       T_key_curr = deskewWithRefinedMotion(scan, slot, dt, deskewed_with, T_key_curr, step);
     }
     step.refinement_us = microsecondsSince(t0);

@@ -1,5 +1,6 @@
 #include "lidarseg/pipeline/OdometryRun.h"
 #include "lidarseg/report/Baselines.h"
+#include "lidarseg/core/NumberText.h"
 
 #include <algorithm>
 #include <cmath>
@@ -81,6 +82,11 @@ report::OdometryReport OdometryRun::finish(double max_lost_ratio) {
     r.prior = "constant velocity (no usable wheel odometry between scans)";
   } else if (settings_.use_odometry) {
     r.prior = "wheel odometry";
+  }
+  const OdometryParams& p = settings_.config.odometry;
+  if (p.deskew && p.scanner_rotation_hz > 0.0) {
+    r.beam_times = "scanner at " + numberText(p.scanner_rotation_hz) + " Hz, stamped at the " + toString(p.scan_stamp) +
+                   " beam";
   }
   static_cast<report::RecordCounts&>(r) = gate_.counts();
   r.odometry_jumps = odometry_jumps_;

@@ -149,6 +149,7 @@ Json summaryObject(const OdometryReport& r) {
          {"clock_jumps", r.clock_jumps},
          {"odometry_jumps", r.odometry_jumps},
          {"prior", r.prior},
+         {"beam_times", r.beam_times},
          {"odometry_priors", r.odometry_priors}};
   if (!r.log_error.empty()) j["log_error"] = r.log_error;
   j["warnings"] = r.warnings;

@@ -44,6 +44,9 @@ struct OdometryParams {
   double search_preference = 0.15;
   /// Whether a doubtful (not only a failed) refinement also runs the search.
   bool search_when_doubtful = true;
+  /// Whether the search's hypothesis, when it turns at another rate than the scan was
+  /// deskewed with, is refined again on the scan deskewed with its own rate (decision 113).
+  bool deskew_search_hypothesis = true;
   /// When the segment match and the refinements from the prior and from the first search
   /// all failed (the scan would be lost), a second search over a window this many times
   /// wider (translation and rotation; at most 20 m and pi) runs first: a prior wrong by more
@@ -251,6 +254,12 @@ class SegmentOdometry {
   /// direction whose translation part the points constrain is not). Nullopt otherwise, and
   /// for a fit that is not degenerate (decisions 98 and 111).
   std::optional<Eigen::Vector2d> freeDirection(const RefineResult& fit) const;
+  /// When a search ran and its hypothesis turns at a rate other than `used` (by more than
+  /// deskew_tolerance_rad over the sweep), segments the scan with that rate and refines the
+  /// hypothesis again; keeps it (and sets `used` to its rate) when it pairs
+  /// (1 + search_preference) times as many points as step.refine (decision 113).
+  Pose2D searchWithItsOwnDeskew(const Scan& scan, int slot, double dt, Twist2D& used, const Pose2D& T_key_curr,
+                                OdometryStep& step);
   /// Prepares the keyframe (and the local map) for the refinements.
   void prepareKeyframe(OdometryStep& step);
   Twist2D meanVelocity(double stamp, double window) const;
