@@ -258,9 +258,11 @@ TEST(ScanRefiner, AGuessedStartFeelsShallowRecessesFromFurtherAway) {
   EXPECT_GT(std::abs(trusted.T_key_curr.x - 0.2), 0.1);
 }
 
-// initial_scale_m is a scale: never negative, never beyond the pairing reach.
+// initial_scale_m is a scale: never negative or non-finite. Beyond the pairing reach the
+// reach is used, so a configuration with a shorter max_distance_m than the default initial
+// scale stays valid.
 TEST(ScanRefiner, TheInitialScaleIsValidated) {
-  for (const double bad : {-0.1, 0.31, std::nan("")}) {
+  for (const double bad : {-0.1, std::nan(""), HUGE_VAL}) {
     RefinerParams p;
     p.initial_scale_m = bad;
     EXPECT_THROW(ScanRefiner{p}, std::invalid_argument) << bad;
@@ -268,6 +270,9 @@ TEST(ScanRefiner, TheInitialScaleIsValidated) {
   RefinerParams none;
   none.initial_scale_m = 0.0;
   EXPECT_NO_THROW(ScanRefiner{none});
+  RefinerParams short_reach;
+  short_reach.max_distance_m = 0.1;
+  EXPECT_NO_THROW(ScanRefiner{short_reach});
 }
 
 }  // namespace

@@ -393,7 +393,7 @@ void RefinerParams::validate() const {
   }
   detail::requirePositive("max_distance_m", max_distance_m);
   detail::requirePositive("robust_scale_m", robust_scale_m);
-  detail::requireInRange("initial_scale_m", initial_scale_m, 0.0, max_distance_m);
+  detail::requireNonNegative("initial_scale_m", initial_scale_m);  // beyond max_distance_m: that is used
   detail::requireNonNegative("endpoint_margin_m", endpoint_margin_m);
   if (bearing_window < 1 || bearing_window > 64) {
     detail::failKey("bearing_window", "in [1, 64]", static_cast<double>(bearing_window));
@@ -523,7 +523,8 @@ RefineResult ScanRefiner::refine(const RefinementKeyframe& keyframe, const Segme
   Eigen::Vector3d g_pose;
   // The loss's scale this iteration: from initial_scale_m, halved each iteration down to
   // robust_scale_m (graduated robustness).
-  double scale = guessed_start ? std::max(P.robust_scale_m, P.initial_scale_m) : P.robust_scale_m;
+  double scale =
+      guessed_start ? std::max(P.robust_scale_m, std::min(P.initial_scale_m, P.max_distance_m)) : P.robust_scale_m;
   for (std::size_t it = 0; it < P.max_iterations; ++it) {
     if (sweeping) {
       // The points turned by c t about the sensor (exact rotation: c t reaches 0.3 rad).

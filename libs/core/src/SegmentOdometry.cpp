@@ -354,14 +354,17 @@ Pose2D SegmentOdometry::deskewWithRefinedMotion(const Scan& scan, int slot, doub
 }
 
 Pose2D SegmentOdometry::searchWithItsOwnDeskew(const Scan& scan, int slot, double dt, Twist2D& used,
-                                               const Pose2D& T_key_curr, OdometryStep& step) {
+                                               const Pose2D& T_key_curr, const Pose2D& prior, const PriorGate& gate,
+                                               OdometryStep& step) {
   // The search's hypothesis was refined with the scan deskewed by the predicted rate. When it
   // turns at another rate (a turn that began or ended within the last interval), the sweep it
   // implies bends the scan differently: judged on a scan bent for another motion, the right
   // hypothesis pairs no more points than the prior's, and the scan keeps the prior's heading
   // (a slow scanner stamped at its last beam, at a turn's onset: decision 113). It is refined
-  // again on the scan deskewed with its own rate, and replaces the estimate when it pairs
-  // clearly more points, as a search hypothesis must (search_preference).
+  // again on the scan deskewed with its own rate, and replaces the estimate under the rules a
+  // search hypothesis meets in refineWithKeyframe: it pairs clearly more points
+  // (search_preference), lies within the prior's gate unless the estimate is doubtful, and is
+  // not degenerate where the estimate is constrained (decision 76).
   // Its rate is the mean over the interval since the last scan: the sweep's own only where
   // the sweep lies in that interval (beams before the stamp: stamped at the last or middle
   // beam); a sweep that starts at its stamp comes after it, and the hypothesis says nothing
@@ -377,7 +380,11 @@ Pose2D SegmentOdometry::searchWithItsOwnDeskew(const Scan& scan, int slot, doubl
   const bool clearly_better =
       again.status != RefineStatus::kFailed &&
       static_cast<double>(again.inliers) > (1.0 + params_.search_preference) * static_cast<double>(step.refine.inliers);
-  if (!clearly_better) {
+  const bool doubtful = typical_inlier_ratio_ > 0.0 && step.refine.inlier_ratio < params_.doubtful_ratio * typical_inlier_ratio_;
+  const Pose2D d = relative(again.T_key_curr, prior);
+  const bool within_gate = std::hypot(d.x, d.y) <= gate.translation_m && std::abs(d.yaw) <= gate.rotation_rad;
+  const bool weaker = again.status == RefineStatus::kDegenerate && step.refine.status == RefineStatus::kOk;
+  if (!clearly_better || (!doubtful && !within_gate) || weaker) {
     segmentInto(scan, slot, used, step);  // keep the segments the estimate came from
     return T_key_curr;
   }
@@ -519,7 +526,10 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
       if (swept.omega != deskewed_with.omega) segmentInto(scan, slot, swept, step);
       sweep_omega_ = swept.omega;
     } else if (deskew && dt > 0.0 && step.refine.status != RefineStatus::kFailed) {
-      if (params_.deskew_search_hypothesis) T_key_curr = searchWithItsOwnDeskew(scan, slot, dt, deskewed_with, T_key_curr, step);
+      if (params_.deskew_search_hypothesis) {
+        T_key_curr = searchWithItsOwnDeskew(scan, slot, dt, deskewed_with, T_key_curr, prior_from_key,
+                                            priorGate(dt, odometry_increment), step);
+      }
       T_key_curr = deskewWithRefinedMotion(scan, slot, dt, deskewed_with, T_key_curr, step);
     }
     step.refinement_us = microsecondsSince(t0);

@@ -86,7 +86,7 @@ report::OdometryReport OdometryRun::finish(double max_lost_ratio) {
   const OdometryParams& p = settings_.config.odometry;
   if (p.deskew && p.scanner_rotation_hz > 0.0) {
     r.beam_times = "scanner at " + numberText(p.scanner_rotation_hz) + " Hz, stamped at the " + toString(p.scan_stamp) +
-                   " beam";
+                   " beam (scans without their own beam times)";
   }
   static_cast<report::RecordCounts&>(r) = gate_.counts();
   r.odometry_jumps = odometry_jumps_;

@@ -46,7 +46,10 @@ struct RefinerParams {
   /// robust_scale_m, and the refinement ends only at robust_scale_m. A start off by more than
   /// robust_scale_m along a corridor is pulled only by the few jamb or recess points, at
   /// residuals the final loss hardly counts: the wider first loss lets them pull (graduated
-  /// robustness). At most max_distance_m; 0 (or at most robust_scale_m): no schedule.
+  /// robustness). Beyond max_distance_m, max_distance_m is used; 0 (or at most
+  /// robust_scale_m): no schedule. When max_iterations run out before the scale reaches
+  /// robust_scale_m (fewer iterations than halvings), the result's statistics are the last
+  /// scale's.
   double initial_scale_m = 0.15;
   /// How far beyond a segment's end a point's projection may fall and still pair with it
   /// (m): the segment is finite, so a wall's points do not slide onto a jamb's extension.

@@ -44,8 +44,10 @@ struct OdometryParams {
   double search_preference = 0.15;
   /// Whether a doubtful (not only a failed) refinement also runs the search.
   bool search_when_doubtful = true;
-  /// Whether the search's hypothesis, when it turns at another rate than the scan was
-  /// deskewed with, is refined again on the scan deskewed with its own rate (decision 113).
+  /// Whether the search's hypothesis (when a search ran and found one), when it turns at
+  /// another rate than the scan was deskewed with and the scan has beams before its stamp
+  /// (middle or last stamps), is refined again on the scan deskewed with its own rate and
+  /// replaces the estimate under the search's rules (decision 113).
   bool deskew_search_hypothesis = true;
   /// When the segment match and the refinements from the prior and from the first search
   /// all failed (the scan would be lost), a second search over a window this many times
@@ -174,8 +176,10 @@ struct OdometryStep {
   std::optional<SearchResult> search;
   /// Whether the wider second search ran (OdometryParams::wide_search_factor).
   bool wide_search = false;
-  /// Whether the scan was deskewed again with the rotation rate its refinement measured
-  /// (the rate it was deskewed with differed by more than deskew_tolerance_rad over the sweep).
+  /// Whether the scan was segmented again for another rotation rate: the one its refinement
+  /// measured (tried whenever the rate it was deskewed with differed by more than
+  /// deskew_tolerance_rad over the sweep), or the search hypothesis's own rate when that
+  /// hypothesis was kept (decision 113).
   bool deskewed_again = false;
   /// How this scan was tracked; the pose is T_keyframe_curr of `refine` unless kLost.
   TrackStatus status = TrackStatus::kFirst;
@@ -254,12 +258,14 @@ class SegmentOdometry {
   /// direction whose translation part the points constrain is not). Nullopt otherwise, and
   /// for a fit that is not degenerate (decisions 98 and 111).
   std::optional<Eigen::Vector2d> freeDirection(const RefineResult& fit) const;
-  /// When a search ran and its hypothesis turns at a rate other than `used` (by more than
-  /// deskew_tolerance_rad over the sweep), segments the scan with that rate and refines the
-  /// hypothesis again; keeps it (and sets `used` to its rate) when it pairs
-  /// (1 + search_preference) times as many points as step.refine (decision 113).
+  /// When a search found a hypothesis, the scan has beams before its stamp, and the
+  /// hypothesis turns at a rate other than `used` (by more than deskew_tolerance_rad over the
+  /// sweep): segments the scan with that rate and refines the hypothesis again; keeps it (and
+  /// sets `used` to its rate) when it pairs (1 + search_preference) times as many points as
+  /// step.refine, lies within the prior's gate while step.refine is not doubtful, and is
+  /// constrained in every direction unless step.refine is degenerate too (decision 113).
   Pose2D searchWithItsOwnDeskew(const Scan& scan, int slot, double dt, Twist2D& used, const Pose2D& T_key_curr,
-                                OdometryStep& step);
+                                const Pose2D& prior, const PriorGate& gate, OdometryStep& step);
   /// Prepares the keyframe (and the local map) for the refinements.
   void prepareKeyframe(OdometryStep& step);
   Twist2D meanVelocity(double stamp, double window) const;

@@ -81,9 +81,10 @@ struct OdometryReport : RecordCounts {
   /// odometry" when asked for (--use-odometry) and the log has it. Asked for on a log
   /// without wheel odometry it is "constant velocity (the log has no wheel odometry)".
   std::string prior = "constant velocity";
-  /// The rolling-shutter correction's beam times when they come from the configuration
-  /// ([odometry] scanner_rotation_hz and scan_stamp, e.g. "scanner at 5 Hz, stamped at the
-  /// last beam"); "off" when no times are made (a log's own per-beam times still deskew).
+  /// The beam times the rolling-shutter correction makes from the configuration ([odometry]
+  /// scanner_rotation_hz and scan_stamp) for scans without their own, e.g. "scanner at 5 Hz,
+  /// stamped at the last beam (scans without their own beam times)"; "off" when it makes
+  /// none (a log's own per-beam times still deskew).
   std::string beam_times = "off";
   /// Scans whose prior was the wheel odometry's increment.
   std::size_t odometry_priors = 0;
