@@ -171,19 +171,24 @@ SegmentOdometry::PriorGate SegmentOdometry::priorGate(double dt, const std::opti
           odometry_increment.has_value()};
 }
 
+bool SegmentOdometry::doubtful(const RefineResult& r) const {
+  // A local optimum (a corridor's walls pair at any shift along them; only the jambs' and
+  // recesses' points tell) pairs clearly fewer points than the last scans did.
+  return r.status == RefineStatus::kFailed ||
+         (typical_inlier_ratio_ > 0.0 && r.inlier_ratio < params_.doubtful_ratio * typical_inlier_ratio_);
+}
+
+bool SegmentOdometry::withinGate(const Pose2D& T_key_curr, const Pose2D& prior, const PriorGate& gate) {
+  const Pose2D d = relative(T_key_curr, prior);
+  return std::hypot(d.x, d.y) <= gate.translation_m && std::abs(d.yaw) <= gate.rotation_rad;
+}
+
 Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const PriorGate& gate,
                                           const SweepModel* sweep, OdometryStep& step) {
   const Segmentation& key = segmentation_[keyframe_];
   const Segmentation& cur = segmentation_[slot];
   const MatchResult& m = step.match;
   const bool matched = m.status != MatchStatus::kTooFewMatches;
-  // A result is doubtful when it failed, or pairs clearly fewer points than the last scans
-  // did: a local optimum (a corridor's walls pair at any shift along them; only the
-  // jambs' and recesses' points tell).
-  const auto doubtful = [&](const RefineResult& r) {
-    return r.status == RefineStatus::kFailed ||
-           (typical_inlier_ratio_ > 0.0 && r.inlier_ratio < params_.doubtful_ratio * typical_inlier_ratio_);
-  };
   // Before any step has measured the motion, the constant-velocity prior is a guess (the
   // robot may already move at any speed): the refinements start from a wider loss, so that
   // a start off by more than the final loss's scale along a corridor still feels the jambs
@@ -204,10 +209,6 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
   // replaces it only when it holds and pairs clearly more points, or the prior's failed.
   // Beyond the prior's gate, only when the prior's refinement failed.
   std::optional<RefineResult> reference;
-  const auto plausible = [&](const RefineResult& r) {
-    const Pose2D d = relative(r.T_key_curr, prior);
-    return std::hypot(d.x, d.y) <= gate.translation_m && std::abs(d.yaw) <= gate.rotation_rad;
-  };
   // The gate stands for the prior's assumed error (bounded accelerations) and guards a
   // prior whose refinement explains the scan as the last scans were explained. A doubtful
   // one (it pairs clearly fewer points) is no such reference: the prior was wrong by more
@@ -216,7 +217,7 @@ Pose2D SegmentOdometry::refineWithKeyframe(int slot, const Pose2D& prior, const 
   const auto gateHolds = [&]() { return !doubtful(*reference); };
   const auto replaces = [&](const RefineResult& r, bool gated) {
     if (!reference || reference->status == RefineStatus::kFailed) return better(r, best);
-    if (r.status == RefineStatus::kFailed || (gated && gateHolds() && !plausible(r))) return false;
+    if (r.status == RefineStatus::kFailed || (gated && gateHolds() && !withinGate(r.T_key_curr, prior, gate))) return false;
     // A degenerate hypothesis is free along its weak direction (a corridor's axis): the
     // points it pairs there say nothing about the position, so it does not replace a
     // reference that is constrained (decision 76).
@@ -380,11 +381,8 @@ Pose2D SegmentOdometry::searchWithItsOwnDeskew(const Scan& scan, int slot, doubl
   const bool clearly_better =
       again.status != RefineStatus::kFailed &&
       static_cast<double>(again.inliers) > (1.0 + params_.search_preference) * static_cast<double>(step.refine.inliers);
-  const bool doubtful = typical_inlier_ratio_ > 0.0 && step.refine.inlier_ratio < params_.doubtful_ratio * typical_inlier_ratio_;
-  const Pose2D d = relative(again.T_key_curr, prior);
-  const bool within_gate = std::hypot(d.x, d.y) <= gate.translation_m && std::abs(d.yaw) <= gate.rotation_rad;
   const bool weaker = again.status == RefineStatus::kDegenerate && step.refine.status == RefineStatus::kOk;
-  if (!clearly_better || (!doubtful && !within_gate) || weaker) {
+  if (!clearly_better || (!doubtful(step.refine) && !withinGate(again.T_key_curr, prior, gate)) || weaker) {
     segmentInto(scan, slot, used, step);  // keep the segments the estimate came from
     return T_key_curr;
   }
@@ -518,7 +516,8 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   }
   if (params_.refiner.enabled) {
     const auto t0 = std::chrono::steady_clock::now();
-    T_key_curr = refineWithKeyframe(slot, prior_from_key, priorGate(dt, odometry_increment), sweep, step);
+    const PriorGate gate = priorGate(dt, odometry_increment);
+    T_key_curr = refineWithKeyframe(slot, prior_from_key, gate, sweep, step);
     if (sweep != nullptr && step.refine.status != RefineStatus::kFailed) {
       // The scan segmented again with the rate found, as the next keyframe will be seen.
       Twist2D swept = deskewed_with;
@@ -527,8 +526,7 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
       sweep_omega_ = swept.omega;
     } else if (deskew && dt > 0.0 && step.refine.status != RefineStatus::kFailed) {
       if (params_.deskew_search_hypothesis) {
-        T_key_curr = searchWithItsOwnDeskew(scan, slot, dt, deskewed_with, T_key_curr, prior_from_key,
-                                            priorGate(dt, odometry_increment), step);
+        T_key_curr = searchWithItsOwnDeskew(scan, slot, dt, deskewed_with, T_key_curr, prior_from_key, gate, step);
       }
       T_key_curr = deskewWithRefinedMotion(scan, slot, dt, deskewed_with, T_key_curr, step);
     }

@@ -243,6 +243,11 @@ class SegmentOdometry {
     bool wheel_odometry = false;
   };
   PriorGate priorGate(double dt, const std::optional<Pose2D>& odometry_increment) const;
+  /// A refinement is doubtful when it failed, or pairs clearly fewer points than the last
+  /// scans did (its inlier ratio below doubtful_ratio times their running mean).
+  bool doubtful(const RefineResult& r) const;
+  /// T_key_curr lies within the prior's gate around `prior` (both keyframe frame).
+  static bool withinGate(const Pose2D& T_key_curr, const Pose2D& prior, const PriorGate& gate);
   /// Refines the match (or recovers from a failed one) into step.refine and step.status;
   /// returns T_keyframe_curr. `sweep`: the scan's sweep model when its rotation rate is
   /// estimated with the pose (decision 95), else nullptr.
