@@ -108,10 +108,12 @@ void SegmentOdometry::reset() {
   sweep_omega_.reset();
   map_size_ = 0;
   search_grid_.ready = false;
+  key_origin_ = {};
 }
 
 void SegmentOdometry::segmentInto(const Scan& scan, int slot, const Twist2D& motion, OdometryStep& step) {
   auto t0 = std::chrono::steady_clock::now();
+  slot_motion_[slot] = motion;
   segmenter_.wallDanielsson().segment(scan, segmentation_[slot], motion);
   step.wall_danielsson_us += microsecondsSince(t0);
   t0 = std::chrono::steady_clock::now();
@@ -393,6 +395,55 @@ Pose2D SegmentOdometry::searchWithItsOwnDeskew(const Scan& scan, int slot, doubl
   return step.refine.T_key_curr;
 }
 
+Pose2D SegmentOdometry::reviseKeyframe(double dt, const Pose2D& T_key_curr, OdometryStep& step) {
+  // The keyframe is the previous scan, stamped at its first beam: its sweep lies in the
+  // interval to this scan, and was deskewed with the rate of the interval before (the only
+  // one known then). At a turn's onset or end the two differ: the keyframe's walls are bent
+  // by the difference times the sweep, its pose took part of that bend, and every scan
+  // matched against it inherits both (decision 114).
+  KeyframeOrigin& origin = key_origin_;
+  if (!origin.revisable || origin.index + 1 != step.index) return T_key_curr;
+  origin.revisable = false;  // once
+  const double sweep = key_scan_.time_offsets_s.back() - key_scan_.time_offsets_s.front();
+  const Twist2D used = slot_motion_[keyframe_];
+  Twist2D measured = used;
+  measured.omega = T_key_curr.yaw / dt;
+  if (!(std::abs(measured.omega - used.omega) * sweep > params_.deskew_tolerance_rad)) return T_key_curr;
+  auto t0 = std::chrono::steady_clock::now();
+  segmenter_.wallDanielsson().segment(key_scan_, revised_, measured);
+  step.wall_danielsson_us += microsecondsSince(t0);
+  t0 = std::chrono::steady_clock::now();
+  segmenter_.cascade().apply(revised_);
+  step.cascade_us += microsecondsSince(t0);
+  // Against the reference it was refined against, from where that refinement came to rest;
+  // kept when it pairs at least as many points, and not degenerate where that was constrained.
+  const RefineResult again = refiner_.refine(parent_index_, revised_, origin.T_parent_key);
+  if (again.status == RefineStatus::kFailed || again.inliers < origin.inliers || !(again.rms_m < origin.rms_m) ||
+      (again.status == RefineStatus::kDegenerate && origin.status == RefineStatus::kOk)) {
+    return T_key_curr;
+  }
+  const Pose2D current = compose(keyframe_pose_, T_key_curr);
+  std::swap(segmentation_[keyframe_], revised_);
+  slot_motion_[keyframe_] = measured;
+  keyframe_pose_ = compose(origin.parent_pose, again.T_key_curr);
+  pose_ = keyframe_pose_;  // the last scan's pose, from which the velocity is measured
+  history_pose_[(history_size_ - 1) % kHistory] = keyframe_pose_;
+  prepareKeyframe(step);
+  step.revised_keyframe = keyframe_pose_;
+  // The current scan against the revised keyframe, from the pose it had.
+  const Pose2D start = relative(current, keyframe_pose_);
+  RefineResult refined = refiner_.refine(refine_keyframe_, segmentation_[current_], start);
+  if (refined.status == RefineStatus::kFailed ||
+      (refined.status == RefineStatus::kDegenerate && step.refine.status == RefineStatus::kOk)) {
+    step.refine.T_key_curr = start;
+    return start;
+  }
+  if (refined.status == RefineStatus::kDegenerate) step.status = TrackStatus::kDegenerate;
+  else if (step.status == TrackStatus::kDegenerate) step.status = TrackStatus::kOk;
+  step.refine = std::move(refined);
+  return step.refine.T_key_curr;
+}
+
 const Scan& SegmentOdometry::withBeamTimes(const Scan& scan) {
   if (!scan.time_offsets_s.empty() || !(params_.scanner_rotation_hz > 0.0) || !scan.layout) return scan;
   if (scan.layout != timed_layout_ || params_.scan_stamp != timed_stamp_) {
@@ -457,7 +508,9 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
     step.keyframe = true;
     keyframe_ = slot;
     keyframe_pose_ = pose_;
+    reported_pose_ = pose_;
     map_size_ = 0;
+    key_origin_.revisable = false;
     prepareKeyframe(step);
     last_stamp_ = scan.stamp_s;
     ++count_;
@@ -530,6 +583,9 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
       }
       T_key_curr = deskewWithRefinedMotion(scan, slot, dt, deskewed_with, T_key_curr, step);
     }
+    if (params_.revise_keyframe && deskew && dt > 0.0 && step.refine.status != RefineStatus::kFailed) {
+      T_key_curr = reviseKeyframe(dt, T_key_curr, step);
+    }
     step.refinement_us = microsecondsSince(t0);
     step.matching_us += step.refinement_us;
   } else {
@@ -540,10 +596,12 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   const bool refined = step.refine.status != RefineStatus::kFailed;
 
   const Pose2D new_pose = compose(keyframe_pose_, T_key_curr);
-  step.increment = relative(new_pose, pose_);
+  // From the pose reported for the previous scan (a revision of that keyframe moved pose_).
+  step.increment = relative(new_pose, reported_pose_);
   // The increment's uncertainty: that of the keyframe match, seen from the last pose.
   step.increment_covariance = refined ? step.refine.covariance : step.match.covariance;
   pose_ = new_pose;
+  reported_pose_ = new_pose;
   step.T_odom_sensor = pose_;
   last_stamp_ = scan.stamp_s;
   ++count_;
@@ -577,6 +635,21 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
       map_size_ = std::min(map_size_ + 1, capacity);
     }
     if (step.status == TrackStatus::kLost) map_size_ = 0;
+    // What a revision at the next scan needs: the scan's sweep lies after its stamp, the
+    // rate was not estimated with the pose, and a refinement held (decision 114).
+    key_origin_.revisable = params_.revise_keyframe && params_.refiner.enabled && deskew && sweep == nullptr &&
+                            refined && step.status != TrackStatus::kLost && scan.time_offsets_s.front() >= 0.0 &&
+                            scan.time_offsets_s.back() > scan.time_offsets_s.front();
+    if (key_origin_.revisable) {
+      key_origin_.index = step.index;
+      key_origin_.parent_pose = keyframe_pose_;
+      key_origin_.T_parent_key = T_key_curr;
+      key_origin_.inliers = step.refine.inliers;
+      key_origin_.rms_m = step.refine.rms_m;
+      key_origin_.status = step.refine.status;
+      key_scan_ = scan;
+      std::swap(parent_index_, refine_keyframe_);  // the reference it was refined against
+    }
     keyframe_ = slot;
     keyframe_pose_ = pose_;
     prepareKeyframe(step);

@@ -77,6 +77,7 @@ Json methodOf(const MethodReport& m) {
     j["searches"] = m.searches;
     j["wide_searches"] = m.wide_searches;
     j["deskewed_again"] = m.deskewed_again;
+    j["revised_keyframes"] = m.revised_keyframes;
     j["match_failures"] = Json::object();
     for (const auto& [k, v] : m.match_failures) j["match_failures"][k] = v;
   }

@@ -49,6 +49,14 @@ struct OdometryParams {
   /// (middle or last stamps), is refined again on the scan deskewed with its own rate and
   /// replaces the estimate under the search's rules (decision 113).
   bool deskew_search_hypothesis = true;
+  /// Whether a keyframe whose sweep lies after its stamp (stamped at its first beam) is
+  /// revised at the next scan: its sweep lies in the interval to that scan, whose rotation
+  /// rate was unknown when it was deskewed (the rate of the interval before was used). When
+  /// the rate measured over that interval differs by more than deskew_tolerance_rad over the
+  /// sweep, the keyframe is segmented again with it and refined again against its own
+  /// reference; when that pairs at least as many points, the keyframe's pose and segments are
+  /// replaced and the current scan is refined again against it (decision 114).
+  bool revise_keyframe = true;
   /// When the segment match and the refinements from the prior and from the first search
   /// all failed (the scan would be lost), a second search over a window this many times
   /// wider (translation and rotation; at most 20 m and pi) runs first: a prior wrong by more
@@ -183,6 +191,11 @@ struct OdometryStep {
   bool deskewed_again = false;
   /// How this scan was tracked; the pose is T_keyframe_curr of `refine` unless kLost.
   TrackStatus status = TrackStatus::kFirst;
+  /// When the previous scan, the keyframe, was revised with the rotation rate measured over
+  /// its sweep (OdometryParams::revise_keyframe): its revised T_odom_sensor. The pose
+  /// reported for that scan is not changed (each step's output is causal); this scan's pose
+  /// and `increment` (from the pose reported for the previous scan) build on the revision.
+  std::optional<Pose2D> revised_keyframe;
   /// Whether this scan became the keyframe.
   bool keyframe = false;
   bool first = false;
@@ -271,6 +284,9 @@ class SegmentOdometry {
   /// constrained in every direction unless step.refine is degenerate too (decision 113).
   Pose2D searchWithItsOwnDeskew(const Scan& scan, int slot, double dt, Twist2D& used, const Pose2D& T_key_curr,
                                 const Pose2D& prior, const PriorGate& gate, OdometryStep& step);
+  /// The revision of the keyframe at the next scan (OdometryParams::revise_keyframe);
+  /// returns the current scan's T_key_curr against the (possibly revised) keyframe.
+  Pose2D reviseKeyframe(double dt, const Pose2D& T_key_curr, OdometryStep& step);
   /// Prepares the keyframe (and the local map) for the refinements.
   void prepareKeyframe(OdometryStep& step);
   Twist2D meanVelocity(double stamp, double window) const;
@@ -293,6 +309,22 @@ class SegmentOdometry {
   CorrelativeSearch wide_search_;  // search_ over a window wide_search_factor times wider
   SearchGrid search_grid_;  // the keyframe rasterised for the search, made when first needed
   Segmentation segmentation_[2];  // the keyframe's and the current scan's
+  Twist2D slot_motion_[2];        // the motion each slot's segmentation was deskewed with
+  /// What the keyframe's revision needs (decision 114): its scan, the reference it was refined
+  /// against (prepared), that reference's pose, and the refinement's pose and counts.
+  struct KeyframeOrigin {
+    bool revisable = false;
+    std::size_t index = 0;  // the keyframe's scan index
+    Pose2D parent_pose;     // T_odom_sensor of the keyframe it was refined against
+    Pose2D T_parent_key;
+    std::size_t inliers = 0;
+    double rms_m = 0.0;
+    RefineStatus status = RefineStatus::kFailed;
+  };
+  KeyframeOrigin key_origin_;
+  Scan key_scan_;
+  RefinementKeyframe parent_index_;
+  Segmentation revised_;
   int keyframe_ = 0;
   int current_ = 0;
   std::size_t count_ = 0;
@@ -311,6 +343,7 @@ class SegmentOdometry {
   /// deskewed with it).
   std::optional<double> sweep_omega_;
   Pose2D pose_;           // T_odom_sensor of the last scan
+  Pose2D reported_pose_;  // the pose reported for the last scan (pose_ before a revision)
   Pose2D keyframe_pose_;  // T_odom_sensor of the keyframe
   Scan timed_;            // a scan given beam times from scanner_rotation_hz
   std::shared_ptr<const BeamLayout> timed_layout_;

@@ -55,6 +55,9 @@ struct MethodReport {
   /// lidarseg: how many scans were segmented again with the rotation rate their refinement
   /// measured (decision 90).
   std::size_t deskewed_again = 0;
+  /// lidarseg: how many keyframes were revised at the next scan with the rotation rate
+  /// measured over their sweep (decision 114).
+  std::size_t revised_keyframes = 0;
   /// lidarseg: the index of every lost scan (the first 1000).
   std::vector<std::size_t> lost_scans;
   std::size_t lost = 0;
