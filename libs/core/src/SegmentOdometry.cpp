@@ -356,46 +356,8 @@ Pose2D SegmentOdometry::deskewWithRefinedMotion(const Scan& scan, int slot, doub
   return step.refine.T_key_curr;
 }
 
-Pose2D SegmentOdometry::searchWithItsOwnDeskew(const Scan& scan, int slot, double dt, Twist2D& used,
-                                               const Pose2D& T_key_curr, const Pose2D& prior, const PriorGate& gate,
-                                               OdometryStep& step) {
-  // The search's hypothesis was refined with the scan deskewed by the predicted rate. When it
-  // turns at another rate (a turn that began or ended within the last interval), the sweep it
-  // implies bends the scan differently: judged on a scan bent for another motion, the right
-  // hypothesis pairs no more points than the prior's, and the scan keeps the prior's heading
-  // (a slow scanner stamped at its last beam, at a turn's onset: decision 113). It is refined
-  // again on the scan deskewed with its own rate, and replaces the estimate under the rules a
-  // search hypothesis meets in refineWithKeyframe: it pairs clearly more points
-  // (search_preference), lies within the prior's gate unless the estimate is doubtful, and is
-  // not degenerate where the estimate is constrained (decision 76).
-  // Its rate is the mean over the interval since the last scan: the sweep's own only where
-  // the sweep lies in that interval (beams before the stamp: stamped at the last or middle
-  // beam); a sweep that starts at its stamp comes after it, and the hypothesis says nothing
-  // of its rate.
-  if (!step.search || !step.search->found || !(scan.time_offsets_s.front() < 0.0)) return T_key_curr;
-  const double sweep = scan.time_offsets_s.back() - scan.time_offsets_s.front();
-  const Pose2D implied = relative(compose(keyframe_pose_, step.search->T_key_curr), pose_);
-  Twist2D own = used;
-  own.omega = implied.yaw / dt;
-  if (!(std::abs(own.omega - used.omega) * sweep > params_.deskew_tolerance_rad)) return T_key_curr;
-  segmentInto(scan, slot, own, step);
-  RefineResult again = refiner_.refine(refine_keyframe_, segmentation_[slot], step.search->T_key_curr);
-  const bool clearly_better =
-      again.status != RefineStatus::kFailed &&
-      static_cast<double>(again.inliers) > (1.0 + params_.search_preference) * static_cast<double>(step.refine.inliers);
-  const bool weaker = again.status == RefineStatus::kDegenerate && step.refine.status == RefineStatus::kOk;
-  if (!clearly_better || (!doubtful(step.refine) && !withinGate(again.T_key_curr, prior, gate)) || weaker) {
-    segmentInto(scan, slot, used, step);  // keep the segments the estimate came from
-    return T_key_curr;
-  }
-  step.deskewed_again = true;
-  step.status = again.status == RefineStatus::kDegenerate ? TrackStatus::kDegenerate : TrackStatus::kRecovered;
-  step.refine = std::move(again);
-  used = own;
-  return step.refine.T_key_curr;
-}
-
-Pose2D SegmentOdometry::reviseKeyframe(double dt, const Pose2D& T_key_curr, OdometryStep& step) {
+Pose2D SegmentOdometry::reviseKeyframe(double dt, const Pose2D& T_key_curr, const SweepModel* sweep,
+                                       OdometryStep& step) {
   // The keyframe is the previous scan, stamped at its first beam: its sweep lies in the
   // interval to this scan, and was deskewed with the rate of the interval before (the only
   // one known then). At a turn's onset or end the two differ: the keyframe's walls are bent
@@ -404,43 +366,47 @@ Pose2D SegmentOdometry::reviseKeyframe(double dt, const Pose2D& T_key_curr, Odom
   KeyframeOrigin& origin = key_origin_;
   if (!origin.revisable || origin.index + 1 != step.index) return T_key_curr;
   origin.revisable = false;  // once
-  const double sweep = key_scan_.time_offsets_s.back() - key_scan_.time_offsets_s.front();
+  const double sweep_s = key_scan_.time_offsets_s.back() - key_scan_.time_offsets_s.front();
   const Twist2D used = slot_motion_[keyframe_];
   Twist2D measured = used;
   measured.omega = T_key_curr.yaw / dt;
-  if (!(std::abs(measured.omega - used.omega) * sweep > params_.deskew_tolerance_rad)) return T_key_curr;
+  if (!(std::abs(measured.omega - used.omega) * sweep_s > params_.deskew_tolerance_rad)) return T_key_curr;
   auto t0 = std::chrono::steady_clock::now();
   segmenter_.wallDanielsson().segment(key_scan_, revised_, measured);
   step.wall_danielsson_us += microsecondsSince(t0);
   t0 = std::chrono::steady_clock::now();
   segmenter_.cascade().apply(revised_);
   step.cascade_us += microsecondsSince(t0);
-  // Against the reference it was refined against, from where that refinement came to rest;
-  // kept when it pairs at least as many points, and not degenerate where that was constrained.
+  // Against the reference it was refined against, from where that refinement came to rest.
+  // The interval's mean rate is not the sweep's when the turn starts or ends within the
+  // interval: the revision must explain the keyframe better (as many points, a lower RMS)
+  // and not be degenerate where the first fit was constrained.
   const RefineResult again = refiner_.refine(parent_index_, revised_, origin.T_parent_key);
   if (again.status == RefineStatus::kFailed || again.inliers < origin.inliers || !(again.rms_m < origin.rms_m) ||
       (again.status == RefineStatus::kDegenerate && origin.status == RefineStatus::kOk)) {
     return T_key_curr;
   }
-  const Pose2D current = compose(keyframe_pose_, T_key_curr);
-  std::swap(segmentation_[keyframe_], revised_);
-  slot_motion_[keyframe_] = measured;
-  keyframe_pose_ = compose(origin.parent_pose, again.T_key_curr);
-  pose_ = keyframe_pose_;  // the last scan's pose, from which the velocity is measured
-  history_pose_[(history_size_ - 1) % kHistory] = keyframe_pose_;
-  prepareKeyframe(step);
-  step.revised_keyframe = keyframe_pose_;
-  // The current scan against the revised keyframe, from the pose it had.
-  const Pose2D start = relative(current, keyframe_pose_);
-  RefineResult refined = refiner_.refine(refine_keyframe_, segmentation_[current_], start);
-  if (refined.status == RefineStatus::kFailed ||
-      (refined.status == RefineStatus::kDegenerate && step.refine.status == RefineStatus::kOk)) {
-    step.refine.T_key_curr = start;
-    return start;
+  // The current scan against the revised keyframe (and local map), from the pose it had;
+  // the revision is kept only when that holds too (not failed, not degenerate where the fit
+  // against the unrevised keyframe was constrained).
+  const Pose2D revised_pose = compose(origin.parent_pose, again.T_key_curr);
+  prepareIndex(revised_, revised_pose, revised_index_);
+  const Pose2D start = relative(compose(keyframe_pose_, T_key_curr), revised_pose);
+  RefineResult current = refiner_.refine(revised_index_, segmentation_[current_], start, sweep);
+  if (current.status == RefineStatus::kFailed ||
+      (current.status == RefineStatus::kDegenerate && step.refine.status == RefineStatus::kOk)) {
+    return T_key_curr;
   }
-  if (refined.status == RefineStatus::kDegenerate) step.status = TrackStatus::kDegenerate;
+  std::swap(segmentation_[keyframe_], revised_);
+  std::swap(refine_keyframe_, revised_index_);
+  slot_motion_[keyframe_] = measured;
+  keyframe_pose_ = revised_pose;
+  history_pose_[(history_size_ - 1) % kHistory] = revised_pose;  // the velocity is measured from it
+  search_grid_.ready = false;  // made again from the revised keyframe when a search needs it
+  step.keyframe_revision = KeyframeRevision{revised_pose, std::make_shared<const Segmentation>(segmentation_[keyframe_])};
+  if (current.status == RefineStatus::kDegenerate) step.status = TrackStatus::kDegenerate;
   else if (step.status == TrackStatus::kDegenerate) step.status = TrackStatus::kOk;
-  step.refine = std::move(refined);
+  step.refine = std::move(current);
   return step.refine.T_key_curr;
 }
 
@@ -508,7 +474,6 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
     step.keyframe = true;
     keyframe_ = slot;
     keyframe_pose_ = pose_;
-    reported_pose_ = pose_;
     map_size_ = 0;
     key_origin_.revisable = false;
     prepareKeyframe(step);
@@ -528,7 +493,7 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   if (deskew && dt > 0.0) {
     // The rolling-shutter correction used the predicted rotation rate. Where the match
     // says otherwise (a turn starts or ends) or failed, segment again with the measured
-    // rate (or none) and keep the better match.
+    // rate (or none) and keep that when it matches.
     const double sweep = scan.time_offsets_s.back() - scan.time_offsets_s.front();
     Twist2D corrected = motion;
     if (step.match.status == MatchStatus::kTooFewMatches) {
@@ -541,11 +506,13 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
         (step.match.status == MatchStatus::kTooFewMatches && (motion.omega != 0.0 || motion.vx != 0.0))) {
       segmentInto(scan, slot, corrected, step);
       MatchResult again = matchWithKeyframe(slot, prior_from_key, step);
-      if (again.status != MatchStatus::kTooFewMatches || step.match.status == MatchStatus::kTooFewMatches) {
+      // Kept when it matches; when neither matches, the prediction's segments stay: a failed
+      // match says nothing against the predicted rate (decision 115).
+      if (again.status != MatchStatus::kTooFewMatches) {
         step.match = std::move(again);
         deskewed_with = corrected;
       } else {
-        segmentInto(scan, slot, motion, step);  // keep the segments that gave the match
+        segmentInto(scan, slot, motion, step);  // keep the segments the prediction gave
       }
     }
   }
@@ -578,13 +545,10 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
       if (swept.omega != deskewed_with.omega) segmentInto(scan, slot, swept, step);
       sweep_omega_ = swept.omega;
     } else if (deskew && dt > 0.0 && step.refine.status != RefineStatus::kFailed) {
-      if (params_.deskew_search_hypothesis) {
-        T_key_curr = searchWithItsOwnDeskew(scan, slot, dt, deskewed_with, T_key_curr, prior_from_key, gate, step);
-      }
       T_key_curr = deskewWithRefinedMotion(scan, slot, dt, deskewed_with, T_key_curr, step);
     }
     if (params_.revise_keyframe && deskew && dt > 0.0 && step.refine.status != RefineStatus::kFailed) {
-      T_key_curr = reviseKeyframe(dt, T_key_curr, step);
+      T_key_curr = reviseKeyframe(dt, T_key_curr, sweep, step);
     }
     step.refinement_us = microsecondsSince(t0);
     step.matching_us += step.refinement_us;
@@ -594,14 +558,15 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
                                                                   : TrackStatus::kLost;
   }
   const bool refined = step.refine.status != RefineStatus::kFailed;
+  step.deskewed_with = slot_motion_[slot];
 
   const Pose2D new_pose = compose(keyframe_pose_, T_key_curr);
-  // From the pose reported for the previous scan (a revision of that keyframe moved pose_).
-  step.increment = relative(new_pose, reported_pose_);
+  // From the pose reported for the previous scan (a revision of that keyframe does not move
+  // it: the increments chain into the reported poses).
+  step.increment = relative(new_pose, pose_);
   // The increment's uncertainty: that of the keyframe match, seen from the last pose.
   step.increment_covariance = refined ? step.refine.covariance : step.match.covariance;
   pose_ = new_pose;
-  reported_pose_ = new_pose;
   step.T_odom_sensor = pose_;
   last_stamp_ = scan.stamp_s;
   ++count_;
@@ -666,17 +631,22 @@ std::optional<Eigen::Vector2d> SegmentOdometry::freeDirection(const RefineResult
   return u;
 }
 
+void SegmentOdometry::prepareIndex(const Segmentation& keyframe, const Pose2D& keyframe_pose,
+                                   RefinementKeyframe& index) {
+  map_scans_.clear();
+  map_scans_.push_back({&keyframe, Pose2D{}});
+  for (std::size_t i = 0; i < map_size_; ++i) {
+    const MapKeyframe& k = map_[(map_next_ + map_.size() - 1 - i) % map_.size()];  // newest first
+    map_scans_.push_back({&k.segmentation, relative(k.T_odom_sensor, keyframe_pose)});
+  }
+  refiner_.prepare(map_scans_, index);
+}
+
 void SegmentOdometry::prepareKeyframe(OdometryStep& step) {
   search_grid_.ready = false;  // made again, for the new keyframe, when a search needs it
   if (!params_.refiner.enabled) return;
   const auto t0 = std::chrono::steady_clock::now();
-  map_scans_.clear();
-  map_scans_.push_back({&segmentation_[keyframe_], Pose2D{}});
-  for (std::size_t i = 0; i < map_size_; ++i) {
-    const MapKeyframe& k = map_[(map_next_ + map_.size() - 1 - i) % map_.size()];  // newest first
-    map_scans_.push_back({&k.segmentation, relative(k.T_odom_sensor, keyframe_pose_)});
-  }
-  refiner_.prepare(map_scans_, refine_keyframe_);
+  prepareIndex(segmentation_[keyframe_], keyframe_pose_, refine_keyframe_);
   step.keyframe_us = microsecondsSince(t0);
   step.matching_us += step.keyframe_us;
 }

@@ -129,6 +129,8 @@ void Session::matchUpTo(std::size_t index) {
       const auto& last = run_->lidarseg().lastStep();
       s.step = last.core;
       s.robot_pose = eval::StampedPose{r.time.output_stamp_s, mrpt_adapter::toPose2D(last.robot_pose.mean)};
+      // A keyframe revised at this scan (decision 114) was matched with its revised segments.
+      if (s.step.keyframe_revision) keyframe_segments_ = s.step.keyframe_revision->segmentation;
       s.keyframe_index = keyframe_index_;
       s.keyframe_segments = keyframe_segments_;
       if (s.step.keyframe || s.step.first || !keyframe_segments_) {

@@ -78,7 +78,6 @@ struct OdometryKeys {
     visit("prior_preference", p.prior_preference);
     visit("search_preference", p.search_preference);
     visit("search_when_doubtful", p.search_when_doubtful);
-    visit("deskew_search_hypothesis", p.deskew_search_hypothesis);
     visit("revise_keyframe", p.revise_keyframe);
     visit("wide_search_factor", p.wide_search_factor);
     visit("check_match_against_prior", p.check_match_against_prior);

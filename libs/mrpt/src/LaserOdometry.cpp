@@ -76,8 +76,11 @@ LaserOdometryStep LaserOdometry::process(const Scan& scan, const Pose2D& S,
     keyframe_covariance_.setZero();
     pose_covariance_.setZero();
   } else {
-    // A keyframe revised at this scan (decision 114) is matched against from its revised pose.
-    if (out.core.revised_keyframe) keyframe_pose_ = compose(compose(S, *out.core.revised_keyframe), inverse(S));
+    // A keyframe revised at this scan (decision 114) is matched against from its revised pose
+    // (its covariance stays the one propagated to its first estimate).
+    if (out.core.keyframe_revision) {
+      keyframe_pose_ = compose(compose(S, out.core.keyframe_revision->T_odom_sensor), inverse(S));
+    }
     // The pose kept from the keyframe (refined, or found by the search) and its covariance,
     // not the segment match's, which the refinement replaced.
     const Pose2D from_key = relative(robot_pose, keyframe_pose_);

@@ -53,7 +53,7 @@ MethodStep LidarsegMethod::record(const ScanInput& scan) {
   m.searches += c.search.has_value();
   m.wide_searches += c.wide_search;
   m.deskewed_again += c.deskewed_again;
-  m.revised_keyframes += c.revised_keyframe.has_value();
+  m.revised_keyframes += c.keyframe_revision.has_value();
   if (!c.first) {
     ++m.status_counts[toString(c.status)];
     if (c.match.status == MatchStatus::kTooFewMatches) ++m.match_failures[c.match.rejections.dominant()];

@@ -3,6 +3,7 @@
 /// Laser odometry from consecutive scans: segment each scan once, match it with the
 /// previous one, integrate the motion.
 
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -44,18 +45,14 @@ struct OdometryParams {
   double search_preference = 0.15;
   /// Whether a doubtful (not only a failed) refinement also runs the search.
   bool search_when_doubtful = true;
-  /// Whether the search's hypothesis (when a search ran and found one), when it turns at
-  /// another rate than the scan was deskewed with and the scan has beams before its stamp
-  /// (middle or last stamps), is refined again on the scan deskewed with its own rate and
-  /// replaces the estimate under the search's rules (decision 113).
-  bool deskew_search_hypothesis = true;
   /// Whether a keyframe whose sweep lies after its stamp (stamped at its first beam) is
   /// revised at the next scan: its sweep lies in the interval to that scan, whose rotation
   /// rate was unknown when it was deskewed (the rate of the interval before was used). When
   /// the rate measured over that interval differs by more than deskew_tolerance_rad over the
   /// sweep, the keyframe is segmented again with it and refined again against its own
-  /// reference; when that pairs at least as many points, the keyframe's pose and segments are
-  /// replaced and the current scan is refined again against it (decision 114).
+  /// reference; when that pairs at least as many points with a lower inlier RMS (and is not
+  /// degenerate where the first fit was constrained), and the current scan, refined again
+  /// against it, holds, the keyframe's pose and segments are replaced (decision 114).
   bool revise_keyframe = true;
   /// When the segment match and the refinements from the prior and from the first search
   /// all failed (the scan would be lost), a second search over a window this many times
@@ -160,6 +157,14 @@ enum class TrackStatus {
 };
 const char* toString(TrackStatus s);
 
+/// A keyframe revised at the next scan (decision 114).
+struct KeyframeRevision {
+  /// Its revised T_odom_sensor.
+  Pose2D T_odom_sensor;
+  /// Its segmentation again with the rotation rate measured over its sweep.
+  std::shared_ptr<const Segmentation> segmentation;
+};
+
 /// One step of the odometry.
 struct OdometryStep {
   std::size_t index = 0;
@@ -189,13 +194,19 @@ struct OdometryStep {
   /// deskew_tolerance_rad over the sweep), or the search hypothesis's own rate when that
   /// hypothesis was kept (decision 113).
   bool deskewed_again = false;
+  /// The motion (sensor frame) this scan's segments were deskewed with in the end: the
+  /// prediction, the rate a match or the refinement measured, or the search hypothesis's
+  /// (zero without beam times).
+  Twist2D deskewed_with;
   /// How this scan was tracked; the pose is T_keyframe_curr of `refine` unless kLost.
   TrackStatus status = TrackStatus::kFirst;
   /// When the previous scan, the keyframe, was revised with the rotation rate measured over
-  /// its sweep (OdometryParams::revise_keyframe): its revised T_odom_sensor. The pose
-  /// reported for that scan is not changed (each step's output is causal); this scan's pose
-  /// and `increment` (from the pose reported for the previous scan) build on the revision.
-  std::optional<Pose2D> revised_keyframe;
+  /// its sweep (OdometryParams::revise_keyframe; decision 114): its revised pose and
+  /// segments. The pose reported for that scan is not changed (each step's output is
+  /// causal); this scan's pose was refined against the revised keyframe, and `increment`
+  /// (from the pose reported for the previous scan) includes the revision's correction while
+  /// `increment_covariance` is that refinement's alone.
+  std::optional<KeyframeRevision> keyframe_revision;
   /// Whether this scan became the keyframe.
   bool keyframe = false;
   bool first = false;
@@ -276,17 +287,11 @@ class SegmentOdometry {
   /// direction whose translation part the points constrain is not). Nullopt otherwise, and
   /// for a fit that is not degenerate (decisions 98 and 111).
   std::optional<Eigen::Vector2d> freeDirection(const RefineResult& fit) const;
-  /// When a search found a hypothesis, the scan has beams before its stamp, and the
-  /// hypothesis turns at a rate other than `used` (by more than deskew_tolerance_rad over the
-  /// sweep): segments the scan with that rate and refines the hypothesis again; keeps it (and
-  /// sets `used` to its rate) when it pairs (1 + search_preference) times as many points as
-  /// step.refine, lies within the prior's gate while step.refine is not doubtful, and is
-  /// constrained in every direction unless step.refine is degenerate too (decision 113).
-  Pose2D searchWithItsOwnDeskew(const Scan& scan, int slot, double dt, Twist2D& used, const Pose2D& T_key_curr,
-                                const Pose2D& prior, const PriorGate& gate, OdometryStep& step);
   /// The revision of the keyframe at the next scan (OdometryParams::revise_keyframe);
   /// returns the current scan's T_key_curr against the (possibly revised) keyframe.
-  Pose2D reviseKeyframe(double dt, const Pose2D& T_key_curr, OdometryStep& step);
+  Pose2D reviseKeyframe(double dt, const Pose2D& T_key_curr, const SweepModel* sweep, OdometryStep& step);
+  /// Prepares `keyframe` at `keyframe_pose` with the local map's scans for the refinements.
+  void prepareIndex(const Segmentation& keyframe, const Pose2D& keyframe_pose, RefinementKeyframe& index);
   /// Prepares the keyframe (and the local map) for the refinements.
   void prepareKeyframe(OdometryStep& step);
   Twist2D meanVelocity(double stamp, double window) const;
@@ -324,6 +329,7 @@ class SegmentOdometry {
   KeyframeOrigin key_origin_;
   Scan key_scan_;
   RefinementKeyframe parent_index_;
+  RefinementKeyframe revised_index_;  // the revised keyframe prepared, until it is kept
   Segmentation revised_;
   int keyframe_ = 0;
   int current_ = 0;
@@ -343,7 +349,6 @@ class SegmentOdometry {
   /// deskewed with it).
   std::optional<double> sweep_omega_;
   Pose2D pose_;           // T_odom_sensor of the last scan
-  Pose2D reported_pose_;  // the pose reported for the last scan (pose_ before a revision)
   Pose2D keyframe_pose_;  // T_odom_sensor of the keyframe
   Scan timed_;            // a scan given beam times from scanner_rotation_hz
   std::shared_ptr<const BeamLayout> timed_layout_;
