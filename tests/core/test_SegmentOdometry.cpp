@@ -495,7 +495,7 @@ TEST(SegmentOdometry, AKeyframeIsRevisedWithTheRateMeasuredOverItsSweep) {
     Outcome out;
     std::vector<Pose2D> truth, reported;
     Pose2D chained;
-    for (std::size_t i = 0; i < scans; ++i) {
+    for (std::size_t i = 0; i < std::min(scans, simulation.numScans()); ++i) {
       const sim::SimulatedFrame f = simulation.next();
       const OdometryStep step = odometry.process(f.scan);
       truth.push_back(f.T_world_robot);

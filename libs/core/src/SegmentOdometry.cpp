@@ -356,8 +356,7 @@ Pose2D SegmentOdometry::deskewWithRefinedMotion(const Scan& scan, int slot, doub
   return step.refine.T_key_curr;
 }
 
-Pose2D SegmentOdometry::reviseKeyframe(double dt, const Pose2D& T_key_curr, const SweepModel* sweep,
-                                       OdometryStep& step) {
+Pose2D SegmentOdometry::reviseKeyframe(double dt, const Pose2D& T_key_curr, OdometryStep& step) {
   // The keyframe is the previous scan, stamped at its first beam: its sweep lies in the
   // interval to this scan, and was deskewed with the rate of the interval before (the only
   // one known then). At a turn's onset or end the two differ: the keyframe's walls are bent
@@ -392,7 +391,7 @@ Pose2D SegmentOdometry::reviseKeyframe(double dt, const Pose2D& T_key_curr, cons
   const Pose2D revised_pose = compose(origin.parent_pose, again.T_key_curr);
   prepareIndex(revised_, revised_pose, revised_index_);
   const Pose2D start = relative(compose(keyframe_pose_, T_key_curr), revised_pose);
-  RefineResult current = refiner_.refine(revised_index_, segmentation_[current_], start, sweep);
+  RefineResult current = refiner_.refine(revised_index_, segmentation_[current_], start);
   if (current.status == RefineStatus::kFailed ||
       (current.status == RefineStatus::kDegenerate && step.refine.status == RefineStatus::kOk)) {
     return T_key_curr;
@@ -470,6 +469,7 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   current_ = slot;
 
   if (count_ == 0) {
+    step.deskewed_with = motion;
     step.first = true;
     step.keyframe = true;
     keyframe_ = slot;
@@ -547,8 +547,12 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
     } else if (deskew && dt > 0.0 && step.refine.status != RefineStatus::kFailed) {
       T_key_curr = deskewWithRefinedMotion(scan, slot, dt, deskewed_with, T_key_curr, step);
     }
-    if (params_.revise_keyframe && deskew && dt > 0.0 && step.refine.status != RefineStatus::kFailed) {
-      T_key_curr = reviseKeyframe(dt, T_key_curr, sweep, step);
+    // Not when this scan's rate was estimated with its pose: its segments and the rate carried
+    // to the next scan come from that fit, which a refinement against a revised keyframe
+    // would leave behind.
+    if (params_.revise_keyframe && deskew && dt > 0.0 && sweep == nullptr &&
+        step.refine.status != RefineStatus::kFailed) {
+      T_key_curr = reviseKeyframe(dt, T_key_curr, step);
     }
     step.refinement_us = microsecondsSince(t0);
     step.matching_us += step.refinement_us;

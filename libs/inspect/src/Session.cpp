@@ -129,10 +129,11 @@ void Session::matchUpTo(std::size_t index) {
       const auto& last = run_->lidarseg().lastStep();
       s.step = last.core;
       s.robot_pose = eval::StampedPose{r.time.output_stamp_s, mrpt_adapter::toPose2D(last.robot_pose.mean)};
-      // A keyframe revised at this scan (decision 114) was matched with its revised segments.
-      if (s.step.keyframe_revision) keyframe_segments_ = s.step.keyframe_revision->segmentation;
       s.keyframe_index = keyframe_index_;
-      s.keyframe_segments = keyframe_segments_;
+      s.keyframe_segments = keyframe_segments_;  // the segments this step's match used
+      // A keyframe revised at this scan (decision 114): the next scans are matched with its
+      // revised segments.
+      if (s.step.keyframe_revision) keyframe_segments_ = s.step.keyframe_revision->segmentation;
       if (s.step.keyframe || s.step.first || !keyframe_segments_) {
         // This scan is the keyframe of the next ones; this step matched the previous one.
         keyframe_index_ = steps_.size();

@@ -189,20 +189,20 @@ struct OdometryStep {
   std::optional<SearchResult> search;
   /// Whether the wider second search ran (OdometryParams::wide_search_factor).
   bool wide_search = false;
-  /// Whether the scan was segmented again for another rotation rate: the one its refinement
-  /// measured (tried whenever the rate it was deskewed with differed by more than
-  /// deskew_tolerance_rad over the sweep), or the search hypothesis's own rate when that
-  /// hypothesis was kept (decision 113).
+  /// Whether the scan was segmented again for the rotation rate its refinement measured
+  /// (tried whenever the rate it was deskewed with differed by more than
+  /// deskew_tolerance_rad over the sweep; decision 90).
   bool deskewed_again = false;
   /// The motion (sensor frame) this scan's segments were deskewed with in the end: the
-  /// prediction, the rate a match or the refinement measured, or the search hypothesis's
-  /// (zero without beam times).
+  /// prediction, none (the match held only without motion), the rate a match or the
+  /// refinement measured, or the sweep's estimated rate (zero without beam times).
   Twist2D deskewed_with;
   /// How this scan was tracked; the pose is T_keyframe_curr of `refine` unless kLost.
   TrackStatus status = TrackStatus::kFirst;
   /// When the previous scan, the keyframe, was revised with the rotation rate measured over
   /// its sweep (OdometryParams::revise_keyframe; decision 114): its revised pose and
-  /// segments. The pose reported for that scan is not changed (each step's output is
+  /// segments. `match`, `prior_from_keyframe` and `search` refer to the keyframe before its
+  /// revision; `refine` to the revised one. The pose reported for that scan is not changed (each step's output is
   /// causal); this scan's pose was refined against the revised keyframe, and `increment`
   /// (from the pose reported for the previous scan) includes the revision's correction while
   /// `increment_covariance` is that refinement's alone.
@@ -289,7 +289,7 @@ class SegmentOdometry {
   std::optional<Eigen::Vector2d> freeDirection(const RefineResult& fit) const;
   /// The revision of the keyframe at the next scan (OdometryParams::revise_keyframe);
   /// returns the current scan's T_key_curr against the (possibly revised) keyframe.
-  Pose2D reviseKeyframe(double dt, const Pose2D& T_key_curr, const SweepModel* sweep, OdometryStep& step);
+  Pose2D reviseKeyframe(double dt, const Pose2D& T_key_curr, OdometryStep& step);
   /// Prepares `keyframe` at `keyframe_pose` with the local map's scans for the refinements.
   void prepareIndex(const Segmentation& keyframe, const Pose2D& keyframe_pose, RefinementKeyframe& index);
   /// Prepares the keyframe (and the local map) for the refinements.
