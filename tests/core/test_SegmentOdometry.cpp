@@ -564,6 +564,38 @@ TEST(SegmentOdometry, AScanNoMatchExplainsKeepsThePredictedDeskew) {
   EXPECT_EQ(step.deskewed_with.omega, predicted);
 }
 
+// The other side of decision 115: when the segmentation without motion does match, it is
+// kept. In a turn of the maze's 50 Hz LMS100 run, the scan just processed is given again a
+// millisecond later (the robot stopped) with its beam times stretched a hundredfold: deskewed
+// with the turn's predicted rate over that 1.5 s sweep its walls bend by radians and match
+// nothing; without motion they are the keyframe's walls.
+TEST(SegmentOdometry, AScanThatMatchesOnlyWithoutMotionKeepsThatSegmentation) {
+  MazeRun maze(1);
+  SegmentOdometry odometry;
+  Scan last;
+  std::size_t i = 0;
+  for (; i < 2000 && !(std::abs(odometry.velocity().omega) > 0.5); ++i) {
+    last = maze.simulation.next().scan;
+    odometry.process(last);
+  }
+  ASSERT_GT(std::abs(odometry.velocity().omega), 0.5) << "no turn within 2000 scans";
+  Scan still = last;
+  still.stamp_s += 1e-3;
+  for (double& t : still.time_offsets_s) t *= 100.0;
+  const double predicted = odometry.velocity().omega;
+  const double sweep_s = still.time_offsets_s.back() - still.time_offsets_s.front();
+  ASSERT_GT(std::abs(predicted) * sweep_s, 0.5) << "the predicted deskew would not break the match";
+  const OdometryStep step = odometry.process(still);
+  std::cout << "scan " << i << " of the turn (predicted " << predicted << " rad/s, a " << sweep_s
+            << " s sweep): match " << toString(step.match.status) << ", status " << toString(step.status)
+            << ", deskewed with " << step.deskewed_with.vx << " m/s, " << step.deskewed_with.omega << " rad/s\n";
+  EXPECT_NE(step.match.status, MatchStatus::kTooFewMatches);
+  EXPECT_NE(step.status, TrackStatus::kLost);
+  EXPECT_EQ(step.deskewed_with.omega, 0.0);
+  EXPECT_EQ(step.deskewed_with.vx, 0.0);
+  EXPECT_LT(std::hypot(step.increment.x, step.increment.y), 0.02);
+}
+
 // The final heading error (rad).
 double runHeadingError(const char* world_name, const sim::SensorModel& sensor, std::uint64_t seed, std::size_t scans,
                        const OdometryParams& params) {

@@ -112,12 +112,16 @@ void SegmentOdometry::reset() {
 }
 
 void SegmentOdometry::segmentInto(const Scan& scan, int slot, const Twist2D& motion, OdometryStep& step) {
-  auto t0 = std::chrono::steady_clock::now();
   slot_motion_[slot] = motion;
-  segmenter_.wallDanielsson().segment(scan, segmentation_[slot], motion);
+  segment(scan, motion, segmentation_[slot], step);
+}
+
+void SegmentOdometry::segment(const Scan& scan, const Twist2D& motion, Segmentation& out, OdometryStep& step) const {
+  auto t0 = std::chrono::steady_clock::now();
+  segmenter_.wallDanielsson().segment(scan, out, motion);
   step.wall_danielsson_us += microsecondsSince(t0);
   t0 = std::chrono::steady_clock::now();
-  segmenter_.cascade().apply(segmentation_[slot]);
+  segmenter_.cascade().apply(out);
   step.cascade_us += microsecondsSince(t0);
 }
 
@@ -370,12 +374,7 @@ Pose2D SegmentOdometry::reviseKeyframe(double dt, const Pose2D& T_key_curr, Odom
   Twist2D measured = used;
   measured.omega = T_key_curr.yaw / dt;
   if (!(std::abs(measured.omega - used.omega) * sweep_s > params_.deskew_tolerance_rad)) return T_key_curr;
-  auto t0 = std::chrono::steady_clock::now();
-  segmenter_.wallDanielsson().segment(key_scan_, revised_, measured);
-  step.wall_danielsson_us += microsecondsSince(t0);
-  t0 = std::chrono::steady_clock::now();
-  segmenter_.cascade().apply(revised_);
-  step.cascade_us += microsecondsSince(t0);
+  segment(key_scan_, measured, revised_, step);
   // Against the reference it was refined against, from where that refinement came to rest.
   // The interval's mean rate is not the sweep's when the turn starts or ends within the
   // interval: the revision must explain the keyframe better (as many points, a lower RMS)
@@ -464,8 +463,7 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   // (with first-beam stamps it spans the interval to this scan).
   if (deskew && sweep_omega_) motion.omega = *sweep_omega_;
   sweep_omega_.reset();  // set again below only when this scan's rate is estimated
-  segmentInto(scan, slot, motion, step);
-  Twist2D deskewed_with = motion;  // the motion the current segmentation was deskewed with
+  segmentInto(scan, slot, motion, step);  // slot_motion_[slot]: the motion it was deskewed with
   current_ = slot;
 
   if (count_ == 0) {
@@ -510,7 +508,6 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
       // match says nothing against the predicted rate (decision 115).
       if (again.status != MatchStatus::kTooFewMatches) {
         step.match = std::move(again);
-        deskewed_with = corrected;
       } else {
         segmentInto(scan, slot, motion, step);  // keep the segments the prediction gave
       }
@@ -540,11 +537,13 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
     T_key_curr = refineWithKeyframe(slot, prior_from_key, gate, sweep, step);
     if (sweep != nullptr && step.refine.status != RefineStatus::kFailed) {
       // The scan segmented again with the rate found, as the next keyframe will be seen.
+      const Twist2D deskewed_with = slot_motion_[slot];
       Twist2D swept = deskewed_with;
       swept.omega += step.refine.sweep_rate_correction;
       if (swept.omega != deskewed_with.omega) segmentInto(scan, slot, swept, step);
       sweep_omega_ = swept.omega;
     } else if (deskew && dt > 0.0 && step.refine.status != RefineStatus::kFailed) {
+      const Twist2D deskewed_with = slot_motion_[slot];  // a copy: the call segments the slot again
       T_key_curr = deskewWithRefinedMotion(scan, slot, dt, deskewed_with, T_key_curr, step);
     }
     // Not when this scan's rate was estimated with its pose: its segments and the rate carried

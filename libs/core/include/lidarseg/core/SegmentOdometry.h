@@ -255,7 +255,10 @@ class SegmentOdometry {
   /// (odometry frame, unit, or zero): a direction the step did not measure, along which the
   /// velocity keeps its earlier value (decision 111).
   void remember(double stamp, const Eigen::Vector2d& free_odom = Eigen::Vector2d::Zero());
+  /// Segments `scan` deskewed with `motion` into the slot and records the motion (slot_motion_).
   void segmentInto(const Scan& scan, int slot, const Twist2D& motion, OdometryStep& step);
+  /// Wall-Danielsson segmentation and the cascade into `out`, their times added to `step`.
+  void segment(const Scan& scan, const Twist2D& motion, Segmentation& out, OdometryStep& step) const;
   MatchResult matchWithKeyframe(int slot, const Pose2D& prior, OdometryStep& step) const;
   /// The gate of the prior (translation m, rotation rad): see OdometryParams::prior_gate_sigmas.
   struct PriorGate {
