@@ -1,6 +1,7 @@
 // The lidarseg method of the shared run: the record's scan reaches the odometry on the stamp
 // policy's clock, whether the policy kept the log's stamp or repaired it, and the record is
 // left as the log reader gave it.
+#include <cmath>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -84,6 +85,51 @@ TEST(LidarsegMethod, GivesTheOdometryOfTheScanOnTheModelClockAndKeepsTheRecord) 
   ASSERT_EQ(report.trajectory.size(), log.size());
   // The robot drove 0.04 m per scan: the trajectory ends near there.
   EXPECT_NEAR(report.trajectory.back().pose.x, 0.04 * static_cast<double>(log.size() - 1), 0.05);
+}
+
+// Each tracked scan's motion from its keyframe is recorded in the robot frame with its
+// covariance (for the NEES against a ground truth): the motion between the reported robot
+// poses of the scan and of the last keyframe (near the robot's true motion), and the core's
+// covariance (laser frame) carried to the robot frame through the laser's mounting.
+TEST(LidarsegMethod, RecordsEachScansMotionFromItsKeyframeInTheRobotFrame) {
+  const auto log = corridorLog();
+  StampPolicy stamps;
+  LidarsegMethod method(OdometryParams{});
+  std::vector<Pose2D> truth;  // the robot's poses, as corridorLog() drove it
+  Pose2D robot{1.0, 1.0, 0.0};
+  std::vector<Eigen::Matrix3d> expected_covariance;
+  std::vector<std::size_t> keyframe_of;
+  std::size_t key = 0;
+  for (const auto& record : log) {
+    const StampStep time = stamps.next(record.stamp_s);
+    method.process(ScanInput{record, time, std::nullopt});
+    stamps.accept(time);
+    truth.push_back(robot);
+    robot = compose(robot, Pose2D{0.04, 0.0, 0.5 * kDeg});
+    const OdometryStep& core = method.lastStep().core;
+    if (!core.first) {
+      ASSERT_NE(core.status, TrackStatus::kLost) << record.where;
+      expected_covariance.push_back(mrpt_adapter::conjugateCovariance(record.sensor_on_robot, core.increment_covariance));
+      keyframe_of.push_back(key);
+    }
+    if (core.keyframe) key = record.index;
+  }
+  const report::MethodReport& report = method.report();
+  ASSERT_EQ(report.keyframe_motions.size(), log.size() - 1);
+  for (std::size_t k = 0; k < report.keyframe_motions.size(); ++k) {
+    const eval::KeyframeMotion& m = report.keyframe_motions[k];
+    const std::size_t i = k + 1, kf = keyframe_of[k];
+    EXPECT_EQ(m.stamp_s, report.trajectory[i].stamp_s);
+    EXPECT_EQ(m.keyframe_stamp_s, report.trajectory[kf].stamp_s);
+    const Pose2D reported = relative(report.trajectory[i].pose, report.trajectory[kf].pose);
+    EXPECT_NEAR(m.T_key_curr.x, reported.x, 1e-9);
+    EXPECT_NEAR(m.T_key_curr.y, reported.y, 1e-9);
+    EXPECT_NEAR(m.T_key_curr.yaw, reported.yaw, 1e-9);
+    EXPECT_TRUE(m.covariance.isApprox(expected_covariance[k], 1e-12)) << "scan " << i;
+    const Pose2D true_motion = relative(truth[i], truth[kf]);
+    EXPECT_LT(std::hypot(m.T_key_curr.x - true_motion.x, m.T_key_curr.y - true_motion.y), 0.01) << "scan " << i;
+    EXPECT_LT(std::abs(wrapAngle(m.T_key_curr.yaw - true_motion.yaw)), 0.2 * kDeg) << "scan " << i;
+  }
 }
 
 // The run's baselines come from their names: reported in the registry's order whatever the

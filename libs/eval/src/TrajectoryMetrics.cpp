@@ -1,9 +1,11 @@
 #include "lidarseg/eval/TrajectoryMetrics.h"
 #include "lidarseg/core/NumberText.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 
 namespace lidarseg::eval {
@@ -29,6 +31,42 @@ Pose2D alignPositions(const std::vector<Eigen::Vector2d>& a, const std::vector<E
   const Eigen::Rotation2Dd R(yaw);
   const Eigen::Vector2d t = mb - R * ma;
   return {t.x(), t.y(), yaw};
+}
+
+NeesSummary evaluateNees(const std::vector<KeyframeMotion>& motions, const StampedTrajectory& ground_truth,
+                         double tolerance_s) {
+  constexpr double kChi2Of3At95 = 7.815;
+  NeesSummary out;
+  std::vector<double> values;
+  for (const KeyframeMotion& m : motions) {
+    const auto k = nearestIndex(ground_truth, m.keyframe_stamp_s, tolerance_s);
+    const auto c = nearestIndex(ground_truth, m.stamp_s, tolerance_s);
+    if (!k || !c) continue;
+    const Pose2D truth = relative(ground_truth[*c].pose, ground_truth[*k].pose);
+    const Eigen::Vector3d e(m.T_key_curr.x - truth.x, m.T_key_curr.y - truth.y, wrapAngle(m.T_key_curr.yaw - truth.yaw));
+    const Eigen::LLT<Eigen::Matrix3d> llt(m.covariance);
+    const double nees = llt.info() == Eigen::Success ? e.dot(llt.solve(e)) : -1.0;
+    if (!(nees >= 0.0) || !std::isfinite(nees) || !m.covariance.allFinite()) {
+      ++out.singular;
+      continue;
+    }
+    values.push_back(nees);
+  }
+  out.evaluated = values.size();
+  if (values.empty()) return out;
+  double sum = 0.0;
+  std::size_t within = 0;
+  for (double v : values) {
+    sum += v;
+    within += v <= kChi2Of3At95;
+  }
+  out.mean = sum / static_cast<double>(values.size());
+  out.share_within_95 = static_cast<double>(within) / static_cast<double>(values.size());
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  out.median = *mid;
+  if (values.size() % 2 == 0) out.median = 0.5 * (out.median + *std::max_element(values.begin(), mid));
+  return out;
 }
 
 TrajectoryErrors evaluateTrajectory(const StampedTrajectory& estimate,

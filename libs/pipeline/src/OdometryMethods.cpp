@@ -7,6 +7,7 @@
 
 #include "lidarseg/report/Baselines.h"
 #include "lidarseg/report/Timing.h"
+#include "lidarseg/mrpt/LaserOdometry.h"
 #include "lidarseg/mrpt/PoseConversion.h"
 
 namespace lidarseg::pipeline {
@@ -62,6 +63,19 @@ MethodStep LidarsegMethod::record(const ScanInput& scan) {
       if (m.lost_scans.size() < 1000) m.lost_scans.push_back(scan.record.index);
     }
     if (std::sqrt(std::max(last_.increment.cov(0, 0), last_.increment.cov(1, 1))) > 0.1) ++m.weak_scans;
+  }
+  // The motion from the keyframe and its covariance, in the robot frame (T = S T_sensor S^-1).
+  const Pose2D& S = scan.record.sensor_on_robot;
+  const Pose2D robot_pose = m.trajectory.back().pose;
+  if (c.keyframe_revision) key_robot_pose_ = compose(compose(S, c.keyframe_revision->T_odom_sensor), inverse(S));
+  if (!c.first && (c.status == TrackStatus::kOk || c.status == TrackStatus::kRecovered ||
+                   c.status == TrackStatus::kDegenerate)) {
+    m.keyframe_motions.push_back({key_stamp_s_, scan.time.output_stamp_s, relative(robot_pose, key_robot_pose_),
+                                  mrpt_adapter::conjugateCovariance(S, c.increment_covariance)});
+  }
+  if (c.first || c.keyframe) {
+    key_stamp_s_ = scan.time.output_stamp_s;
+    key_robot_pose_ = robot_pose;
   }
   m.final_sigma_x_m = std::sqrt(last_.robot_pose.cov(0, 0));
   m.final_sigma_y_m = std::sqrt(last_.robot_pose.cov(1, 1));

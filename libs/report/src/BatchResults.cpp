@@ -88,7 +88,7 @@ std::vector<double> readMetricsRow(std::uint64_t seed, const fs::path& f) {
   const std::size_t columns = batchMetricNames().size() + 1;
   if (cells.size() != columns) {
     throw std::runtime_error(reader.where() + ": " + std::to_string(cells.size()) + " values, expected " +
-                             std::to_string(columns));
+                             std::to_string(columns) + " (a run of another version? remove its folder to run it again)");
   }
   std::uint64_t own = 0;
   const auto [end, error] = std::from_chars(cells[0].data(), cells[0].data() + cells[0].size(), own);
@@ -116,7 +116,8 @@ const std::vector<std::string>& batchMetricNames() {
       "lidarseg_sigma_edy_m", "lidarseg_edtheta_rad", "lidarseg_sigma_edtheta_rad",
       "icp_final_error_m", "icp_ate_rmse_m", "icp_t_ms", "icp_sigma_t_ms", "icp_median_ms", "icp_p99_ms",
       "icp_edx_m", "icp_sigma_edx_m", "icp_edy_m", "icp_sigma_edy_m", "icp_edtheta_rad",
-      "icp_sigma_edtheta_rad", "speedup_median", "path_length_m"};
+      "icp_sigma_edtheta_rad", "speedup_median", "path_length_m", "lidarseg_nees_mean",
+      "lidarseg_nees_median", "lidarseg_nees_share_95"};
   // clang-format on
   return names;
 }
@@ -147,6 +148,10 @@ std::vector<double> runMetrics(const OdometryReport& r) {
   method(icp, out);
   out.push_back(icp ? r.speedup_median : std::nan(""));  // no ratio without ICP
   out.push_back(r.lidarseg.errors ? r.lidarseg.errors->path_length_m : std::nan(""));
+  const bool nees = r.lidarseg.nees && r.lidarseg.nees->evaluated > 0;
+  out.push_back(nees ? r.lidarseg.nees->mean : std::nan(""));
+  out.push_back(nees ? r.lidarseg.nees->median : std::nan(""));
+  out.push_back(nees ? r.lidarseg.nees->share_within_95 : std::nan(""));
   return out;
 }
 
@@ -229,6 +234,13 @@ std::string table1Markdown(const std::string& title, const std::vector<std::uint
     md << "\nMedian time per scan: lidarseg " << std::setprecision(4)
        << stats.at("lidarseg_median_ms").median * 1e3 << " µs (MRPT ICP not run). Path length "
        << std::setprecision(1) << stats.at("path_length_m").mean << " m.\n";
+  }
+  if (stats.at("lidarseg_nees_mean").count > 0) {
+    md << "\nlidarseg's covariance against the ground truth (NEES of each scan's motion from its keyframe; "
+          "chi-square(3): mean 3, median 2.37, 95 % at or below 7.81): mean over runs of each run's mean "
+       << std::setprecision(2) << stats.at("lidarseg_nees_mean").mean << ", of its median "
+       << stats.at("lidarseg_nees_median").mean << ", of its share at or below 7.81 " << std::setprecision(1)
+       << 100.0 * stats.at("lidarseg_nees_share_95").mean << " %.\n";
   }
   return md.str();
 }

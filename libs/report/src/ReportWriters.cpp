@@ -82,6 +82,13 @@ Json methodOf(const MethodReport& m) {
     for (const auto& [k, v] : m.match_failures) j["match_failures"][k] = v;
   }
   if (m.errors) j["errors"] = errorsOf(m);
+  if (m.nees) {
+    j["nees"] = {{"evaluated", m.nees->evaluated},
+                 {"singular", m.nees->singular},
+                 {"mean", number(m.nees->mean)},
+                 {"median", number(m.nees->median)},
+                 {"share_within_95", number(m.nees->share_within_95)}};
+  }
   if (m.relations) j["relations"] = relationsOf(*m.relations);
   if (m.log_relations) j["log_relations"] = relationsOf(*m.log_relations);
   return j;
@@ -204,6 +211,12 @@ void lidarsegCounts(const OdometryReport& r, std::ostream& os) {
      << ". Final pose 1-sigma from the propagated covariance: " << std::setprecision(3)
      << r.lidarseg.final_sigma_x_m << " m, " << r.lidarseg.final_sigma_y_m << " m, "
      << r.lidarseg.final_sigma_yaw_rad * kRadToDeg << " deg.\n";
+  if (r.lidarseg.nees && r.lidarseg.nees->evaluated > 0) {
+    const eval::NeesSummary& n = *r.lidarseg.nees;
+    os << "\nCovariance against the ground truth: NEES of the motion from the keyframe over " << n.evaluated
+       << " scans, mean " << std::setprecision(2) << n.mean << ", median " << n.median << " (chi-square(3): 3 and "
+       << "2.37), " << std::setprecision(1) << 100.0 * n.share_within_95 << " % at or below 7.81 (95 %).\n";
+  }
   if (!r.lidarseg.match_failures.empty()) {
     os << "\nSegment matches that failed, by their main reason:";
     for (const auto& [k, v] : r.lidarseg.match_failures) os << " " << k << " " << v << ";";

@@ -32,6 +32,9 @@ std::string stemOf(const std::string& path) {
 
 void evaluate(MethodReport& m, const RunReferences& refs, double relations_tolerance_s) {
   if (refs.gt) m.errors = eval::evaluateTrajectory(m.trajectory, *refs.gt, refs.gt_tolerance_s);
+  if (refs.gt && !m.keyframe_motions.empty()) {
+    m.nees = eval::evaluateNees(m.keyframe_motions, *refs.gt, refs.gt_tolerance_s);
+  }
   if (refs.relations)
     m.relations = eval::evaluateRelations(m.trajectory, *refs.relations, relations_tolerance_s);
   if (refs.log_relations)

@@ -4,6 +4,9 @@
 /// motion errors, §IV.B), the final position error and the absolute trajectory error.
 
 #include <cstddef>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include "lidarseg/core/Statistics.h"
 #include "lidarseg/eval/StampedTrajectory.h"
@@ -42,6 +45,34 @@ struct TrajectoryErrors {
 /// @throws std::invalid_argument when fewer than 2 poses associate.
 TrajectoryErrors evaluateTrajectory(const StampedTrajectory& estimate,
                                     const StampedTrajectory& ground_truth, double tolerance_s = 0.005);
+
+/// What a keyframe-based odometry measured at one scan: its motion from the keyframe it was
+/// matched against, T_keyframe_curr (robot frame of the keyframe; x, y in m, yaw in rad),
+/// with that estimate's covariance (same order and units).
+struct KeyframeMotion {
+  double keyframe_stamp_s = 0.0;
+  double stamp_s = 0.0;
+  Pose2D T_key_curr;
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+};
+
+/// The normalised estimation error squared (NEES) of keyframe motions against the ground
+/// truth: e^T C^-1 e, e the estimate minus the true T_keyframe_curr (yaw wrapped). For a
+/// consistent estimator it follows a chi-square with 3 degrees of freedom: mean 3, 95 % of
+/// the draws at or below 7.815 (issue 14, "honest uncertainty").
+struct NeesSummary {
+  /// Motions whose two stamps found a ground-truth pose and whose covariance is positive
+  /// definite; `singular` counts those left out for their covariance alone.
+  std::size_t evaluated = 0, singular = 0;
+  double mean = 0.0, median = 0.0;
+  /// Share of the evaluated motions whose NEES is at or below 7.815.
+  double share_within_95 = 0.0;
+};
+
+/// The NEES of every motion whose stamps associate with `ground_truth` within `tolerance_s`.
+/// Empty input or no association gives evaluated = 0 and zero figures.
+NeesSummary evaluateNees(const std::vector<KeyframeMotion>& motions, const StampedTrajectory& ground_truth,
+                         double tolerance_s = 0.005);
 
 /// The rigid transform T minimising sum |T * a_i - b_i|^2 over positions (2D Horn/Umeyama,
 /// no scale). Requires a.size() == b.size() >= 1.

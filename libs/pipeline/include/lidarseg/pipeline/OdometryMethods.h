@@ -77,6 +77,10 @@ class LidarsegMethod : public OdometryMethod {
   mrpt_adapter::SegmentAlignment alignment_;
   mrpt_adapter::SegmentAlignment::TTrackResult last_;
   Scan timed_;  // a record's scan with a repaired stamp (model clock); reused across scans
+  // The keyframe the next scan is matched against: its output stamp and robot pose (the
+  // revised one after a revision, decision 114), for MethodReport::keyframe_motions.
+  double key_stamp_s_ = 0.0;
+  Pose2D key_robot_pose_;
 };
 
 /// MRPT ICP as a laser odometry: each scan's points aligned against a reference scan's

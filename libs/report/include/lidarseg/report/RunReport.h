@@ -67,7 +67,13 @@ struct MethodReport {
   double final_sigma_x_m = 0.0, final_sigma_y_m = 0.0, final_sigma_yaw_rad = 0.0;
   /// Scans whose increment's translation 1-sigma exceeded 0.1 m (weakly constrained matches).
   std::size_t weak_scans = 0;
+  /// lidarseg, per tracked scan (`ok`, `recovered` or `degenerate`): its motion from the
+  /// keyframe it was matched against and that estimate's covariance (robot frame), for the
+  /// NEES against a ground truth.
+  std::vector<eval::KeyframeMotion> keyframe_motions;
   std::optional<eval::TrajectoryErrors> errors;
+  /// The NEES of `keyframe_motions` against the ground truth, when there is one.
+  std::optional<eval::NeesSummary> nees;
   std::optional<eval::RelationErrors> relations;
   std::optional<eval::RelationErrors> log_relations;
 };
