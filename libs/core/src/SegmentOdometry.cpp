@@ -1,5 +1,7 @@
 #include "lidarseg/core/SegmentOdometry.h"
 
+#include <Eigen/Geometry>
+
 #include "lidarseg/core/Angles.h"
 #include "lidarseg/core/NumberText.h"
 #include "lidarseg/core/ScanRecord.h"
@@ -106,6 +108,8 @@ void SegmentOdometry::reset() {
   history_size_ = 0;
   velocity_ = {};
   sweep_omega_.reset();
+  interval_.reset();
+  key_bend_.setZero();
   map_size_ = 0;
   search_grid_.ready = false;
   key_origin_ = {};
@@ -569,6 +573,34 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   step.increment = relative(new_pose, pose_);
   // The increment's uncertainty: that of the keyframe match, seen from the last pose.
   step.increment_covariance = refined ? step.refine.covariance : step.match.covariance;
+  // And that of the rolling-shutter corrections of this scan and of its keyframe (decision
+  // 117): the motion over this scan's sweep is known to within its recent change, and a
+  // sweep deskewed with a motion off by d over T seconds is bent by up to d T, its fit moved
+  // by about half of that. The keyframe's term is in its own frame, this scan's turned into it.
+  Eigen::Matrix3d bend = Eigen::Matrix3d::Zero();  // this scan's, in its own frame
+  if (deskew && dt > 0.0 && sweep_s > 0.0) {
+    const Twist2D measured{step.increment.x / dt, step.increment.y / dt, step.increment.yaw / dt};
+    const Twist2D& used = slot_motion_[slot];
+    const auto change = [](const Twist2D& a, const Twist2D& b) {
+      return Eigen::Vector3d(a.vx - b.vx, a.vy - b.vy, a.omega - b.omega);
+    };
+    Eigen::Vector3d doubt = change(measured, used).cwiseAbs();
+    Eigen::Vector2d dv = change(measured, used).head<2>();
+    if (interval_) {
+      const Eigen::Vector3d since = change(measured, *interval_);
+      doubt(2) = std::max(doubt(2), std::abs(since(2)));
+      if (since.head<2>().norm() > dv.norm()) dv = since.head<2>();
+    }
+    const double half = 0.5 * sweep_s;
+    bend.topLeftCorner<2, 2>() = half * half * dv * dv.transpose();
+    bend(2, 2) = half * half * doubt(2) * doubt(2);
+    interval_ = measured;
+  }
+  if (params_.deskew_covariance) {
+    Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+    R.topLeftCorner<2, 2>() = Eigen::Rotation2Dd(T_key_curr.yaw).toRotationMatrix();
+    step.increment_covariance += R * bend * R.transpose() + key_bend_;
+  }
   pose_ = new_pose;
   step.T_odom_sensor = pose_;
   last_stamp_ = scan.stamp_s;
@@ -620,6 +652,7 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
     }
     keyframe_ = slot;
     keyframe_pose_ = pose_;
+    key_bend_ = bend;
     prepareKeyframe(step);
     step.keyframe = true;
   }

@@ -79,6 +79,7 @@ struct OdometryKeys {
     visit("search_preference", p.search_preference);
     visit("search_when_doubtful", p.search_when_doubtful);
     visit("revise_keyframe", p.revise_keyframe);
+    visit("deskew_covariance", p.deskew_covariance);
     visit("wide_search_factor", p.wide_search_factor);
     visit("check_match_against_prior", p.check_match_against_prior);
     visit("degenerate_along_prior", p.degenerate_along_prior);

@@ -54,6 +54,13 @@ struct OdometryParams {
   /// degenerate where the first fit was constrained), and the current scan, refined again
   /// against it, holds, the keyframe's pose and segments are replaced (decision 114).
   bool revise_keyframe = true;
+  /// Whether a deskewed scan's covariance includes the rolling-shutter correction's own error,
+  /// which no residual shows: a scan deskewed with a motion off by d (m/s, rad/s) over a sweep
+  /// of T seconds is bent by up to d T, and its fit moved by about half of that. d is the
+  /// motion's recent change: the interval's measured motion against the one the scan was
+  /// deskewed with and against the interval before (the larger of each); the keyframe's term
+  /// is added too. Only the covariance changes, not the pose (decision 117).
+  bool deskew_covariance = true;
   /// When the segment match and the refinements from the prior and from the first search
   /// all failed (the scan would be lost), a second search over a window this many times
   /// wider (translation and rotation; at most 20 m and pi) runs first: a prior wrong by more
@@ -171,7 +178,10 @@ struct OdometryStep {
   double stamp_s = 0.0;
   /// Pose of the sensor in the odometry frame (the first scan's sensor frame).
   Pose2D T_odom_sensor;
-  /// Motion since the previous scan, T_prev_curr, and its covariance (x, y, yaw).
+  /// Motion since the previous scan, T_prev_curr, and the covariance (x, y, yaw) of the
+  /// motion from the keyframe, T_keyframe_curr: the refinement's (or the segment match's),
+  /// plus, for a deskewed scan, the rolling-shutter corrections' own error of the scan and
+  /// of its keyframe (OdometryParams::deskew_covariance, decision 117).
   Pose2D increment;
   Eigen::Matrix3d increment_covariance = Eigen::Matrix3d::Zero();
   /// The predicted motion since the previous scan (constant velocity or wheel odometry).
@@ -205,7 +215,7 @@ struct OdometryStep {
   /// revision; `refine` to the revised one. The pose reported for that scan is not changed (each step's output is
   /// causal); this scan's pose was refined against the revised keyframe, and `increment`
   /// (from the pose reported for the previous scan) includes the revision's correction while
-  /// `increment_covariance` is that refinement's alone.
+  /// `increment_covariance` is that of the refinement against the revised keyframe.
   std::optional<KeyframeRevision> keyframe_revision;
   /// Whether this scan became the keyframe.
   bool keyframe = false;
@@ -351,6 +361,10 @@ class SegmentOdometry {
   /// The rate the last scan's sweep was estimated at, when it was (the next scan is
   /// deskewed with it).
   std::optional<double> sweep_omega_;
+  // The motion measured over the last interval (sensor frame), and the covariance of the
+  // keyframe's rolling-shutter correction (its frame; OdometryParams::deskew_covariance).
+  std::optional<Twist2D> interval_;
+  Eigen::Matrix3d key_bend_ = Eigen::Matrix3d::Zero();
   Pose2D pose_;           // T_odom_sensor of the last scan
   Pose2D keyframe_pose_;  // T_odom_sensor of the keyframe
   Scan timed_;            // a scan given beam times from scanner_rotation_hz
