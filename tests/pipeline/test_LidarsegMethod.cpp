@@ -1,6 +1,7 @@
 // The lidarseg method of the shared run: the record's scan reaches the odometry on the stamp
 // policy's clock, whether the policy kept the log's stamp or repaired it, and the record is
 // left as the log reader gave it.
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -94,7 +95,9 @@ TEST(LidarsegMethod, GivesTheOdometryOfTheScanOnTheModelClockAndKeepsTheRecord) 
 TEST(LidarsegMethod, RecordsEachScansMotionFromItsKeyframeInTheRobotFrame) {
   const auto log = corridorLog();
   StampPolicy stamps;
-  LidarsegMethod method(OdometryParams{});
+  OdometryParams params;
+  params.keyframe_distance_m = 0.1;  // a new keyframe every third scan of this 0.56 m drive
+  LidarsegMethod method(params);
   std::vector<Pose2D> truth;  // the robot's poses, as corridorLog() drove it
   Pose2D robot{1.0, 1.0, 0.0};
   std::vector<Eigen::Matrix3d> expected_covariance;
@@ -114,6 +117,8 @@ TEST(LidarsegMethod, RecordsEachScansMotionFromItsKeyframeInTheRobotFrame) {
     }
     if (core.keyframe) key = record.index;
   }
+  const std::size_t keyframes = static_cast<std::size_t>(std::count(keyframe_of.begin(), keyframe_of.end(), 0u));
+  EXPECT_LT(keyframes, keyframe_of.size() / 2) << "the keyframe must change during the drive";
   const report::MethodReport& report = method.report();
   ASSERT_EQ(report.keyframe_motions.size(), log.size() - 1);
   for (std::size_t k = 0; k < report.keyframe_motions.size(); ++k) {

@@ -579,7 +579,13 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   // by about half of that. The keyframe's term is in its own frame, this scan's turned into it.
   Eigen::Matrix3d bend = Eigen::Matrix3d::Zero();  // this scan's, in its own frame
   if (deskew && dt > 0.0 && sweep_s > 0.0) {
-    const Twist2D measured{step.increment.x / dt, step.increment.y / dt, step.increment.yaw / dt};
+    // The interval's motion: the increment, or after a revision of the keyframe (the previous
+    // scan) the motion from its revised pose, without the revision's correction. Over at
+    // least a sweep: a stamp a millisecond after the last would turn the increment's noise
+    // into metres per second.
+    const Pose2D& moved = step.keyframe_revision ? T_key_curr : step.increment;
+    const double span = std::max(dt, sweep_s);
+    const Twist2D measured{moved.x / span, moved.y / span, moved.yaw / span};
     const Twist2D& used = slot_motion_[slot];
     const auto change = [](const Twist2D& a, const Twist2D& b) {
       return Eigen::Vector3d(a.vx - b.vx, a.vy - b.vy, a.omega - b.omega);
@@ -599,7 +605,11 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
   if (params_.deskew_covariance) {
     Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
     R.topLeftCorner<2, 2>() = Eigen::Rotation2Dd(T_key_curr.yaw).toRotationMatrix();
-    step.increment_covariance += R * bend * R.transpose() + key_bend_;
+    // The keyframe's turn error also moves this scan's position in its frame (lever arm).
+    Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
+    A(0, 2) = -T_key_curr.y;
+    A(1, 2) = T_key_curr.x;
+    step.increment_covariance += R * bend * R.transpose() + A * key_bend_ * A.transpose();
   }
   pose_ = new_pose;
   step.T_odom_sensor = pose_;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -67,7 +68,11 @@ bool signedMetric(const std::string& name) {
 double checkedMetric(const std::string& cell, const std::string& name, const std::string& where) {
   const ParsedNumber parsed = parseNumber(cell);
   if (parsed.status == ParsedNumber::Status::not_a_number) throw std::runtime_error(where + ": '" + cell + "' is not a number");
-  const double cap = name == "frames" ? kMaxBatchFrames : kMaxBatchMetric;
+  // A NEES has no bound a run's figure could be checked against (a covariance far too small
+  // gives millions): any finite, non-negative value.
+  const double cap = name == "frames"                         ? kMaxBatchFrames
+                     : name.rfind("lidarseg_nees_", 0) == 0 ? std::numeric_limits<double>::max()
+                                                            : kMaxBatchMetric;
   const double v = parsed.value;
   if (!parsed.ok() || !std::isfinite(v) || std::abs(v) > cap || (v < 0 && !signedMetric(name))) {
     throw std::runtime_error(where + ": " + name + " = '" + cell + "' is not a run's figure (finite, " +

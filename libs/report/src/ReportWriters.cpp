@@ -83,11 +83,14 @@ Json methodOf(const MethodReport& m) {
   }
   if (m.errors) j["errors"] = errorsOf(m);
   if (m.nees) {
+    // Nothing evaluated: no statistic (null), not a perfect 0.
+    const bool any = m.nees->evaluated > 0;
+    const auto figure = [&](double v) { return any ? number(v) : Json(nullptr); };
     j["nees"] = {{"evaluated", m.nees->evaluated},
                  {"singular", m.nees->singular},
-                 {"mean", number(m.nees->mean)},
-                 {"median", number(m.nees->median)},
-                 {"share_within_95", number(m.nees->share_within_95)}};
+                 {"mean", figure(m.nees->mean)},
+                 {"median", figure(m.nees->median)},
+                 {"share_within_95", figure(m.nees->share_within_95)}};
   }
   if (m.relations) j["relations"] = relationsOf(*m.relations);
   if (m.log_relations) j["log_relations"] = relationsOf(*m.log_relations);
