@@ -590,8 +590,9 @@ OdometryStep SegmentOdometry::process(const Scan& input, const std::optional<Pos
     const auto change = [](const Twist2D& a, const Twist2D& b) {
       return Eigen::Vector3d(a.vx - b.vx, a.vy - b.vy, a.omega - b.omega);
     };
-    Eigen::Vector3d doubt = change(measured, used).cwiseAbs();
-    Eigen::Vector2d dv = change(measured, used).head<2>();
+    const Eigen::Vector3d off = change(measured, used);
+    Eigen::Vector3d doubt = off.cwiseAbs();
+    Eigen::Vector2d dv = off.head<2>();
     if (interval_) {
       const Eigen::Vector3d since = change(measured, *interval_);
       doubt(2) = std::max(doubt(2), std::abs(since(2)));

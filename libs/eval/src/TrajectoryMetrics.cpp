@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
@@ -54,18 +55,11 @@ NeesSummary evaluateNees(const std::vector<KeyframeMotion>& motions, const Stamp
   }
   out.evaluated = values.size();
   if (values.empty()) return out;
-  double sum = 0.0;
-  std::size_t within = 0;
-  for (double v : values) {
-    sum += v;
-    within += v <= kChi2Of3At95;
-  }
-  out.mean = sum / static_cast<double>(values.size());
+  const auto within = std::count_if(values.begin(), values.end(), [](double v) { return v <= kChi2Of3At95; });
   out.share_within_95 = static_cast<double>(within) / static_cast<double>(values.size());
-  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), mid, values.end());
-  out.median = *mid;
-  if (values.size() % 2 == 0) out.median = 0.5 * (out.median + *std::max_element(values.begin(), mid));
+  const Summary s = summarize(std::move(values));
+  out.mean = s.mean;
+  out.median = s.median;
   return out;
 }
 
